@@ -1,0 +1,7 @@
+#!/usr/bin/env bash
+# Install, build and run the whole test suite: the README's second command, and what CI runs.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash scripts/install-deps.sh
+bash scripts/build.sh
+ctest --test-dir build --output-on-failure -j "$(nproc)"

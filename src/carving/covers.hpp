@@ -1,0 +1,32 @@
+// Covers and shells: the carvable part O'_i of each slice, from a fixed window of slices.
+//
+// A point of slice i may be carved only when the slices i - covers .. i + covers all contain it
+// (no top or bottom surface near) and it lies inside the extra shells. The stream pulls slices
+// from the top-down slicer and keeps 2 * covers + 1 of them: memory does not grow with height.
+#pragma once
+
+#include <deque>
+#include <optional>
+
+#include "carving/partition.hpp"
+#include "core/settings.hpp"
+#include "slice/slicer.hpp"
+
+namespace carve {
+
+class CarvableStream {
+public:
+    CarvableStream(TopDownSlicer& slicer, const Settings& settings);
+    // The next layer going down with outline, wall_region, shell_paths_region, carvable and
+    // covers filled in; nothing after layer 0.
+    std::optional<LayerPartition> next();
+
+private:
+    TopDownSlicer& slicer_;
+    const Settings& settings_;
+    std::deque<Slice> window_;  // slices i + covers (front) .. i - covers (back), top-down
+    int next_index_ = 0;        // index of the next layer to emit
+    bool exhausted_ = false;
+};
+
+}  // namespace carve

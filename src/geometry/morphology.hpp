@@ -1,0 +1,25 @@
+// Exact morphology by a fixed disk: Minkowski sums with a regular 24-gon (report Appendix A).
+//
+// Dilation convolves each contour with the 24-gon and unites the result with positive winding;
+// erosion reverses the contours, convolves, reverses back and unites. Because the structuring
+// element is always the same polygon, dilate(dilate(S, a), b) equals dilate(S, a + b) up to
+// rounding and the vertex count does not grow with repeated use, which is what the top-down
+// sweep needs. Clipper's ClipperOffset is deliberately not used here.
+#pragma once
+
+#include "geometry/types.hpp"
+
+namespace carve {
+
+// The structuring element of radius r: 24 integer vertices, counter-clockwise, centred on 0.
+Path disk(Coord radius);
+
+Paths dilate(const Paths& region, Coord radius);  // S ⊕ D(r)
+Paths erode(const Paths& region, Coord radius);   // S ⊖ D(r), complement of the dilated complement
+inline Paths open(const Paths& region, Coord radius) { return dilate(erode(region, radius), radius); }
+inline Paths close(const Paths& region, Coord radius) { return erode(dilate(region, radius), radius); }
+
+// Thickens open polylines (e.g. a pruned medial axis) into a region of half-width `radius`.
+Paths dilate_lines(const Paths& polylines, Coord radius);
+
+}  // namespace carve

@@ -1,0 +1,181 @@
+// Clipper-backed booleans. Kept in one place so that fill rules and orientation are chosen once.
+#include "geometry/polygon.hpp"
+
+#include <algorithm>
+
+namespace carve {
+
+using namespace ClipperLib;
+
+namespace {
+
+Paths run(ClipType op, const Paths& subject, const Paths* clip, PolyFillType fill) {
+    Clipper c;
+    c.AddPaths(subject, ptSubject, true);
+    if (clip) c.AddPaths(*clip, ptClip, true);
+    Paths out;
+    c.Execute(op, out, fill, fill);
+    return out;
+}
+
+void collect_holes(const PolyNode& node, Paths& out) {
+    for (const PolyNode* child : node.Childs) {
+        if (child->IsHole()) {
+            if (child->Childs.empty()) {
+                Path h = child->Contour;
+                if (!Orientation(h)) ReversePath(h);
+                out.push_back(std::move(h));
+            }
+        }
+        collect_holes(*child, out);
+    }
+}
+
+void collect_components(const PolyNode& node, std::vector<Paths>& out) {
+    for (const PolyNode* child : node.Childs) {
+        if (!child->IsHole()) {
+            Paths comp{child->Contour};
+            for (const PolyNode* hole : child->Childs) {
+                comp.push_back(hole->Contour);
+                collect_components(*hole, out);
+            }
+            out.push_back(std::move(comp));
+        }
+    }
+}
+
+}  // namespace
+
+double area(const Path& path) { return Area(path); }
+
+double area(const Paths& region) {
+    double a = 0;
+    for (const Path& p : region) a += Area(p);
+    return a;
+}
+
+Paths unite(const Paths& a) { return run(ctUnion, a, nullptr, pftNonZero); }
+Paths unite(const Paths& a, const Paths& b) { return run(ctUnion, a, &b, pftNonZero); }
+Paths intersect(const Paths& a, const Paths& b) {
+    if (a.empty() || b.empty()) return {};
+    return run(ctIntersection, a, &b, pftNonZero);
+}
+Paths subtract(const Paths& a, const Paths& b) {
+    if (a.empty()) return {};
+    if (b.empty()) return a;
+    return run(ctDifference, a, &b, pftNonZero);
+}
+Paths symmetric_difference(const Paths& a, const Paths& b) {
+    return run(ctXor, a, &b, pftNonZero);
+}
+Paths unite_positive(const Paths& a) { return run(ctUnion, a, nullptr, pftPositive); }
+
+Paths drop_small(const Paths& region, double min_area) {
+    PolyTree tree;
+    Clipper c;
+    c.AddPaths(region, ptSubject, true);
+    c.Execute(ctUnion, tree, pftNonZero, pftNonZero);
+    std::vector<Paths> comps;
+    collect_components(tree, comps);
+    Paths out;
+    for (Paths& comp : comps) {
+        if (std::abs(Area(comp.front())) < min_area) continue;
+        out.push_back(comp.front());
+        for (size_t i = 1; i < comp.size(); ++i)
+            if (std::abs(Area(comp[i])) >= min_area) out.push_back(comp[i]);
+    }
+    return out;
+}
+
+Paths clip_lines(const Paths& lines, const Paths& region) {
+    if (lines.empty() || region.empty()) return {};
+    Clipper c;
+    c.AddPaths(lines, ptSubject, false);
+    c.AddPaths(region, ptClip, true);
+    PolyTree tree;
+    c.Execute(ctIntersection, tree, pftNonZero, pftNonZero);
+    Paths out;
+    OpenPathsFromPolyTree(tree, out);
+    return out;
+}
+
+Paths clip_lines_outside(const Paths& lines, const Paths& region) {
+    if (lines.empty()) return {};
+    if (region.empty()) return lines;
+    Clipper c;
+    c.AddPaths(lines, ptSubject, false);
+    c.AddPaths(region, ptClip, true);
+    PolyTree tree;
+    c.Execute(ctDifference, tree, pftNonZero, pftNonZero);
+    Paths out;
+    OpenPathsFromPolyTree(tree, out);
+    return out;
+}
+
+Paths clean(const Paths& region, double tolerance) {
+    Paths out;
+    CleanPolygons(region, out, tolerance);
+    out.erase(std::remove_if(out.begin(), out.end(), [](const Path& p) { return p.size() < 3; }),
+              out.end());
+    return out;
+}
+
+BBox2 bounds(const Paths& region) {
+    BBox2 b;
+    for (const Path& p : region)
+        for (const Point& q : p) {
+            if (b.empty) {
+                b = {q.X, q.Y, q.X, q.Y, false};
+                continue;
+            }
+            b.min_x = std::min(b.min_x, q.X);
+            b.min_y = std::min(b.min_y, q.Y);
+            b.max_x = std::max(b.max_x, q.X);
+            b.max_y = std::max(b.max_y, q.Y);
+        }
+    return b;
+}
+
+double length(const Paths& paths, bool closed) {
+    double len = 0;
+    for (const Path& p : paths) {
+        if (p.size() < 2) continue;
+        for (size_t i = 1; i < p.size(); ++i)
+            len += std::hypot(double(p[i].X - p[i - 1].X), double(p[i].Y - p[i - 1].Y));
+        if (closed)
+            len += std::hypot(double(p.front().X - p.back().X), double(p.front().Y - p.back().Y));
+    }
+    return len;
+}
+
+std::vector<Paths> components(const Paths& region) {
+    PolyTree tree;
+    Clipper c;
+    c.AddPaths(region, ptSubject, true);
+    c.Execute(ctUnion, tree, pftNonZero, pftNonZero);
+    std::vector<Paths> comps;
+    collect_components(tree, comps);
+    return comps;
+}
+
+Paths empty_holes(const Paths& region) {
+    PolyTree tree;
+    Clipper c;
+    c.AddPaths(region, ptSubject, true);
+    c.Execute(ctUnion, tree, pftNonZero, pftNonZero);
+    Paths out;
+    collect_holes(tree, out);
+    return out;
+}
+
+bool point_in_region(const Point& p, const Paths& region) {
+    int winding = 0;
+    for (const Path& path : region) {
+        int r = PointInPolygon(p, path);
+        if (r == -1) return true;
+        if (r == 1) winding += Orientation(path) ? 1 : -1;
+    }
+    return winding != 0;
+}
+
+}  // namespace carve

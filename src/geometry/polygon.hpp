@@ -1,0 +1,52 @@
+// Boolean operations and measures on planar regions (thin wrappers over Clipper 6).
+//
+// Every function takes regions in any orientation and fill rule non-zero unless stated, and
+// returns a normalised region: outer contours counter-clockwise, holes clockwise, no
+// self-intersections. Free functions so that the stages read like the report's formulas.
+#pragma once
+
+#include "geometry/types.hpp"
+
+namespace carve {
+
+// Signed area in square units (positive for counter-clockwise).
+double area(const Path& path);
+// Area of a region in square units: outer areas minus holes.
+double area(const Paths& region);
+inline double area_mm2(const Paths& region) { return area(region) / (kUnitsPerMm * kUnitsPerMm); }
+
+Paths unite(const Paths& a);  // self-union: resolves overlaps, non-zero fill
+Paths unite(const Paths& a, const Paths& b);
+Paths intersect(const Paths& a, const Paths& b);
+Paths subtract(const Paths& a, const Paths& b);
+Paths symmetric_difference(const Paths& a, const Paths& b);
+// Union of contours whose orientation encodes the sign (convolution output): positive fill.
+Paths unite_positive(const Paths& a);
+
+// Drops contours whose absolute area is below min_area (square units) together with the holes
+// inside dropped outers.
+Paths drop_small(const Paths& region, double min_area);
+
+// Clips open polylines to a region: the parts of `lines` inside `region`.
+Paths clip_lines(const Paths& lines, const Paths& region);
+// Parts of open polylines outside a region.
+Paths clip_lines_outside(const Paths& lines, const Paths& region);
+
+// Removes duplicate and almost-collinear points (distance tolerance in units).
+Paths clean(const Paths& region, double tolerance = 1.415);
+
+BBox2 bounds(const Paths& region);
+
+// Total length of polylines in units; closed = count the closing edge.
+double length(const Paths& paths, bool closed);
+
+// The outer contours with their holes, one region per connected component.
+std::vector<Paths> components(const Paths& region);
+
+// Holes of a region that contain nothing else of the region (no island inside), as
+// counter-clockwise contours. Used for island local minima.
+Paths empty_holes(const Paths& region);
+
+bool point_in_region(const Point& p, const Paths& region);
+
+}  // namespace carve

@@ -1,0 +1,55 @@
+// An indexed triangle mesh, the loaders' output and the slicer's input.
+//
+// Vertices are merged on exact equality of their coordinates so that the slicer can chain
+// segments through shared edges by index, never by float proximity.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "geometry/types.hpp"
+
+namespace carve {
+
+struct Mesh {
+    std::vector<Vec3> vertices;  // millimetres
+    std::vector<std::array<uint32_t, 3>> triangles;  // counter-clockwise seen from outside
+};
+
+// What loading found and fixed, in words a user understands.
+struct MeshReport {
+    std::string format;        // "binary STL", "ASCII STL", "OBJ", "3MF"
+    size_t triangles_read = 0;   // as stored in the file
+    size_t triangles = 0;        // after dropping degenerate ones
+    size_t vertices = 0;         // after merging duplicates
+    size_t degenerate_dropped = 0;
+    size_t duplicate_dropped = 0;
+    size_t open_edges = 0;         // edges with one incident triangle
+    size_t nonmanifold_edges = 0;  // edges with more than two incident triangles
+    size_t flipped_triangles = 0;  // triangles re-oriented to agree with their neighbours
+    bool inverted = false;         // the whole mesh faced inwards and was turned out
+    size_t shells = 0;             // connected components
+    bool closed() const { return open_edges == 0 && nonmanifold_edges == 0; }
+    double volume_mm3 = 0;  // after repair, from the divergence theorem
+    BBox3 bbox;
+    std::vector<std::string> warnings;  // one line each: what was wrong and what was done
+};
+
+// Reads STL (binary or ASCII, told apart by content), OBJ or 3MF, merges vertices, drops
+// degenerate triangles, fixes orientation and measures the result. Throws InputError with one
+// clear line for anything that cannot be read (empty, truncated, NaN/inf, no triangles, unknown
+// format, unreadable file).
+Mesh load_mesh(const std::string& path, MeshReport& report);
+
+// Orientation, closedness and volume of an already indexed mesh (used by load_mesh and tests).
+void analyse_and_repair(Mesh& mesh, MeshReport& report);
+
+double signed_volume(const Mesh& mesh);
+BBox3 bounding_box(const Mesh& mesh);
+
+// Moves the mesh in place (used to centre it on the bed and drop it onto z = 0).
+void translate(Mesh& mesh, const Vec3& offset);
+
+}  // namespace carve

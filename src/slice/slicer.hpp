@@ -1,0 +1,42 @@
+// Streaming slicer: produces the slices O_i from the top layer down to layer 0.
+//
+// Layer i is cut at z = (i + 0.5) * h above the mesh's lowest point. Triangles are sorted by
+// their top z and kept in an active set while the plane sweeps down, so the whole stack of
+// slices is never held: memory is the mesh plus one slice. Segments are chained through shared
+// edges (vertex indices); loops are united with non-zero fill so that overlapping shells merge.
+#pragma once
+
+#include <memory>
+#include <optional>
+
+#include "mesh/mesh.hpp"
+
+namespace carve {
+
+struct Slice {
+    int index = 0;     // i, bottom-up
+    double z = 0;      // cut height in mm, in the mesh's own coordinates
+    Paths region;      // O_i, outer contours counter-clockwise, holes clockwise
+};
+
+class TopDownSlicer {
+public:
+    // The mesh must outlive the slicer.
+    TopDownSlicer(const Mesh& mesh, double layer_height);
+    ~TopDownSlicer();
+    TopDownSlicer(const TopDownSlicer&) = delete;
+    TopDownSlicer& operator=(const TopDownSlicer&) = delete;
+
+    int layer_count() const;
+    // The next slice going down, or nothing after layer 0.
+    std::optional<Slice> next();
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
+
+// Slices one plane directly (tests, previews); same chaining as the streaming slicer.
+Paths slice_at(const Mesh& mesh, double z);
+
+}  // namespace carve
