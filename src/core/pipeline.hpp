@@ -1,0 +1,50 @@
+// The main job, stage after stage: load, slice, covers, carving, supports, toolpaths, G-code,
+// report. Data flows one way; each stage pulls from the one before it, layer by layer.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "core/settings.hpp"
+#include "gcode/gcode.hpp"
+#include "mesh/mesh.hpp"
+
+namespace carve {
+
+struct RunOptions {
+    std::string model_path;
+    std::string gcode_path;
+    std::string svg_dir;            // layer pictures, empty = none
+    int svg_every = 0;              // draw every n-th layer (0 = a handful spread over the height)
+    std::string raster_dir;         // resin slice stack, empty = none
+    std::string report_path;        // HTML report, empty = none
+    bool progress = false;          // progress bar on stderr
+    std::function<void(const std::string&)> note;  // warnings for the user (stderr)
+};
+
+// Figures of one run; the stats JSON is made from these.
+struct RunResult {
+    MeshReport mesh;
+    PrintStats print;
+    int layers = 0;
+    int cavities = 0;  // cavities that hold anything
+    int bridges = 0;
+    double bridge_length_mm = 0;
+    double carvable_volume_mm3 = 0;
+    std::vector<double> cavity_volume_mm3;  // per cavity C^j
+    double remainder_volume_mm3 = 0;        // V^k
+    double cover_volume_mm3 = 0;
+    double processing_time_s = 0;
+    double peak_memory_mb = 0;
+    std::vector<double> layer_material_mm3;  // per layer, bottom up (for the report's plot)
+    double material_percent() const {
+        return mesh.volume_mm3 > 0 ? 100.0 * print.extruded_volume_mm3 / mesh.volume_mm3 : 0;
+    }
+};
+
+RunResult run_slice(const Settings& settings, const RunOptions& options);
+
+double peak_memory_mb();
+
+}  // namespace carve

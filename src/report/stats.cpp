@@ -1,0 +1,72 @@
+// Figures of a run for machines (JSON) and for people (a few lines of text).
+#include "report/stats.hpp"
+
+#include <fmt/format.h>
+
+namespace carve {
+
+std::string format_duration(double seconds) {
+    const long s = std::lround(seconds);
+    if (s >= 3600) return fmt::format("{}h {:02}m {:02}s", s / 3600, (s / 60) % 60, s % 60);
+    if (s >= 60) return fmt::format("{}m {:02}s", s / 60, s % 60);
+    return fmt::format("{}s", s);
+}
+
+nlohmann::json stats_json(const RunResult& run, const Settings& settings) {
+    nlohmann::json j;
+    j["model_volume_mm3"] = run.mesh.volume_mm3;
+    j["triangles"] = run.mesh.triangles;
+    j["layers"] = run.layers;
+    j["cavities"] = run.cavities;
+    j["bridges"] = run.bridges;
+    j["bridge_length_mm"] = run.bridge_length_mm;
+    j["extruded_volume_mm3"] = run.print.extruded_volume_mm3;
+    j["filament_length_mm"] = run.print.filament_length_mm;
+    j["filament_weight_g"] = run.print.filament_weight_g;
+    j["material_percent"] = run.material_percent();
+    j["estimated_print_time_s"] = run.print.estimated_print_time_s;
+    j["processing_time_s"] = run.processing_time_s;
+    j["peak_memory_mb"] = run.peak_memory_mb;
+    j["travel_length_mm"] = run.print.travel_length_mm;
+    j["retractions"] = run.print.retractions;
+    j["carvable_volume_mm3"] = run.carvable_volume_mm3;
+    j["cavity_volume_mm3"] = run.cavity_volume_mm3;
+    j["remainder_volume_mm3"] = run.remainder_volume_mm3;
+    j["cover_volume_mm3"] = run.cover_volume_mm3;
+    j["mesh_closed"] = run.mesh.closed();
+    j["mesh_warnings"] = run.mesh.warnings;
+    nlohmann::json s;
+    s["layer_height_mm"] = settings.layer_height;
+    s["nozzle_mm"] = settings.nozzle;
+    s["max_overhang_deg"] = settings.max_overhang;
+    s["cavities"] = settings.cavities_auto ? nlohmann::json("auto") : nlohmann::json(settings.cavities);
+    s["covers"] = settings.covers;
+    s["shells"] = settings.shells;
+    s["walls"] = settings.walls == WallMode::Single ? "single" : "double";
+    s["filament_diameter_mm"] = settings.filament_diameter;
+    s["printer"] = settings.printer_name;
+    j["settings"] = s;
+    return j;
+}
+
+std::string summary_text(const RunResult& run, const Settings& settings) {
+    std::string out;
+    out += fmt::format("model      {:.1f} cm3, {} triangles, {} layers of {} mm\n",
+                       run.mesh.volume_mm3 / 1000, run.mesh.triangles, run.layers,
+                       settings.layer_height);
+    double carved = 0;
+    for (double v : run.cavity_volume_mm3) carved += v;
+    out += fmt::format("cavities   {} carved {:.1f} % of the volume ({} bridges, {:.0f} mm)\n",
+                       run.cavities,
+                       run.mesh.volume_mm3 > 0 ? 100 * carved / run.mesh.volume_mm3 : 0.0,
+                       run.bridges, run.bridge_length_mm);
+    out += fmt::format("material   {:.2f} cm3 = {:.1f} % of the model, {:.2f} m of filament, {:.1f} g\n",
+                       run.print.extruded_volume_mm3 / 1000, run.material_percent(),
+                       run.print.filament_length_mm / 1000, run.print.filament_weight_g);
+    out += fmt::format("print time {} (estimate)\n", format_duration(run.print.estimated_print_time_s));
+    out += fmt::format("sliced in  {:.2f} s, peak memory {:.0f} MB\n", run.processing_time_s,
+                       run.peak_memory_mb);
+    return out;
+}
+
+}  // namespace carve

@@ -1,0 +1,15 @@
+// The stats JSON of a run (contract in DESIGN.md) and the short summary printed at the end.
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "core/pipeline.hpp"
+
+namespace carve {
+
+nlohmann::json stats_json(const RunResult& run, const Settings& settings);
+std::string summary_text(const RunResult& run, const Settings& settings);
+std::string format_duration(double seconds);  // "1h 02m 03s"
+
+}  // namespace carve
