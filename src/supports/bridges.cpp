@@ -1,15 +1,180 @@
-// Bridge detection: placeholder pass-through until section 4.4 lands.
+// Bridge detection and line planning for local minima.
 #include "supports/bridges.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "geometry/morphology.hpp"
+#include "geometry/polygon.hpp"
 
 namespace carve {
 
+namespace {
+
+struct Rotation {
+    double c, s;
+    explicit Rotation(double deg)
+        : c(std::cos(deg * std::numbers::pi / 180)), s(std::sin(deg * std::numbers::pi / 180)) {}
+    Point apply(const Point& p) const {  // rotate by the angle
+        return Point(static_cast<Coord>(std::llround(c * p.X - s * p.Y)),
+                     static_cast<Coord>(std::llround(s * p.X + c * p.Y)));
+    }
+    Point undo(const Point& p) const {
+        return Point(static_cast<Coord>(std::llround(c * p.X + s * p.Y)),
+                     static_cast<Coord>(std::llround(-s * p.X + c * p.Y)));
+    }
+};
+
+Paths rotated(const Paths& region, const Rotation& rot, bool undo) {
+    Paths out = region;
+    for (Path& p : out)
+        for (Point& q : p) q = undo ? rot.undo(q) : rot.apply(q);
+    return out;
+}
+
+// Intervals [x0, x1] where the horizontal line at height y is inside a normalised region.
+std::vector<std::pair<double, double>> scan(const Paths& region, double y) {
+    std::vector<double> xs;
+    for (const Path& p : region)
+        for (size_t i = 0, n = p.size(); i < n; ++i) {
+            const Point& a = p[i];
+            const Point& b = p[(i + 1) % n];
+            if ((a.Y <= y) == (b.Y <= y)) continue;
+            xs.push_back(a.X + (y - a.Y) * double(b.X - a.X) / double(b.Y - a.Y));
+        }
+    std::sort(xs.begin(), xs.end());
+    std::vector<std::pair<double, double>> out;
+    for (size_t i = 0; i + 1 < xs.size(); i += 2) out.emplace_back(xs[i], xs[i + 1]);
+    return out;
+}
+
+// Lines over `need` in the frame where they are horizontal; returns their total length.
+double horizontal_lines(const Paths& need, const Paths& span, Coord spacing, Paths* lines) {
+    const BBox2 b = bounds(need);
+    if (b.empty) return 0;
+    double total = 0;
+    const int count = std::max<int>(1, static_cast<int>(std::ceil(double(b.max_y - b.min_y) / spacing)));
+    const double first = (b.min_y + b.max_y) / 2.0 - (count - 1) * spacing / 2.0;
+    for (int k = 0; k < count; ++k) {
+        // Nudge off integer heights so that no vertex lies exactly on the scan line.
+        const double y = first + k * spacing + 0.5;
+        const auto holes = scan(need, y);
+        if (holes.empty()) continue;
+        for (const auto& [x0, x1] : scan(span, y)) {
+            const bool over = std::any_of(holes.begin(), holes.end(), [&](const auto& h) {
+                return h.second > x0 && h.first < x1;
+            });
+            if (!over) continue;
+            total += x1 - x0;
+            if (lines) {
+                // Alternate directions so that the nozzle zig-zags across the bridge.
+                Point a(static_cast<Coord>(std::llround(x0)), static_cast<Coord>(std::llround(y)));
+                Point c(static_cast<Coord>(std::llround(x1)), static_cast<Coord>(std::llround(y)));
+                lines->push_back(k % 2 ? Path{c, a} : Path{a, c});
+            }
+        }
+    }
+    return total;
+}
+
+}  // namespace
+
+BridgeOptions bridge_options(const Settings& settings) {
+    BridgeOptions o;
+    o.line_width = settings.line_width();
+    o.dilation = settings.dilation_per_layer();
+    o.angle_step_deg = settings.bridge_angle_step;
+    o.prune = settings.prune_bridges;
+    return o;
+}
+
+std::vector<Paths> unsupported_regions(const Paths& cavity_here, const Paths& cavity_below,
+                                       const Paths& carvable_here, const BridgeOptions& options) {
+    std::vector<Paths> out;
+    if (cavity_below.empty() || carvable_here.empty()) return out;
+    Paths deep_below = erode(cavity_below, options.dilation);
+    if (deep_below.empty()) return out;
+    Paths u = intersect(subtract(deep_below, cavity_here), carvable_here);
+    const double r2 = double(options.dilation) * options.dilation;
+    u = drop_small(u, options.min_area_r2 * r2);
+    for (Paths& comp : components(u)) {
+        // A speck that fits within a couple of line widths is held by the filament around it:
+        // printed over it, nothing hangs further than a line width from support.
+        if (options.prune) {
+            const BBox2 b = bounds(comp);
+            if (std::hypot(double(b.max_x - b.min_x), double(b.max_y - b.min_y)) <
+                2.0 * options.line_width)
+                continue;
+        }
+        out.push_back(std::move(comp));
+    }
+    return out;
+}
+
+Bridge plan_bridge(const Paths& need, const Paths& span, const BridgeOptions& options) {
+    Bridge best;
+    double best_length = -1;
+    const double step = options.angle_step_deg > 0 ? options.angle_step_deg : 5;
+    for (double angle = 0; angle < 180 - 1e-9; angle += step) {
+        const Rotation rot(-angle);  // bring lines at `angle` to horizontal
+        const double len = horizontal_lines(rotated(need, rot, false), rotated(span, rot, false),
+                                            options.line_width, nullptr);
+        if (len > 0 && (best_length < 0 || len < best_length)) {
+            best_length = len;
+            best.angle_deg = angle;
+        }
+    }
+    best.region = need;
+    if (best_length < 0) return best;
+    const Rotation rot(-best.angle_deg);
+    Paths lines;
+    horizontal_lines(rotated(need, rot, false), rotated(span, rot, false), options.line_width, &lines);
+    best.lines = rotated(lines, rot, true);
+    return best;
+}
+
+void add_bridges(LayerPartition& layer, const LayerPartition* below, const BridgeOptions& options) {
+    if (!below) return;
+    const size_t k = std::min(layer.cavities.size(), below->cavities.size());
+    for (size_t j = 0; j < k; ++j) {
+        const std::vector<Paths> needs =
+            unsupported_regions(layer.cavities[j], below->cavities[j], layer.carvable, options);
+        if (needs.empty()) continue;
+        const Paths holes = empty_holes(layer.cavities[j]);
+        for (const Paths& need : needs) {
+            // The lines run across the cavity with the minimum filled in, wall to wall.
+            const Paths span = unite(layer.cavities[j], need);
+            Bridge b = plan_bridge(need, span, options);
+            if (b.lines.empty()) continue;
+            b.cavity = static_cast<int>(j) + 1;
+            b.island = !intersect(need, holes).empty() &&
+                       area(subtract(need, holes)) < 0.5 * area(need);
+            // The minimum joins its cavity in this slice: nothing is printed over the void but
+            // the bridge, and the slice above rests on the bridge.
+            layer.cavities[j] = span;
+            for (size_t other = 0; other < layer.cavities.size(); ++other)
+                if (other != j) layer.cavities[other] = subtract(layer.cavities[other], need);
+            layer.remainder = subtract(layer.remainder, need);
+            layer.bridges.push_back(std::move(b));
+        }
+    }
+}
+
 BridgeStage::BridgeStage(CarvingSweep& input, const Settings& settings)
-    : input_(input), settings_(settings) {}
+    : input_(input), options_(bridge_options(settings)) {}
 
 std::optional<LayerPartition> BridgeStage::next() {
-    (void)settings_;
-    (void)started_;
-    return input_.next();
+    if (!started_) {
+        started_ = true;
+        pending_ = input_.next();
+    }
+    if (!pending_) return std::nullopt;
+    std::optional<LayerPartition> below = input_.next();
+    add_bridges(*pending_, below ? &*below : nullptr, options_);
+    std::optional<LayerPartition> out = std::move(pending_);
+    pending_ = std::move(below);
+    return out;
 }
 
 }  // namespace carve

@@ -1,13 +1,42 @@
 // Local minima and bridges (report section 4.4), as a stage between the carving sweep and the
 // toolpaths. A minimum at slice i is only known once slice i - 1 is carved, so the stage holds
 // one slice back: two slices of state, like the sweep.
+//
+// What needs support at slice i in cavity j is what would be printed above empty space: the
+// part of slice i outside C^j_i that lies deeper than r inside C^j_{i-1},
+//   U = erode(C^j_{i-1}, r) \ C^j_i, within the carvable region,
+// (nothing at slice i - 1 is printed inside a cavity, so no wall below reaches it). Its
+// components that are holes of C^j_i are the report's islands; the others are edge-like minima.
 #pragma once
 
 #include <optional>
+#include <vector>
 
 #include "carving/carving.hpp"
 
 namespace carve {
+
+struct BridgeOptions {
+    Coord line_width = 400;     // w: spacing of the bridge lines
+    Coord dilation = 200;       // r
+    double angle_step_deg = 5;  // the report hops around the circle by 5 degrees
+    double min_area_r2 = 4;     // regions below this multiple of r^2 are spikes, not minima
+    bool prune = true;          // drop minima smaller than two line widths across
+};
+
+BridgeOptions bridge_options(const Settings& settings);
+
+// Regions of slice i that cavity j leaves without support: U above, small spikes dropped.
+std::vector<Paths> unsupported_regions(const Paths& cavity_here, const Paths& cavity_below,
+                                       const Paths& carvable_here, const BridgeOptions& options);
+
+// Parallel lines spaced w that cover `need`, each running across `span` (the cavity with the
+// minimum filled) from boundary to boundary, at the angle of the step that minimises their
+// total length.
+Bridge plan_bridge(const Paths& need, const Paths& span, const BridgeOptions& options);
+
+// Fills in layer.bridges for slice i given the carved slice below (nullptr at layer 0).
+void add_bridges(LayerPartition& layer, const LayerPartition* below, const BridgeOptions& options);
 
 class BridgeStage {
 public:
@@ -17,7 +46,7 @@ public:
 
 private:
     CarvingSweep& input_;
-    const Settings& settings_;
+    BridgeOptions options_;
     std::optional<LayerPartition> pending_;  // slice i, waiting for slice i - 1
     bool started_ = false;
 };
