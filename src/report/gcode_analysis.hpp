@@ -1,0 +1,99 @@
+// Independent G-code analyser: judges printability and material from the G-code alone.
+//
+// It knows nothing about how a file was made, so the same measure applies to carve's output and
+// to PrusaSlicer's or CuraEngine's (see shared/BASELINES.md). Each layer's footprint is rebuilt
+// from the extruding moves, each widened to the line width that its E, the layer height and the
+// filament area imply (by default PrusaSlicer's bead model, a rectangle with semicircular sides:
+// w = E * A_f / (L * h) + h * (1 - pi / 4), which reproduces BASELINES.md). Unsupported extrusion
+// is the part of a layer's footprint that lies farther than r from the previous layer's
+// footprint; "far" unsupported uses 2 mm, so that short bridges and covers over close walls do
+// not count but sagging spans and floating strands do. One pass, two layers' footprints held.
+#pragma once
+
+#include <functional>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "geometry/types.hpp"
+
+namespace carve {
+
+// Cross-section assumed when a move's E is turned into a line width.
+enum class BeadModel {
+    kRounded,    // (w - h) * h + pi * h^2 / 4: PrusaSlicer's flow model, its ;WIDTH: comments
+    kRectangle,  // w * h: CuraEngine's flow model; lines come out h * (1 - pi / 4) narrower
+};
+
+struct GcodeAnalysisOptions {
+    double support_radius_mm = 0.2;  // r: overhang a layer may take over the one below
+    double far_radius_mm = 2.0;      // distance beyond which extrusion counts as far-unsupported
+    double filament_diameter_mm = 1.75;
+    BeadModel bead = BeadModel::kRounded;
+    // Use "; filament_diameter = " (PrusaSlicer) or ";EXTRUDER_TRAIN.0.MATERIAL.DIAMETER:" (Cura
+    // Griffin) when the file has it; turn off when the user gave a diameter explicitly.
+    bool filament_diameter_from_header = true;
+    bool keep_layers = true;  // fill GcodeAnalysis::per_layer
+
+    // Optional shape check: the model's region at height z (mm, G-code coordinates; the analyser
+    // asks at the middle of each layer), in micrometre units. Extrusion farther than
+    // model_tolerance_mm outside it is reported; a negative tolerance means half of the layer's
+    // mean line width.
+    std::function<Paths(double z_mm)> model_slice;
+    double model_tolerance_mm = -1;
+};
+
+struct LayerFigures {
+    double z_mm = 0;
+    double height_mm = 0;             // z minus the previous layer's z (first layer: z)
+    double extruded_volume_mm3 = 0;   // from the moves that draw this layer
+    double path_length_mm = 0;        // length of the extruding moves
+    double footprint_area_mm2 = 0;
+    double unsupported_area_mm2 = 0;  // footprint minus previous footprint dilated by r
+    double far_unsupported_area_mm2 = 0;  // footprint minus previous footprint dilated by 2 mm
+    double outside_area_mm2 = 0;      // with a model: footprint outside the dilated model slice
+    double max_outside_model_mm = 0;  // with a model: farthest footprint point from the slice
+};
+
+struct GcodeAnalysis {
+    std::string generator;  // from the first comments, e.g. "PrusaSlicer 2.5.0", "Cura_SteamEngine"
+    int layers = 0;
+    double filament_diameter_mm = 0;
+    std::string filament_diameter_source;  // "header" or "option"
+    double filament_length_mm = 0;         // net E fed (retractions and their recovery cancel)
+    double extruded_volume_mm3 = 0;        // filament_length_mm * filament area
+    double path_length_mm = 0;             // length of the extruding moves
+    double travel_length_mm = 0;           // XY length of the non-extruding moves
+    double mean_line_width_mm = 0;         // by the bead model, weighted by length
+    std::string bead_model;                // "rounded" or "rectangle"
+    double footprint_area_mm2 = 0;         // sum over layers
+    double unsupported_area_mm2 = 0;
+    double far_unsupported_area_mm2 = 0;
+    double unsupported_fraction = 0;       // of footprint_area_mm2
+    double far_unsupported_fraction = 0;
+    double first_z_mm = 0, last_z_mm = 0;
+    // Figures the slicer wrote in its comments, -1 when absent. Cura's are placeholders when
+    // CuraEngine runs alone (the real ones are in its -v log).
+    double estimated_time_from_header_s = -1;
+    double filament_used_from_header_mm = -1;
+    long long moves = 0;
+    long long extruding_moves = 0;
+    long long retractions = 0;  // moves with negative E
+    long long arcs = 0;         // G2/G3, approximated by chords
+    int z_reversals = 0;        // extrusion at a lower z than the layer before (sequential prints)
+    bool model_checked = false;
+    double outside_area_mm2 = 0;
+    double max_outside_model_mm = 0;
+    std::vector<LayerFigures> per_layer;
+};
+
+// Reads the file once; throws carve::InputError if it cannot be opened.
+GcodeAnalysis analyse_gcode(const std::string& path, const GcodeAnalysisOptions& options = {});
+
+nlohmann::json to_json(const GcodeAnalysis& analysis, bool with_layers = false);
+
+// "1d 2h 3m 4s", "2h 3m", "45s" (PrusaSlicer's estimate) -> seconds; -1 if nothing parses.
+double parse_duration_s(std::string_view text);
+
+}  // namespace carve
