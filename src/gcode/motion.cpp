@@ -1,0 +1,81 @@
+// Trapezoidal time estimate with junction deviation cornering (see motion.hpp).
+#include "gcode/motion.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace carve {
+
+double trapezoid_time(double length, double v_entry, double v_nominal, double v_exit,
+                      double accel) {
+    if (length <= 0) return 0;
+    if (v_nominal <= 0) return std::numeric_limits<double>::infinity();
+    if (accel <= 0) return length / v_nominal;
+    v_entry = std::min(v_entry, v_nominal);
+    v_exit = std::min(v_exit, v_nominal);
+    const double d_accel = (v_nominal * v_nominal - v_entry * v_entry) / (2 * accel);
+    const double d_decel = (v_nominal * v_nominal - v_exit * v_exit) / (2 * accel);
+    if (d_accel + d_decel <= length)
+        return (v_nominal - v_entry) / accel + (v_nominal - v_exit) / accel +
+               (length - d_accel - d_decel) / v_nominal;
+    // Triangle: the peak speed is where the acceleration and deceleration ramps meet.
+    const double peak =
+        std::sqrt(std::max(0.0, (2 * accel * length + v_entry * v_entry + v_exit * v_exit) / 2));
+    return std::max(0.0, (peak - v_entry) / accel) + std::max(0.0, (peak - v_exit) / accel);
+}
+
+void MotionPlanner::move(double dx, double dy, double speed, double accel) {
+    const double len = std::hypot(dx, dy);
+    if (len <= 0) return;
+    blocks_.push_back({len, dx / len, dy / len, speed, accel});
+}
+
+void MotionPlanner::stop() {
+    done_ += plan(blocks_);
+    blocks_.clear();
+}
+
+void MotionPlanner::dwell(double seconds) {
+    stop();
+    done_ += seconds;
+}
+
+double MotionPlanner::time() const {
+    return done_ + plan(blocks_);
+}
+
+double MotionPlanner::plan(const std::vector<Block>& b) const {
+    const size_t n = b.size();
+    if (n == 0) return 0;
+    // entry[i]: speed at the start of block i; entry[n] = 0 (rest at the end).
+    std::vector<double> entry(n + 1, 0.0);
+    for (size_t i = 1; i < n; ++i) {
+        const Block& p = b[i - 1];
+        const Block& q = b[i];
+        const double cos_theta = -(p.ux * q.ux + p.uy * q.uy);
+        double v = std::min(p.speed, q.speed);
+        if (cos_theta > 0.999999) {
+            v = 0;  // reversal
+        } else if (cos_theta > -0.999999) {
+            const double sin_half = std::sqrt(0.5 * (1 - cos_theta));
+            const double a = std::min(p.accel, q.accel);
+            v = std::min(v, std::sqrt(a * deviation_ * sin_half / (1 - sin_half)));
+        }
+        entry[i] = v;
+    }
+    // Backward: each block must be able to slow down to the next entry speed.
+    for (size_t i = n; i-- > 0;)
+        entry[i] = std::min(entry[i],
+                            std::sqrt(entry[i + 1] * entry[i + 1] + 2 * b[i].accel * b[i].length));
+    // Forward: and to reach its exit speed from its entry speed.
+    for (size_t i = 0; i < n; ++i)
+        entry[i + 1] =
+            std::min(entry[i + 1], std::sqrt(entry[i] * entry[i] + 2 * b[i].accel * b[i].length));
+    double t = 0;
+    for (size_t i = 0; i < n; ++i)
+        t += trapezoid_time(b[i].length, entry[i], b[i].speed, entry[i + 1], b[i].accel);
+    return t;
+}
+
+}  // namespace carve

@@ -1,0 +1,16 @@
+// Travel ordering of one group of print paths (private to the toolpath stage).
+#pragma once
+
+#include <vector>
+
+#include "toolpath/toolpath.hpp"
+
+namespace carve {
+
+// Greedy nearest neighbour from `pos`: the next path is the one with the nearest entry point
+// (any vertex of a closed loop, either end of an open path). Loops are rotated to start at
+// that vertex, open paths reversed when entered from their last point. `pos` ends at the exit
+// of the last path. Near-linear: entry points are kept in a uniform grid.
+void order_nearest(std::vector<Extrusion>& paths, Point& pos);
+
+}  // namespace carve

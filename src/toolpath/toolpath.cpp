@@ -1,0 +1,190 @@
+// plan_layer: from a layer's partition to its print paths, in print order (report section 4).
+//
+// Geometry conventions (see partition.hpp): the boundary of wall_region is the outer wall's
+// centreline, the boundary of shell_paths_region the innermost shell's, and in single-filament
+// mode every cavity boundary is a centreline too. So walls are plain boundary loops, and only
+// the solid cover lines need an inset (to sit beside the innermost wall, not on it).
+#include "toolpath/toolpath.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "geometry/morphology.hpp"
+#include "geometry/polygon.hpp"
+#include "toolpath/fill.hpp"
+#include "toolpath/order.hpp"
+#include "toolpath/walls.hpp"
+
+namespace carve {
+
+namespace {
+
+// Cover lines overlap the innermost wall by this fraction of a line width, for adhesion.
+constexpr double kCoverOverlap = 0.15;
+// Vertices closer than this to the line through their neighbours are dropped (micrometres):
+// far below the printer's resolution, and it keeps the G-code from carrying 24-gon noise.
+constexpr double kSimplify = 5.0;
+
+void add_loops(const Paths& region, Feature feature, int cavity, double min_length,
+               std::vector<Extrusion>& out) {
+    for (const Path& loop : clean(region, kSimplify)) {
+        if (length(Paths{loop}, true) < min_length) continue;
+        Extrusion e;
+        e.feature = feature;
+        e.points = loop;
+        e.closed = true;
+        e.cavity = cavity;
+        out.push_back(std::move(e));
+    }
+}
+
+// Bridges keep their line order (the supports stage chose it); only which bridge comes next
+// and the direction of each line are chosen for short travel.
+std::vector<Extrusion> order_bridges(const std::vector<Bridge>& bridges, double flow, Point& pos) {
+    std::vector<Extrusion> out;
+    std::vector<char> done(bridges.size(), 0);
+    auto d2 = [](const Point& a, const Point& b) {
+        const double dx = double(a.X - b.X), dy = double(a.Y - b.Y);
+        return dx * dx + dy * dy;
+    };
+    for (size_t round = 0; round < bridges.size(); ++round) {
+        size_t best = bridges.size();
+        double best_d = std::numeric_limits<double>::max();
+        for (size_t b = 0; b < bridges.size(); ++b) {
+            if (done[b]) continue;
+            for (const Path& line : bridges[b].lines) {
+                if (line.empty()) continue;
+                const double d = std::min(d2(pos, line.front()), d2(pos, line.back()));
+                if (d < best_d) best_d = d, best = b;
+                break;  // entered through its first line
+            }
+        }
+        if (best == bridges.size()) break;
+        done[best] = 1;
+        for (const Path& line : bridges[best].lines) {
+            if (line.size() < 2) continue;
+            Extrusion e;
+            e.feature = Feature::Bridge;
+            e.points = line;
+            e.flow = flow;
+            e.cavity = bridges[best].cavity;
+            if (d2(pos, line.back()) < d2(pos, line.front()))
+                std::reverse(e.points.begin(), e.points.end());
+            pos = e.points.back();
+            out.push_back(std::move(e));
+        }
+    }
+    return out;
+}
+
+}  // namespace
+
+std::string_view feature_name(Feature f) {
+    // PrusaSlicer's words: its G-code viewer colours by them, and they read well in Cura's too.
+    switch (f) {
+        case Feature::OuterWall:
+            return "External perimeter";
+        case Feature::Shell:
+            return "Perimeter";
+        case Feature::Cover:
+            return "Solid infill";
+        case Feature::CavityWall:
+            return "Internal infill";
+        case Feature::Bridge:
+            return "Bridge infill";
+    }
+    return "Custom";
+}
+
+LayerToolpaths plan_layer(const LayerPartition& layer, const Settings& settings) {
+    LayerToolpaths result;
+    result.index = layer.index;
+    result.z = (layer.index + 1) * settings.layer_height;
+
+    const Coord s = settings.nozzle_radius();
+    const Coord w = settings.line_width();
+    const double min_length = 2.0 * double(w);
+
+    // 1. Outer wall (C^0) and shells.
+    std::vector<Extrusion> outer, shells;
+    add_loops(layer.wall_region, Feature::OuterWall, 0, double(w), outer);
+    const Paths& inner = (layer.shell_paths_region.empty() && settings.shells == 0)
+                             ? layer.wall_region
+                             : layer.shell_paths_region;
+    for (int k = 1; k <= settings.shells; ++k) {
+        const Paths region = k == settings.shells ? inner : erode(layer.wall_region, k * w);
+        add_loops(region, Feature::Shell, 0, double(w), shells);
+    }
+
+    // 2. Covers. The cavity walls of C^1 keep t away from the boundary of the carvable part, as
+    // if a wall ran on it (single filament: on it; double walls: half a width outside it, where
+    // the cavities' own walls begin). That edge is printed where it is at least t from the
+    // innermost wall, with solid lines whose centres keep w - overlap from both.
+    std::vector<Extrusion> cover_edges, cover_lines;
+    if (!layer.covers.empty()) {
+        const Coord overlap = static_cast<Coord>(std::llround(kCoverOverlap * double(w)));
+        Paths fill = intersect(layer.covers, erode(inner, w - overlap));
+        if (!layer.carvable.empty()) {
+            const Paths edge =
+                settings.walls == WallMode::Single ? layer.carvable : dilate(layer.carvable, s);
+            for (WallPiece& piece : restrict_loops(
+                     clean(edge, kSimplify), erode(inner, settings.restriction()), 0, min_length)) {
+                Extrusion e;
+                e.feature = Feature::Cover;
+                e.points = std::move(piece.points);
+                e.closed = piece.closed;
+                cover_edges.push_back(std::move(e));
+            }
+            fill = subtract(fill, dilate(edge, w - overlap));
+        }
+        const double angle = (layer.index % 2 == 0) ? 45.0 : -45.0;
+        cover_lines = fill_solid(fill, angle, w, Feature::Cover);
+    }
+
+    // 3. Cavity walls, C^1 .. C^k in the order they were modelled (4.2).
+    std::vector<std::vector<Extrusion>> cavity_walls(layer.cavities.size());
+    Paths remaining = layer.carvable;  // V^{j-1}
+    for (size_t j = 0; j < layer.cavities.size(); ++j) {
+        const Paths& cavity = layer.cavities[j];
+        if (cavity.empty()) continue;
+        const int index = static_cast<int>(j) + 1;
+        if (settings.walls == WallMode::Double) {
+            add_loops(open(erode(cavity, s), settings.opening()), Feature::CavityWall, index,
+                      min_length, cavity_walls[j]);
+            continue;
+        }
+        const Paths smoothed = clean(open(cavity, settings.opening()), kSimplify);
+        const Paths restriction = erode(remaining, settings.restriction());
+        for (WallPiece& piece :
+             restrict_loops(smoothed, restriction, to_units(settings.wall_extension), min_length)) {
+            Extrusion e;
+            e.feature = Feature::CavityWall;
+            e.points = std::move(piece.points);
+            e.closed = piece.closed;
+            e.cavity = index;
+            cavity_walls[j].push_back(std::move(e));
+        }
+        if (j + 1 < layer.cavities.size()) remaining = subtract(remaining, cavity);
+    }
+
+    // 5. Order: groups in print order, nearest neighbour inside each group.
+    BBox2 box = bounds(layer.outline.empty() ? layer.wall_region : layer.outline);
+    Point pos(box.min_x, box.min_y);
+    auto append = [&](std::vector<Extrusion>& group) {
+        order_nearest(group, pos);
+        for (Extrusion& e : group) result.extrusions.push_back(std::move(e));
+    };
+    append(outer);
+    append(shells);
+    // The cover's edge and lines support nothing of each other: one group, less travel.
+    for (Extrusion& e : cover_lines) cover_edges.push_back(std::move(e));
+    append(cover_edges);
+    for (auto& group : cavity_walls) append(group);
+    // 4. Bridges last: they hang over the cavity below, anchored on the walls just printed.
+    for (Extrusion& e : order_bridges(layer.bridges, settings.bridge_flow, pos))
+        result.extrusions.push_back(std::move(e));
+    return result;
+}
+
+}  // namespace carve

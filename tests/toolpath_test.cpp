@@ -1,0 +1,503 @@
+// Toolpath stage on hand-built partitions: walls, cover lines, single and double cavity walls,
+// print order and the nearest-neighbour ordering.
+#include "toolpath/toolpath.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <random>
+
+#include "geometry/morphology.hpp"
+#include "geometry/polygon.hpp"
+#include "toolpath/fill.hpp"
+#include "toolpath/order.hpp"
+#include "toolpath/walls.hpp"
+
+using namespace carve;
+
+namespace {
+
+constexpr Coord kMm = 1000;
+
+Paths rect(Coord x0, Coord y0, Coord x1, Coord y1) {
+    return {{{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}}};
+}
+
+// A 20 mm square slice centred on the origin, no covers, no shells.
+LayerPartition square_layer(const Settings& st) {
+    LayerPartition l;
+    l.index = 5;
+    l.z = 1.1;
+    l.outline = rect(-10 * kMm, -10 * kMm, 10 * kMm, 10 * kMm);
+    l.wall_region = erode(l.outline, st.nozzle_radius());
+    l.shell_paths_region = l.wall_region;
+    l.carvable = l.wall_region;
+    l.remainder = l.carvable;
+    return l;
+}
+
+// Two cavities: C^1 the left half (touching the outer wall on three sides), C^2 a block inside
+// V^1 touching the outer wall on its right side.
+LayerPartition two_cavities(const Settings& st) {
+    LayerPartition l = square_layer(st);
+    l.cavities.push_back(intersect(l.carvable, rect(-10 * kMm, -10 * kMm, 0, 10 * kMm)));
+    l.cavities.push_back(intersect(l.carvable, rect(3 * kMm, -5 * kMm, 10 * kMm, 5 * kMm)));
+    l.remainder = subtract(subtract(l.carvable, l.cavities[0]), l.cavities[1]);
+    return l;
+}
+
+double seg_dist(const Point& p, const Point& a, const Point& b) {
+    const double dx = double(b.X - a.X), dy = double(b.Y - a.Y);
+    const double len2 = dx * dx + dy * dy;
+    double t = len2 > 0 ? ((p.X - a.X) * dx + (p.Y - a.Y) * dy) / len2 : 0.0;
+    t = std::clamp(t, 0.0, 1.0);
+    return std::hypot(a.X + t * dx - p.X, a.Y + t * dy - p.Y);
+}
+
+// Distance from a point to the boundary of a region.
+double boundary_dist(const Point& p, const Paths& region) {
+    double best = std::numeric_limits<double>::max();
+    for (const Path& c : region)
+        for (size_t i = 0; i < c.size(); ++i)
+            best = std::min(best, seg_dist(p, c[i], c[(i + 1) % c.size()]));
+    return best;
+}
+
+// Points every `step` along a path, each with its arc length from the start.
+std::vector<std::pair<Point, double>> samples(const Extrusion& e, double step) {
+    std::vector<std::pair<Point, double>> out;
+    Path p = e.points;
+    if (e.closed) p.push_back(p.front());
+    double at = 0;
+    for (size_t i = 1; i < p.size(); ++i) {
+        const double d = std::hypot(double(p[i].X - p[i - 1].X), double(p[i].Y - p[i - 1].Y));
+        const int n = std::max(1, static_cast<int>(d / step));
+        for (int k = 0; k < n; ++k) {
+            const double t = double(k) / n;
+            out.push_back({Point(std::llround(p[i - 1].X + t * (p[i].X - p[i - 1].X)),
+                                 std::llround(p[i - 1].Y + t * (p[i].Y - p[i - 1].Y))),
+                           at + t * d});
+        }
+        at += d;
+    }
+    out.push_back({p.back(), at});
+    return out;
+}
+
+double path_length(const Extrusion& e) {
+    return length(Paths{e.points}, e.closed);
+}
+
+std::vector<const Extrusion*> of_feature(const LayerToolpaths& t, Feature f) {
+    std::vector<const Extrusion*> out;
+    for (const Extrusion& e : t.extrusions)
+        if (e.feature == f) out.push_back(&e);
+    return out;
+}
+
+}  // namespace
+
+TEST(Toolpath, SquareWithoutCavitiesIsOneOuterLoop) {
+    Settings st;
+    LayerPartition l = square_layer(st);
+    LayerToolpaths t = plan_layer(l, st);
+    EXPECT_EQ(t.index, 5);
+    EXPECT_NEAR(t.z, 6 * st.layer_height, 1e-12);
+    ASSERT_EQ(t.extrusions.size(), 1u);
+    const Extrusion& e = t.extrusions[0];
+    EXPECT_EQ(e.feature, Feature::OuterWall);
+    EXPECT_TRUE(e.closed);
+    EXPECT_NEAR(to_mm(Coord(path_length(e))), 4 * 19.6, 0.05);
+    for (const Point& p : e.points) EXPECT_LT(boundary_dist(p, l.wall_region), 2.0);
+}
+
+TEST(Toolpath, ShellsAreInsetByOneLineWidth) {
+    Settings st;
+    st.shells = 2;
+    LayerPartition l = square_layer(st);
+    l.shell_paths_region = erode(l.wall_region, 2 * st.line_width());
+    l.carvable = l.shell_paths_region;
+    LayerToolpaths t = plan_layer(l, st);
+    auto shells = of_feature(t, Feature::Shell);
+    ASSERT_EQ(shells.size(), 2u);
+    EXPECT_NEAR(path_length(*shells[0]) / kMm, 4 * 18.8, 0.05);
+    EXPECT_NEAR(path_length(*shells[1]) / kMm, 4 * 18.0, 0.05);
+}
+
+TEST(Toolpath, CoverLinesFillTheRegionAtLineSpacingAlternatingByParity) {
+    Settings st;
+    const double w = double(st.line_width());
+    for (int index : {0, 1}) {
+        LayerPartition l = square_layer(st);
+        l.index = index;
+        // A cover with a hole: the carvable middle is left to the cavities.
+        l.carvable = rect(-4 * kMm, -4 * kMm, 4 * kMm, 4 * kMm);
+        l.covers = subtract(l.shell_paths_region, l.carvable);
+        LayerToolpaths t = plan_layer(l, st);
+        auto covers = of_feature(t, Feature::Cover);
+        ASSERT_FALSE(covers.empty());
+
+        // Inside: centres keep ~w from the wall's centreline and stay out of the carvable hole
+        // (the lines also keep ~w from the hole's edge).
+        const Paths allowed = erode(l.wall_region, st.line_width() - 70);
+        const Paths forbidden = erode(l.carvable, 10);
+        double deposited = 0;
+        std::vector<double> offsets;
+        const double angle = (index % 2 == 0 ? 45.0 : -45.0) * std::numbers::pi / 180.0;
+        const double nx = -std::sin(angle), ny = std::cos(angle);
+        // The edge towards the carvable part: the square hole's boundary, closed.
+        auto edge = std::find_if(covers.begin(), covers.end(), [](auto* e) { return e->closed; });
+        ASSERT_NE(edge, covers.end());
+        EXPECT_NEAR(path_length(**edge) / kMm, 32.0, 0.01);
+        for (const Point& p : (*edge)->points) EXPECT_LT(boundary_dist(p, l.carvable), 2.0);
+        deposited += path_length(**edge) * w;
+        covers.erase(edge);
+        for (const Extrusion* e : covers) {
+            EXPECT_FALSE(e->closed);
+            EXPECT_GT(e->flow, 0.9);
+            EXPECT_LE(e->flow, 1.0);
+            deposited += path_length(*e) * w * e->flow;
+            for (const auto& [p, at] : samples(*e, 100)) {
+                EXPECT_TRUE(point_in_region(p, allowed)) << p.X << "," << p.Y;
+                EXPECT_FALSE(point_in_region(p, forbidden)) << p.X << "," << p.Y;
+                EXPECT_GT(boundary_dist(p, l.carvable), st.line_width() - 70);
+            }
+            // Long segments run along the layer's direction; record their offsets.
+            for (size_t i = 1; i < e->points.size(); ++i) {
+                const Point& a = e->points[i - 1];
+                const Point& b = e->points[i];
+                const double dx = double(b.X - a.X), dy = double(b.Y - a.Y);
+                const double len = std::hypot(dx, dy);
+                if (len < 2 * kMm) continue;
+                EXPECT_LT(std::abs(dx * nx + dy * ny) / len, 1e-3)
+                    << "line not at the layer's angle";
+                offsets.push_back(nx * a.X + ny * a.Y);
+            }
+        }
+        std::sort(offsets.begin(), offsets.end());
+        std::vector<double> lines;
+        for (double o : offsets)
+            if (lines.empty() || o - lines.back() > 20) lines.push_back(o);
+        ASSERT_GT(lines.size(), 20u);
+        for (size_t i = 1; i < lines.size(); ++i) {
+            const double gap = lines[i] - lines[i - 1];
+            // Adjacent long lines, or lines on either side of the hole.
+            if (gap > 1.5 * w) continue;
+            EXPECT_GE(gap, 0.9 * w);
+            EXPECT_LE(gap, w + 2);
+        }
+        // Deposited footprint: the region of line centres (up to the hole's edge) grown by half a
+        // line, within 3 %.
+        const Paths centres = intersect(l.covers, erode(l.wall_region, st.line_width() - 60));
+        const double expected = area(dilate(centres, st.nozzle_radius()));
+        EXPECT_NEAR(deposited / expected, 1.0, 0.03);
+    }
+}
+
+TEST(Toolpath, SingleFilamentWallsKeepClearOfPrintedWallsExceptExtensions) {
+    Settings st;
+    LayerPartition l = two_cavities(st);
+    LayerToolpaths t = plan_layer(l, st);
+    auto walls = of_feature(t, Feature::CavityWall);
+    const double t_um = double(st.restriction());
+    const double ext = st.wall_extension * kMm;
+    int per_cavity[3] = {0, 0, 0};
+    for (const Extrusion* e : walls) {
+        ASSERT_GE(e->cavity, 1);
+        ASSERT_LE(e->cavity, 2);
+        ++per_cavity[e->cavity];
+        const double len = path_length(*e);
+        EXPECT_GT(len, 2 * st.line_width());
+        // Walls printed before this one: the outer wall, and C^1 for C^2.
+        Paths before = l.wall_region;
+        if (e->cavity == 2) before = unite(before, l.cavities[0]);
+        for (const auto& [p, at] : samples(*e, 50)) {
+            const bool in_extension = !e->closed && (at < ext + 20 || at > len - ext - 20);
+            if (in_extension) continue;
+            EXPECT_GE(boundary_dist(p, l.wall_region), t_um - 10) << p.X << "," << p.Y;
+            if (e->cavity == 2) {
+                EXPECT_GE(boundary_dist(p, l.cavities[0]), t_um - 10) << p.X << "," << p.Y;
+            }
+        }
+        if (!e->closed) {
+            // The extensions reach along the walls already printed.
+            EXPECT_LT(boundary_dist(e->points.front(), before), t_um);
+            EXPECT_LT(boundary_dist(e->points.back(), before), t_um);
+        }
+    }
+    EXPECT_EQ(per_cavity[1], 1);
+    EXPECT_EQ(per_cavity[2], 1);
+    // C^1's wall is the x = 0 side (19.04 mm inside W^0) plus two 1 mm extensions.
+    for (const Extrusion* e : walls) {
+        if (e->cavity == 1) {
+            EXPECT_NEAR(path_length(*e) / kMm, 19.6 - 2 * 0.28 + 2.0, 0.1);
+        }
+    }
+}
+
+TEST(Toolpath, SingleFilamentInnerCavityIsAClosedLoop) {
+    Settings st;
+    LayerPartition l = square_layer(st);
+    l.cavities.push_back(rect(-3 * kMm, -3 * kMm, 3 * kMm, 3 * kMm));
+    LayerToolpaths t = plan_layer(l, st);
+    auto walls = of_feature(t, Feature::CavityWall);
+    ASSERT_EQ(walls.size(), 1u);
+    EXPECT_TRUE(walls[0]->closed);
+    // Opened by s': the corners are rounded, the length is just under the square's.
+    EXPECT_NEAR(path_length(*walls[0]) / kMm, 24.0 - (8 - 2 * std::numbers::pi) * 0.18, 0.05);
+}
+
+TEST(Toolpath, DoubleWallsAreClosedLoopsInsetByHalfAWidth) {
+    Settings st;
+    st.walls = WallMode::Double;
+    LayerPartition l = two_cavities(st);
+    LayerToolpaths t = plan_layer(l, st);
+    auto walls = of_feature(t, Feature::CavityWall);
+    ASSERT_EQ(walls.size(), 2u);
+    for (const Extrusion* e : walls) {
+        EXPECT_TRUE(e->closed);
+        const Paths& cavity = l.cavities[e->cavity - 1];
+        for (const Point& p : e->points) {
+            EXPECT_TRUE(point_in_region(p, cavity));
+            EXPECT_NEAR(boundary_dist(p, cavity), double(st.nozzle_radius()), 60.0);
+        }
+    }
+}
+
+TEST(Toolpath, PrintOrderFollowsTheReport) {
+    Settings st;
+    st.shells = 1;
+    LayerPartition l = square_layer(st);
+    l.shell_paths_region = erode(l.wall_region, st.line_width());
+    l.carvable = rect(-6 * kMm, -6 * kMm, 6 * kMm, 6 * kMm);
+    l.covers = subtract(l.shell_paths_region, l.carvable);
+    l.cavities.push_back(rect(-6 * kMm, -6 * kMm, 0, 6 * kMm));
+    l.cavities.push_back(rect(1 * kMm, -3 * kMm, 6 * kMm, 3 * kMm));
+    Bridge b;
+    b.cavity = 2;
+    b.lines = {{{2 * kMm, 0}, {5 * kMm, 0}}, {{2 * kMm, 400}, {5 * kMm, 400}}};
+    l.bridges.push_back(b);
+    LayerToolpaths t = plan_layer(l, st);
+    auto rank = [](const Extrusion& e) {
+        switch (e.feature) {
+            case Feature::OuterWall:
+                return 0;
+            case Feature::Shell:
+                return 1;
+            case Feature::Cover:
+                return 2;
+            case Feature::CavityWall:
+                return 10 + e.cavity;
+            case Feature::Bridge:
+                return 1000;
+        }
+        return -1;
+    };
+    std::vector<int> seen;
+    for (const Extrusion& e : t.extrusions) seen.push_back(rank(e));
+    EXPECT_TRUE(std::is_sorted(seen.begin(), seen.end()));
+    for (int r : {0, 1, 2, 11, 12, 1000})
+        EXPECT_NE(std::find(seen.begin(), seen.end(), r), seen.end()) << "missing group " << r;
+    auto bridges = of_feature(t, Feature::Bridge);
+    ASSERT_EQ(bridges.size(), 2u);
+    EXPECT_DOUBLE_EQ(bridges[0]->flow, st.bridge_flow);
+    // Bridge lines keep their order; the second is entered from the end nearest the first's exit.
+    EXPECT_EQ(bridges[0]->points.front().Y, 0);
+    EXPECT_EQ(bridges[1]->points.front().X, bridges[0]->points.back().X);
+}
+
+TEST(Toolpath, FeatureNamesArePrusaSlicerWords) {
+    EXPECT_EQ(feature_name(Feature::OuterWall), "External perimeter");
+    EXPECT_EQ(feature_name(Feature::Shell), "Perimeter");
+    EXPECT_EQ(feature_name(Feature::Cover), "Solid infill");
+    EXPECT_EQ(feature_name(Feature::CavityWall), "Internal infill");
+    EXPECT_EQ(feature_name(Feature::Bridge), "Bridge infill");
+}
+
+TEST(Ordering, GridNearestNeighbourMatchesBruteForce) {
+    std::mt19937 rng(7);
+    std::uniform_int_distribution<Coord> coord(0, 100 * kMm), step(-2 * kMm, 2 * kMm);
+    std::vector<Extrusion> paths;
+    for (int i = 0; i < 3000; ++i) {
+        Extrusion e;
+        Point a(coord(rng), coord(rng));
+        e.points = {a, Point(a.X + step(rng), a.Y + step(rng))};
+        if (i % 5 == 0) {  // a few closed triangles
+            e.points.push_back(Point(a.X + step(rng), a.Y + step(rng)));
+            e.closed = true;
+        }
+        paths.push_back(e);
+    }
+    auto d = [](const Point& a, const Point& b) {
+        return std::hypot(double(a.X - b.X), double(a.Y - b.Y));
+    };
+    // Brute-force greedy travel.
+    double brute = 0;
+    {
+        std::vector<char> used(paths.size(), 0);
+        Point pos(0, 0);
+        for (size_t n = 0; n < paths.size(); ++n) {
+            double best = 1e300;
+            size_t bi = 0, bv = 0;
+            for (size_t i = 0; i < paths.size(); ++i) {
+                if (used[i]) continue;
+                const Path& p = paths[i].points;
+                for (size_t v = 0; v < p.size(); ++v) {
+                    if (!paths[i].closed && v != 0 && v != p.size() - 1) continue;
+                    if (d(pos, p[v]) < best) best = d(pos, p[v]), bi = i, bv = v;
+                }
+            }
+            used[bi] = 1;
+            brute += best;
+            const Path& p = paths[bi].points;
+            pos = paths[bi].closed ? p[bv] : (bv == 0 ? p.back() : p.front());
+        }
+    }
+    std::vector<Extrusion> ordered = paths;
+    Point pos(0, 0);
+    order_nearest(ordered, pos);
+    ASSERT_EQ(ordered.size(), paths.size());
+    double travel = 0;
+    Point at(0, 0);
+    for (const Extrusion& e : ordered) {
+        travel += d(at, e.points.front());
+        at = e.closed ? e.points.front() : e.points.back();
+    }
+    EXPECT_NEAR(travel, brute, 1e-6 * brute);
+    EXPECT_EQ(at, pos);
+}
+
+TEST(Walls, PieceThroughTheLoopStartIsOneCurveWithExtensions) {
+    // The loop starts at (0, 0), inside W; W misses a 2 mm notch on the right side.
+    const Paths loop = rect(0, 0, 10 * kMm, 10 * kMm);
+    const Paths region =
+        subtract(rect(-kMm, -kMm, 11 * kMm, 11 * kMm), rect(9 * kMm, 4 * kMm, 12 * kMm, 6 * kMm));
+    auto pieces = restrict_loops(loop, region, 1.0 * kMm, 800);
+    ASSERT_EQ(pieces.size(), 1u);
+    Extrusion e;
+    e.points = pieces[0].points;
+    // 40 mm minus the 2 mm gap, plus 1 mm at both ends: the extensions close the gap.
+    EXPECT_TRUE(pieces[0].closed || path_length(e) > 39.9 * kMm);
+    // With 0.5 mm extensions the gap stays open by 1 mm.
+    pieces = restrict_loops(loop, region, 0.5 * kMm, 800);
+    ASSERT_EQ(pieces.size(), 1u);
+    e.points = pieces[0].points;
+    EXPECT_NEAR(path_length(e) / kMm, 39.0, 0.01);
+    EXPECT_NEAR(boundary_dist(pieces[0].points.front(), loop), 0, 2);
+}
+
+TEST(Walls, RestrictedPiecesFollowTheLoopsInsideTheRegion) {
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> u(-1, 1);
+    for (int trial = 0; trial < 20; ++trial) {
+        // Blobby loops and a blobby region.
+        auto blob = [&](double cx, double cy, double r) {
+            Path p;
+            const int n = 60;
+            const double a1 = u(rng), a2 = u(rng), ph = 3 * u(rng);
+            for (int i = 0; i < n; ++i) {
+                const double t = 2 * std::numbers::pi * i / n;
+                const double rr =
+                    r * (1 + 0.25 * a1 * std::sin(3 * t + ph) + 0.15 * a2 * std::cos(5 * t));
+                p.push_back(Point(std::llround(cx + rr * std::cos(t)),
+                                  std::llround(cy + rr * std::sin(t))));
+            }
+            return p;
+        };
+        Paths loops =
+            unite(Paths{blob(0, 0, 8 * kMm), blob(3 * kMm * u(rng), 3 * kMm * u(rng), 3 * kMm)});
+        loops = subtract(loops, Paths{blob(2 * kMm * u(rng), 2 * kMm * u(rng), 1.5 * kMm)});
+        const Paths region = Paths{blob(6 * kMm * u(rng), 6 * kMm * u(rng), 7 * kMm)};
+        const double ext = 1.0 * kMm;
+        auto pieces = restrict_loops(loops, region, ext, 0);
+        std::vector<Extrusion> ex;
+        for (auto& p : pieces) {
+            Extrusion e;
+            e.points = p.points;
+            e.closed = p.closed;
+            ex.push_back(e);
+        }
+        // Every output point lies on a loop. A stretch outside the region is an extension: at
+        // most ext long at a piece's end, at most 2 ext where two extensions met and merged.
+        const Paths grown = dilate(region, 5);
+        for (const Extrusion& e : ex) {
+            const double len = path_length(e);
+            auto pts = samples(e, 50);
+            double run_start = -1;
+            for (size_t i = 0; i <= pts.size(); ++i) {
+                const bool outside = i < pts.size() && !point_in_region(pts[i].first, grown);
+                if (i < pts.size()) {
+                    EXPECT_LT(boundary_dist(pts[i].first, loops), 3.0);
+                }
+                if (outside && run_start < 0) run_start = pts[i].second;
+                if (!outside && run_start >= 0) {
+                    const double run_end = i < pts.size() ? pts[i].second : len;
+                    const bool at_end = !e.closed && (run_start == 0 || run_end >= len);
+                    EXPECT_LE(run_end - run_start, (at_end ? 1 : 2) * ext + 120)
+                        << "trial " << trial << " run " << run_start << ".." << run_end << " of "
+                        << len << (e.closed ? " closed" : " open");
+                    run_start = -1;
+                }
+            }
+        }
+        // Every loop point well inside the region is covered by an output piece.
+        Paths covered;
+        for (const Extrusion& e : ex) covered.push_back(e.points);
+        const Paths inside = erode(region, 5);
+        for (const Path& l : loops) {
+            Extrusion e;
+            e.points = l;
+            e.closed = true;
+            for (const auto& [p, at] : samples(e, 150)) {
+                if (!point_in_region(p, inside)) continue;
+                double best = 1e18;
+                for (const Extrusion& o : ex) {
+                    Path q = o.points;
+                    if (o.closed) q.push_back(q.front());
+                    for (size_t i = 1; i < q.size(); ++i)
+                        best = std::min(best, seg_dist(p, q[i - 1], q[i]));
+                }
+                EXPECT_LT(best, 3.0) << "trial " << trial << " at " << p.X << "," << p.Y;
+            }
+        }
+    }
+}
+
+TEST(Fill, ThinBandAlongTheLinesIsNotLost) {
+    // A 0.3 mm wide, 10 mm long band at 45 degrees, filled with 45 degree lines: no scanline
+    // runs inside it, only its ends and the boundary connectors can cover it.
+    const double c = std::sqrt(0.5);
+    auto at = [&](double along, double across) {
+        return Point(std::llround((along * c - across * c) * kMm),
+                     std::llround((along * c + across * c) * kMm));
+    };
+    const Paths band = {{at(0, 0), at(10, 0), at(10, 0.3), at(0, 0.3)}};
+    auto lines = fill_solid(band, 45.0, 400, Feature::Cover);
+    double total = 0;
+    for (const Extrusion& e : lines) {
+        total += path_length(e);
+        for (const Point& p : e.points) EXPECT_LT(boundary_dist(p, band), 2.0);
+    }
+    EXPECT_GT(total, 9.5 * kMm);
+    // Across the lines the same band gets short lines joined into one zig-zag.
+    lines = fill_solid(band, -45.0, 400, Feature::Cover);
+    ASSERT_EQ(lines.size(), 1u);
+    EXPECT_GT(lines[0].flow, 0.99);
+}
+
+TEST(Toolpath, ThinCoverBandStillGetsItsEdge) {
+    // Covers only 0.6 mm wide between the outer wall and the carvable part: no room for lines,
+    // but the edge the cavity walls rely on is printed.
+    Settings st;
+    LayerPartition l = square_layer(st);
+    l.carvable = rect(-9200, -9200, 9200, 9200);
+    l.covers = subtract(l.shell_paths_region, l.carvable);
+    LayerToolpaths t = plan_layer(l, st);
+    auto covers = of_feature(t, Feature::Cover);
+    ASSERT_EQ(covers.size(), 1u);
+    EXPECT_TRUE(covers[0]->closed);
+    EXPECT_NEAR(path_length(*covers[0]) / kMm, 4 * 18.4, 0.01);
+}
