@@ -30,7 +30,10 @@ struct MeshReport {
     size_t nonmanifold_edges = 0;  // edges with more than two incident triangles
     size_t flipped_triangles = 0;  // triangles re-oriented to agree with their neighbours
     bool inverted = false;         // the whole mesh faced inwards and was turned out
+    size_t inverted_shells = 0;    // shells turned outside out (inverted: at least one)
     size_t shells = 0;             // connected components
+    size_t internal_voids = 0;     // closed shells nested inside another, kept facing inwards
+    size_t zero_area_splits = 0;   // neighbours split at a dropped sliver's middle vertex
     bool closed() const { return open_edges == 0 && nonmanifold_edges == 0; }
     double volume_mm3 = 0;  // after repair, from the divergence theorem
     BBox3 bbox;

@@ -1,0 +1,64 @@
+// Private to the mesh loaders: the vertex welder every reader feeds, and the readers themselves.
+//
+// Readers turn file bytes into welded vertices plus triangles; the welder merges points whose
+// coordinates are exactly equal, so that the slicer can follow shared edges by index.
+#pragma once
+
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "mesh/mesh.hpp"
+
+namespace carve::detail {
+
+// Coordinates larger than this (mm) are taken as a units mistake rather than a real part.
+constexpr double kMaxCoordinateMm = 1e6;
+
+// Throws InputError "<path>: <what>".
+[[noreturn]] void fail(const std::string& path, const std::string& what);
+
+// Checks one point; `where` is only called to describe it when something is wrong.
+template <class Where>
+inline void check_point(const std::string& path, double x, double y, double z, Where&& where) {
+    if (std::abs(x) <= kMaxCoordinateMm && std::abs(y) <= kMaxCoordinateMm &&
+        std::abs(z) <= kMaxCoordinateMm)
+        return;
+    if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z))
+        fail(path, where() + " has a NaN or infinite coordinate; the file is corrupt");
+    fail(path, where() + " lies beyond +-1 km (coordinates over 1e6 mm); wrong units?");
+}
+
+// Merges points on exact coordinate equality (open addressing over the coordinates' bits;
+// -0 and +0 are the same point).
+class Welder {
+  public:
+    explicit Welder(size_t expected_points = 0);
+    uint32_t add(double x, double y, double z);
+    size_t size() const { return vertices_.size(); }
+    std::vector<Vec3> take() { return std::move(vertices_); }
+
+  private:
+    void grow();
+    std::vector<Vec3> vertices_;
+    std::vector<uint64_t> table_;  // hash tag | vertex index, or all ones when empty
+    uint64_t mask_ = 0;
+};
+
+// Each reader fills mesh (welded, not yet repaired) and report.format / triangles_read.
+void read_binary_stl(std::string_view data, const std::string& path, Mesh& mesh,
+                     MeshReport& report);
+void read_ascii_stl(std::string_view data, const std::string& path, Mesh& mesh, MeshReport& report);
+void read_obj(std::string_view data, const std::string& path, Mesh& mesh, MeshReport& report);
+void read_3mf(std::string_view data, const std::string& path, Mesh& mesh, MeshReport& report);
+
+// Parses a decimal number (leading '+' allowed); false when the token is not one.
+bool parse_double(std::string_view token, double& value);
+
+// 1-based line number of position pos in data (for error messages).
+size_t line_of(std::string_view data, size_t pos);
+
+}  // namespace carve::detail

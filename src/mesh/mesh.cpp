@@ -1,0 +1,296 @@
+// load_mesh: reads the file in one go, tells the format from its content, and hands the welded
+// mesh to analyse_and_repair. Also the welder and the small measures (volume, bounding box).
+#include "mesh/mesh.hpp"
+
+#include <algorithm>
+#include <bit>
+#include <cctype>
+#include <cerrno>
+#include <charconv>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <limits>
+
+#include "core/error.hpp"
+#include "mesh/loader.hpp"
+
+namespace carve {
+
+namespace detail {
+
+void fail(const std::string& path, const std::string& what) {
+    throw InputError(path + ": " + what);
+}
+
+bool parse_double(std::string_view token, double& value) {
+    if (!token.empty() && token.front() == '+') token.remove_prefix(1);
+    if (token.empty()) return false;
+    auto [end, ec] = std::from_chars(token.data(), token.data() + token.size(), value);
+    return ec == std::errc() && end == token.data() + token.size();
+}
+
+size_t line_of(std::string_view data, size_t pos) {
+    pos = std::min(pos, data.size());
+    return 1 + static_cast<size_t>(std::count(data.begin(), data.begin() + pos, '\n'));
+}
+
+namespace {
+
+inline uint64_t bits_of(double v) {
+    return std::bit_cast<uint64_t>(v);
+}
+
+// Coordinates read from float32 have their low 29 mantissa bits zero, so the bits are first
+// spread by odd multipliers and then folded down by a murmur-style finaliser.
+inline uint64_t hash_point(double x, double y, double z) {
+    uint64_t h = bits_of(x) * 0x9E3779B97F4A7C15ULL;
+    h ^= bits_of(y) * 0xC2B2AE3D27D4EB4FULL;
+    h ^= std::rotl(bits_of(z) * 0x165667B19E3779F9ULL, 31);
+    h ^= h >> 33;
+    h *= 0xFF51AFD7ED558CCDULL;
+    h ^= h >> 33;
+    h *= 0xC4CEB9FE1A85EC53ULL;
+    h ^= h >> 33;
+    return h;
+}
+
+size_t table_size_for(size_t points) {
+    return std::bit_ceil(std::max<size_t>(16, 2 * points));
+}
+
+}  // namespace
+
+// A slot holds the vertex index in its low half and the hash's high half as a tag, so that a
+// probe past a different point rarely has to read that point's coordinates.
+constexpr uint64_t kEmptySlot = std::numeric_limits<uint64_t>::max();
+
+Welder::Welder(size_t expected_points) {
+    vertices_.reserve(expected_points);
+    table_.assign(table_size_for(expected_points), kEmptySlot);
+    mask_ = table_.size() - 1;
+}
+
+void Welder::grow() {
+    table_.assign(table_.size() * 2, kEmptySlot);
+    mask_ = table_.size() - 1;
+    for (uint32_t id = 0; id < vertices_.size(); ++id) {
+        const Vec3& v = vertices_[id];
+        const uint64_t h = hash_point(v.x, v.y, v.z);
+        uint64_t i = h & mask_;
+        while (table_[i] != kEmptySlot) i = (i + 1) & mask_;
+        table_[i] = (h & ~0xFFFFFFFFULL) | id;
+    }
+}
+
+uint32_t Welder::add(double x, double y, double z) {
+    if (2 * (vertices_.size() + 1) > table_.size()) grow();
+    // Adding +0.0 turns -0.0 into +0.0, so both hash and compare alike.
+    x += 0.0;
+    y += 0.0;
+    z += 0.0;
+    const uint64_t h = hash_point(x, y, z);
+    const uint64_t tag = h & ~0xFFFFFFFFULL;
+    uint64_t i = h & mask_;
+    for (;;) {
+        const uint64_t slot = table_[i];
+        if (slot == kEmptySlot) {
+            const uint32_t id = static_cast<uint32_t>(vertices_.size());
+            table_[i] = tag | id;
+            vertices_.push_back({x, y, z});
+            return id;
+        }
+        if ((slot & ~0xFFFFFFFFULL) == tag) {
+            const uint32_t id = static_cast<uint32_t>(slot);
+            const Vec3& v = vertices_[id];
+            if (v.x == x && v.y == y && v.z == z) return id;
+        }
+        i = (i + 1) & mask_;
+    }
+}
+
+}  // namespace detail
+
+namespace {
+
+using detail::fail;
+
+std::string read_whole_file(const std::string& path) {
+    std::error_code ec;
+    if (std::filesystem::is_directory(path, ec)) fail(path, "is a directory, not a mesh file");
+    std::FILE* f = std::fopen(path.c_str(), "rb");
+    if (!f) fail(path, std::string("cannot open the file: ") + std::strerror(errno));
+    std::string data;
+    if (std::fseek(f, 0, SEEK_END) == 0) {
+        long size = std::ftell(f);
+        if (size > 0) {
+            std::rewind(f);
+            data.resize(static_cast<size_t>(size));
+            size_t got = std::fread(data.data(), 1, data.size(), f);
+            data.resize(got);
+        }
+    }
+    // Not seekable (a pipe) or changed under us: fall back to reading in chunks.
+    if (data.empty()) {
+        std::clearerr(f);
+        std::rewind(f);
+        char buf[1 << 16];
+        size_t got;
+        while ((got = std::fread(buf, 1, sizeof buf, f)) > 0) data.append(buf, got);
+    }
+    bool error = std::ferror(f) != 0;
+    int err = errno;
+    std::fclose(f);
+    if (error) fail(path, std::string("cannot read the file: ") + std::strerror(err));
+    return data;
+}
+
+std::string lower_extension(const std::string& path) {
+    std::string ext = std::filesystem::path(path).extension().string();
+    for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return ext;
+}
+
+bool is_space(char c) {
+    return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\f' || c == '\v';
+}
+
+bool starts_with_word(std::string_view s, std::string_view word) {
+    if (s.size() < word.size()) return false;
+    for (size_t i = 0; i < word.size(); ++i)
+        if (std::tolower(static_cast<unsigned char>(s[i])) != word[i]) return false;
+    return s.size() == word.size() || is_space(s[word.size()]);
+}
+
+std::string_view skip_space(std::string_view s) {
+    size_t i = 0;
+    while (i < s.size() && is_space(s[i])) ++i;
+    return s.substr(i);
+}
+
+// "solid <name>" on the first line, then "facet" or "endsolid": binary files whose header
+// happens to begin with "solid" fail the second test.
+bool looks_like_ascii_stl(std::string_view data) {
+    std::string_view s = skip_space(data);
+    if (!starts_with_word(s, "solid")) return false;
+    size_t eol = s.find('\n');
+    if (eol == std::string_view::npos) return false;
+    s = skip_space(s.substr(eol + 1));
+    return starts_with_word(s, "facet") || starts_with_word(s, "endsolid");
+}
+
+// The first meaningful lines are all OBJ statements and at least one is a vertex.
+bool looks_like_obj(std::string_view data) {
+    static constexpr std::string_view kKeywords[] = {"v", "vt", "vn", "vp", "f",      "o",
+                                                     "g", "s",  "l",  "p",  "usemtl", "mtllib"};
+    size_t pos = 0, lines = 0;
+    bool vertex = false;
+    while (pos < data.size() && lines < 64) {
+        size_t eol = data.find('\n', pos);
+        if (eol == std::string_view::npos) eol = data.size();
+        std::string_view line = skip_space(data.substr(pos, eol - pos));
+        pos = eol + 1;
+        if (line.empty() || line.front() == '#') continue;
+        ++lines;
+        bool known = false;
+        for (std::string_view k : kKeywords) {
+            if (starts_with_word(line, k)) {
+                known = true;
+                if (k == "v") vertex = true;
+                break;
+            }
+        }
+        if (!known) return false;
+    }
+    return vertex;
+}
+
+}  // namespace
+
+Mesh load_mesh(const std::string& path, MeshReport& report) {
+    report = MeshReport{};
+    const std::string data = read_whole_file(path);
+    if (data.empty()) fail(path, "the file is empty");
+    const std::string_view d(data);
+    const std::string ext = lower_extension(path);
+
+    uint32_t count = 0;
+    if (d.size() >= 84) std::memcpy(&count, d.data() + 80, 4);
+    if constexpr (std::endian::native == std::endian::big) count = __builtin_bswap32(count);
+    const uint64_t binary_size = 84 + 50 * uint64_t(count);
+
+    Mesh mesh;
+    if (d.size() >= 4 && d.substr(0, 4) == std::string_view("PK\x03\x04", 4)) {
+        detail::read_3mf(d, path, mesh, report);
+    } else if (d.size() >= 84 && d.size() == binary_size) {
+        detail::read_binary_stl(d, path, mesh, report);
+    } else if (looks_like_ascii_stl(d)) {
+        detail::read_ascii_stl(d, path, mesh, report);
+    } else if (ext == ".obj" || looks_like_obj(d)) {
+        detail::read_obj(d, path, mesh, report);
+    } else if (ext == ".stl" || starts_with_word(skip_space(d), "solid")) {
+        if (d.size() < 84)
+            fail(path, "not a valid STL: " + std::to_string(d.size()) +
+                           " bytes is too short for a binary STL and it is not ASCII STL");
+        fail(path, std::string(d.size() < binary_size ? "truncated" : "corrupt") +
+                       " binary STL: its header announces " + std::to_string(count) +
+                       " triangles (" + std::to_string(binary_size) + " bytes) but the file has " +
+                       std::to_string(d.size()) + " bytes");
+    } else if (ext == ".3mf") {
+        fail(path, "not a valid 3MF file: it is not a zip archive");
+    } else {
+        fail(path, "unknown mesh format (expected binary or ASCII STL, OBJ or 3MF)");
+    }
+
+    const size_t read = report.triangles_read;
+    analyse_and_repair(mesh, report);
+    if (report.triangles == 0) {
+        if (read == 0) fail(path, "the file holds no triangles");
+        fail(path, "no triangles left: all " + std::to_string(read) +
+                       " triangles are degenerate (zero area)");
+    }
+    return mesh;
+}
+
+double signed_volume(const Mesh& mesh) {
+    // Measured about the box centre so that far-off coordinates do not eat the precision.
+    BBox3 box = bounding_box(mesh);
+    const Vec3 o{(box.min.x + box.max.x) / 2, (box.min.y + box.max.y) / 2,
+                 (box.min.z + box.max.z) / 2};
+    double six = 0;
+    for (const auto& t : mesh.triangles) {
+        const Vec3& pa = mesh.vertices[t[0]];
+        const Vec3& pb = mesh.vertices[t[1]];
+        const Vec3& pc = mesh.vertices[t[2]];
+        double ax = pa.x - o.x, ay = pa.y - o.y, az = pa.z - o.z;
+        double bx = pb.x - o.x, by = pb.y - o.y, bz = pb.z - o.z;
+        double cx = pc.x - o.x, cy = pc.y - o.y, cz = pc.z - o.z;
+        six += ax * (by * cz - bz * cy) + ay * (bz * cx - bx * cz) + az * (bx * cy - by * cx);
+    }
+    return six / 6.0;
+}
+
+BBox3 bounding_box(const Mesh& mesh) {
+    BBox3 box;
+    if (mesh.vertices.empty()) return box;
+    box.min = box.max = mesh.vertices.front();
+    for (const Vec3& v : mesh.vertices) {
+        box.min.x = std::min(box.min.x, v.x);
+        box.min.y = std::min(box.min.y, v.y);
+        box.min.z = std::min(box.min.z, v.z);
+        box.max.x = std::max(box.max.x, v.x);
+        box.max.y = std::max(box.max.y, v.y);
+        box.max.z = std::max(box.max.z, v.z);
+    }
+    return box;
+}
+
+void translate(Mesh& mesh, const Vec3& offset) {
+    for (Vec3& v : mesh.vertices) {
+        v.x += offset.x;
+        v.y += offset.y;
+        v.z += offset.z;
+    }
+}
+
+}  // namespace carve
