@@ -246,8 +246,14 @@ Mesh load_mesh(const std::string& path, MeshReport& report) {
     analyse_and_repair(mesh, report);
     if (report.triangles == 0) {
         if (read == 0) fail(path, "the file holds no triangles");
-        fail(path, "no triangles left: all " + std::to_string(read) +
-                       " triangles are degenerate (zero area)");
+        if (report.duplicate_dropped == 0)
+            fail(path, "no triangles left: all " + std::to_string(read) +
+                           " triangles are degenerate (zero area)");
+        fail(path, "no triangles left: of " + std::to_string(read) + " triangles, " +
+                       std::to_string(report.degenerate_dropped) +
+                       " are degenerate (zero area) and " +
+                       std::to_string(report.duplicate_dropped) +
+                       " duplicates that cancel out (the same facet facing both ways)");
     }
     return mesh;
 }
