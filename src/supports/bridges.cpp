@@ -78,6 +78,12 @@ double horizontal_lines(const Paths& need, const Paths& span, Coord spacing, Pat
     return total;
 }
 
+double longest_line(const Paths& lines) {
+    double best = 0;
+    for (const Path& l : lines) best = std::max(best, length(Paths{l}, false));
+    return best;
+}
+
 }  // namespace
 
 BridgeOptions bridge_options(const Settings& settings) {
@@ -86,6 +92,7 @@ BridgeOptions bridge_options(const Settings& settings) {
     o.dilation = settings.dilation_per_layer();
     o.angle_step_deg = settings.bridge_angle_step;
     o.prune = settings.prune_bridges;
+    o.max_length = to_units(settings.max_bridge_length);
     return o;
 }
 
@@ -147,6 +154,9 @@ void add_bridges(LayerPartition& layer, const LayerPartition* below, const Bridg
             const Paths span = unite(layer.cavities[j], need);
             Bridge b = plan_bridge(need, span, options);
             if (b.lines.empty()) continue;
+            // A span longer than a printer bridges sags worse than the small minimum it would
+            // hold: the minimum is left to hang on its own (rare, counted by the checker).
+            if (options.prune && longest_line(b.lines) > double(options.max_length)) continue;
             b.cavity = static_cast<int>(j) + 1;
             b.island = !intersect(need, holes).empty() &&
                        area(subtract(need, holes)) < 0.5 * area(need);

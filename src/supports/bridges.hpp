@@ -22,6 +22,7 @@ struct BridgeOptions {
     double angle_step_deg = 5;  // the report hops around the circle by 5 degrees
     double min_area_r2 = 4;     // regions below this multiple of r^2 are spikes, not minima
     bool prune = true;          // drop minima smaller than two line widths across
+    Coord max_length = 10000;   // longest line a bridge may span, wall to wall
 };
 
 BridgeOptions bridge_options(const Settings& settings);
