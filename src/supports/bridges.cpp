@@ -152,7 +152,13 @@ void add_bridges(LayerPartition& layer, const LayerPartition* below, const Bridg
         for (const Paths& need : needs) {
             // The lines run across the cavity with the minimum filled in, wall to wall.
             const Paths span = unite(layer.cavities[j], need);
-            Bridge b = plan_bridge(need, span, options);
+            // Lines longer than max_length are dropped anyway, so the scan only needs the part
+            // of the cavity around the minimum: large cavities would make every angle costly.
+            BBox2 b0 = bounds(need);
+            const Coord m = options.max_length;
+            const Paths window{{{b0.min_x - m, b0.min_y - m}, {b0.max_x + m, b0.min_y - m},
+                                {b0.max_x + m, b0.max_y + m}, {b0.min_x - m, b0.max_y + m}}};
+            Bridge b = plan_bridge(need, options.prune ? intersect(span, window) : span, options);
             if (b.lines.empty()) continue;
             // A span longer than a printer bridges sags worse than the small minimum it would
             // hold: the minimum is left to hang on its own (rare, counted by the checker).

@@ -1,0 +1,144 @@
+// Runs the stages in order and gathers the figures of the run.
+#include "core/pipeline.hpp"
+
+#include <sys/resource.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+
+#include <fmt/format.h>
+
+#include "carving/carving.hpp"
+#include "core/error.hpp"
+#include "geometry/polygon.hpp"
+
+#include "slice/slicer.hpp"
+#include "report/html_report.hpp"
+#include "report/raster.hpp"
+#include "report/stats.hpp"
+#include "supports/bridges.hpp"
+#include "toolpath/toolpath.hpp"
+
+namespace carve {
+
+double peak_memory_mb() {
+    rusage usage{};
+    getrusage(RUSAGE_SELF, &usage);
+    return usage.ru_maxrss / 1024.0;  // Linux reports kilobytes
+}
+
+namespace {
+
+void progress_bar(int done, int total, double elapsed_s) {
+    const int width = 30;
+    const double f = total > 0 ? double(done) / total : 1.0;
+    const int filled = static_cast<int>(f * width);
+    const double left = f > 0 ? elapsed_s * (1 - f) / f : 0;
+    std::fprintf(stderr, "\r[%.*s%*s] %d/%d layers, %.0f s left ", filled,
+                 "##############################", width - filled, "", done, total, left);
+    if (done == total) std::fputc('\n', stderr);
+    std::fflush(stderr);
+}
+
+double toolpath_volume_mm3(const LayerToolpaths& paths, const Settings& settings) {
+    double v = 0;
+    for (const Extrusion& e : paths.extrusions)
+        v += to_mm(static_cast<Coord>(length(Paths{e.points}, e.closed))) * settings.nozzle *
+             settings.layer_height * e.flow;
+    return v;
+}
+
+}  // namespace
+
+RunResult run_slice(const Settings& settings, const RunOptions& options) {
+    const auto start = std::chrono::steady_clock::now();
+    auto note = [&](const std::string& s) {
+        if (options.note) options.note(s);
+    };
+    RunResult result;
+
+    Mesh mesh = load_mesh(options.model_path, result.mesh);
+    for (const std::string& w : result.mesh.warnings) note(w);
+    const BBox3& box = result.mesh.bbox;
+    const double size_x = box.max.x - box.min.x, size_y = box.max.y - box.min.y;
+    if (settings.bed_check && (size_x > settings.bed_x || size_y > settings.bed_y))
+        throw InputError(fmt::format(
+            "{}: the model ({:.1f} x {:.1f} mm) is larger than the bed ({:.0f} x {:.0f} mm); "
+            "scale it down, choose a larger --bed, or pass --no-bed-check",
+            options.model_path, size_x, size_y, settings.bed_x, settings.bed_y));
+    const double offset_x = settings.bed_x / 2 - (box.min.x + box.max.x) / 2;
+    const double offset_y = settings.bed_y / 2 - (box.min.y + box.max.y) / 2;
+
+    TopDownSlicer slicer(mesh, settings.layer_height);
+    const int layer_count = slicer.layer_count();
+    if (layer_count == 0)
+        throw InputError(fmt::format("{}: the model is thinner than one layer ({} mm)",
+                                     options.model_path, settings.layer_height));
+    CarvableStream carvable(slicer, settings);
+    CarvingSweep sweep(carvable, settings);
+    BridgeStage supports(sweep, settings);
+    GcodeWriter writer(options.gcode_path, settings, offset_x, offset_y, layer_count);
+    std::unique_ptr<HtmlReportWriter> html;
+    if (!options.report_path.empty())
+        html = std::make_unique<HtmlReportWriter>(options.report_path, settings);
+    std::unique_ptr<RasterWriter> raster;
+    if (!options.raster_dir.empty()) {
+        const BBox2 footprint{to_units(box.min.x), to_units(box.min.y), to_units(box.max.x),
+                              to_units(box.max.y), false};
+        raster = std::make_unique<RasterWriter>(options.raster_dir, settings, footprint);
+    }
+
+    result.layers = layer_count;
+    result.cavity_volume_mm3.assign(sweep.iterations(), 0.0);
+    result.layer_material_mm3.assign(layer_count, 0.0);
+    const double h = settings.layer_height;
+    int done = 0;
+    while (auto layer = supports.next()) {
+        LayerToolpaths paths = plan_layer(*layer, settings);
+        if (html) html->add_layer(*layer, paths);
+        if (raster) raster->add_layer(*layer);
+        writer.add_layer(paths);
+
+        result.carvable_volume_mm3 += area_mm2(layer->carvable) * h;
+        for (size_t j = 0; j < layer->cavities.size(); ++j)
+            result.cavity_volume_mm3[j] += area_mm2(layer->cavities[j]) * h;
+        result.remainder_volume_mm3 += area_mm2(layer->remainder) * h;
+        result.cover_volume_mm3 += area_mm2(layer->covers) * h;
+        result.layer_material_mm3[layer->index] = toolpath_volume_mm3(paths, settings);
+        for (const Bridge& b : layer->bridges) {
+            ++result.bridges;
+            result.bridge_length_mm += to_mm(static_cast<Coord>(length(b.lines, false)));
+        }
+        ++done;
+        if (options.progress && (done % 10 == 0 || done == layer_count)) {
+            const double t =
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+            progress_bar(done, layer_count, t);
+        }
+    }
+    for (double v : result.cavity_volume_mm3)
+        if (v > 0) ++result.cavities;
+
+    double material = 0;
+    for (double v : result.layer_material_mm3) material += v;
+    if (material <= 0)
+        throw InputError(fmt::format(
+            "{}: nothing to print: every part of the model is thinner than the {} mm line width",
+            options.model_path, settings.nozzle));
+
+    std::vector<std::string> header{
+        fmt::format("model = {}", options.model_path),
+        fmt::format("model_volume_mm3 = {:.1f}", result.mesh.volume_mm3),
+        fmt::format("cavities = {}", result.cavities),
+    };
+    result.print = writer.finish(header);
+    result.processing_time_s =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (raster) raster->finish();
+    result.peak_memory_mb = peak_memory_mb();
+    if (html) html->finish(result, stats_json(result, settings));
+    return result;
+}
+
+}  // namespace carve
