@@ -69,4 +69,21 @@ std::string summary_text(const RunResult& run, const Settings& settings) {
     return out;
 }
 
+std::string describe(const GcodeAnalysis& a) {
+    std::string out;
+    if (!a.generator.empty()) out += fmt::format("generator        {}\n", a.generator);
+    out += fmt::format("layers           {} (z {:.2f} .. {:.2f} mm)\n", a.layers, a.first_z_mm,
+                       a.last_z_mm);
+    out += fmt::format("material         {:.1f} mm3, {:.2f} m of {} mm filament\n",
+                       a.extruded_volume_mm3, a.filament_length_mm / 1000, a.filament_diameter_mm);
+    out += fmt::format("footprint        {:.1f} mm2 over all layers\n", a.footprint_area_mm2);
+    out += fmt::format("unsupported      {:.3f} % (nothing below within r)\n",
+                       100 * a.unsupported_fraction);
+    out += fmt::format("far-unsupported  {:.3f} % (nothing below within 2 mm)\n",
+                       100 * a.far_unsupported_fraction);
+    if (a.estimated_time_from_header_s >= 0)
+        out += fmt::format("header time      {}\n", format_duration(a.estimated_time_from_header_s));
+    return out;
+}
+
 }  // namespace carve

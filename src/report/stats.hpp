@@ -5,11 +5,14 @@
 #include <string>
 
 #include "core/pipeline.hpp"
+#include "report/gcode_analysis.hpp"
 
 namespace carve {
 
 nlohmann::json stats_json(const RunResult& run, const Settings& settings);
 std::string summary_text(const RunResult& run, const Settings& settings);
 std::string format_duration(double seconds);  // "1h 02m 03s"
+// The figures of `carve check` for people.
+std::string describe(const GcodeAnalysis& analysis);
 
 }  // namespace carve
