@@ -13,11 +13,11 @@
 
 namespace carve {
 
-class CarvingSweep {
+class CarvingSweep : public LayerSource {
 public:
     CarvingSweep(CarvableStream& input, const Settings& settings);
     // The next layer going down with cavities and remainder filled in.
-    std::optional<LayerPartition> next();
+    std::optional<LayerPartition> next() override;
     int iterations() const { return static_cast<int>(previous_.size()); }
 
 private:

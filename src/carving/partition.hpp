@@ -2,6 +2,7 @@
 // toolpath stage, the previews and the report.
 #pragma once
 
+#include <optional>
 #include <vector>
 
 #include "geometry/types.hpp"
@@ -32,6 +33,13 @@ struct LayerPartition {
     std::vector<Paths> cavities;       // C^1_i .. C^k_i, pairwise disjoint, inside carvable
     Paths remainder;                   // V^k_i
     std::vector<Bridge> bridges;       // filled in by the supports stage
+};
+
+// A stage that hands out layers one at a time, top down (the sweep, a queue between threads).
+class LayerSource {
+public:
+    virtual ~LayerSource() = default;
+    virtual std::optional<LayerPartition> next() = 0;
 };
 
 }  // namespace carve

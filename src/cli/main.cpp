@@ -152,6 +152,12 @@ int main(int argc, char** argv) {
     slice->add_option("--svg-every", run.svg_every, "With --svg-layers: every N-th layer")
         ->check(CLI::Range(0, 100000));
     slice->add_option("--raster", run.raster_dir, "Write a PNG slice stack for resin printers into DIR");
+    slice->add_option("--threads", settings.threads,
+                      "Worker threads: 2 runs carving beside toolpaths and G-code [2]")
+        ->check(CLI::Range(1, 2));
+    slice->add_option("--max-bridge-length", settings.max_bridge_length,
+                      "Longest span a bridge may have, mm; longer ones are left out [10]")
+        ->check(CLI::Range(1.0, 500.0));
     slice->add_flag("-q,--quiet", quiet, "Print nothing but errors");
 
     std::string info_model;

@@ -11,6 +11,7 @@
 
 #include "carving/carving.hpp"
 #include "core/error.hpp"
+#include "core/layer_queue.hpp"
 #include "geometry/polygon.hpp"
 
 #include "slice/slicer.hpp"
@@ -77,7 +78,10 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
                                      options.model_path, settings.layer_height));
     CarvableStream carvable(slicer, settings);
     CarvingSweep sweep(carvable, settings);
-    BridgeStage supports(sweep, settings);
+    // Two threads: slicing, covers and carving on one; bridges, toolpaths and G-code on this one.
+    std::unique_ptr<ThreadedSource> carved;
+    if (settings.threads > 1) carved = std::make_unique<ThreadedSource>(sweep);
+    BridgeStage supports(carved ? static_cast<LayerSource&>(*carved) : sweep, settings);
     GcodeWriter writer(options.gcode_path, settings, offset_x, offset_y, layer_count);
     std::unique_ptr<HtmlReportWriter> html;
     if (!options.report_path.empty())

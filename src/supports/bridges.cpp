@@ -177,7 +177,7 @@ void add_bridges(LayerPartition& layer, const LayerPartition* below, const Bridg
     }
 }
 
-BridgeStage::BridgeStage(CarvingSweep& input, const Settings& settings)
+BridgeStage::BridgeStage(LayerSource& input, const Settings& settings)
     : input_(input), options_(bridge_options(settings)) {}
 
 std::optional<LayerPartition> BridgeStage::next() {

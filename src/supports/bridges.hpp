@@ -39,14 +39,14 @@ Bridge plan_bridge(const Paths& need, const Paths& span, const BridgeOptions& op
 // Fills in layer.bridges for slice i given the carved slice below (nullptr at layer 0).
 void add_bridges(LayerPartition& layer, const LayerPartition* below, const BridgeOptions& options);
 
-class BridgeStage {
+class BridgeStage : public LayerSource {
 public:
-    BridgeStage(CarvingSweep& input, const Settings& settings);
+    BridgeStage(LayerSource& input, const Settings& settings);
     // The next layer going down, with its bridges filled in.
-    std::optional<LayerPartition> next();
+    std::optional<LayerPartition> next() override;
 
 private:
-    CarvingSweep& input_;
+    LayerSource& input_;
     BridgeOptions options_;
     std::optional<LayerPartition> pending_;  // slice i, waiting for slice i - 1
     bool started_ = false;
