@@ -34,7 +34,7 @@ double filament_for(double length, double w, double h) {
 
 // Writes G-code to a temporary file removed when the object dies.
 class TempGcode {
-public:
+  public:
     explicit TempGcode(const std::string& text) {
         static int counter = 0;
         path_ = (std::filesystem::temp_directory_path() /
@@ -46,13 +46,13 @@ public:
     ~TempGcode() { std::filesystem::remove(path_); }
     const std::string& path() const { return path_; }
 
-private:
+  private:
     std::string path_;
 };
 
 // A program builder that tracks absolute or relative E.
 class Program {
-public:
+  public:
     explicit Program(bool relative_e = false) : relative_(relative_e) {
         out_ << "G21\nG90\n" << (relative_ ? "M83\n" : "M82\n") << "G92 E0\n";
     }
@@ -82,7 +82,7 @@ public:
         return out_.str();
     }
 
-private:
+  private:
     bool relative_;
     mutable std::ostringstream out_;
     XY at_{0, 0};
@@ -338,8 +338,7 @@ TEST(GcodeAnalysis, FilamentDiameterFromHeaderUnlessTurnedOff) {
     GcodeAnalysis a = analyse_gcode(file.path());
     EXPECT_DOUBLE_EQ(a.filament_diameter_mm, 2.85);
     EXPECT_EQ(a.filament_diameter_source, "header");
-    EXPECT_NEAR(a.extruded_volume_mm3,
-                prog.filament() * std::numbers::pi * 2.85 * 2.85 / 4, 1e-3);
+    EXPECT_NEAR(a.extruded_volume_mm3, prog.filament() * std::numbers::pi * 2.85 * 2.85 / 4, 1e-3);
     GcodeAnalysisOptions options;
     options.filament_diameter_from_header = false;
     options.filament_diameter_mm = 1.75;

@@ -36,7 +36,8 @@ int main(int argc, char** argv) {
                 std::fputs("gcode_check: --bead takes rounded or rectangle\n", stderr);
                 return 1;
             }
-            options.bead = b == "rounded" ? carve::BeadModel::kRounded : carve::BeadModel::kRectangle;
+            options.bead =
+                b == "rounded" ? carve::BeadModel::kRounded : carve::BeadModel::kRectangle;
         } else if (a == "--support-radius") {
             options.support_radius_mm = value("--support-radius");
         } else if (a == "--far-radius") {
@@ -44,7 +45,8 @@ int main(int argc, char** argv) {
         } else if (a == "-h" || a == "--help") {
             std::puts(
                 "usage: gcode_check FILE.gcode [--json] [--layers] [--filament-diameter MM]\n"
-                "                   [--support-radius MM] [--far-radius MM] [--bead rounded|rectangle]");
+                "                   [--support-radius MM] [--far-radius MM] [--bead "
+                "rounded|rectangle]");
             return 0;
         } else if (file.empty() && (a.empty() || a[0] != '-')) {
             file = a;

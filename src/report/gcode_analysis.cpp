@@ -28,7 +28,7 @@ using ClipperLib::ClipperOffset;
 constexpr double kArcToleranceUnits = 5.0;  // 5 um: a 2 mm disk gets ~44 sides, a bead cap ~14
 constexpr double kZTolerance = 1e-4;        // mm: same layer
 constexpr double kMinMoveMm = 1e-6;         // shorter XY moves draw nothing
-constexpr double kReliableMm = 0.05;  // shorter moves carry too much rounding to judge a width
+constexpr double kReliableMm = 0.05;      // shorter moves carry too much rounding to judge a width
 constexpr double kWidthTolerance = 0.05;  // relative width change that starts a new polyline
 constexpr double kArcSagittaMm = 0.005;
 
@@ -70,7 +70,7 @@ Paths intersection(const Paths& a, const Paths& b) {
 // Cells of a coarse grid that hold a point of a region's boundary: a cheap, conservative proof
 // that a point lies within some distance of the region.
 class NearMap {
-public:
+  public:
     NearMap(const Paths& region, double cell) : cell_(cell) {
         bool any = false;
         for (const Path& p : region) {
@@ -117,7 +117,7 @@ public:
         return false;
     }
 
-private:
+  private:
     void mark(double x, double y) {
         long i = std::clamp(static_cast<long>((x - min_x_) / cell_), 0L, nx_ - 1);
         long j = std::clamp(static_cast<long>((y - min_y_) / cell_), 0L, ny_ - 1);
@@ -171,7 +171,7 @@ Paths widen(const std::vector<Polyline>& lines, double height_mm, double filamen
 
 // Uniform grid over a region's edges, for distances from many points to its boundary.
 class EdgeGrid {
-public:
+  public:
     explicit EdgeGrid(const Paths& region, double cell_units = 1000.0) : cell_(cell_units) {
         for (const Path& p : region) {
             for (size_t i = 0; i < p.size(); ++i) {
@@ -193,7 +193,8 @@ public:
             long x0 = cx(std::min(a.X, b.X)), x1 = cx(std::max(a.X, b.X));
             long y0 = cy(std::min(a.Y, b.Y)), y1 = cy(std::max(a.Y, b.Y));
             for (long y = y0; y <= y1; ++y)
-                for (long x = x0; x <= x1; ++x) cells_[static_cast<size_t>(y * nx_ + x)].push_back(k);
+                for (long x = x0; x <= x1; ++x)
+                    cells_[static_cast<size_t>(y * nx_ + x)].push_back(k);
         }
     }
 
@@ -208,8 +209,8 @@ public:
                     if (std::max(std::labs(x - px), std::labs(y - py)) != ring) continue;
                     if (x < 0 || y < 0 || x >= nx_ || y >= ny_) continue;
                     for (size_t k : cells_[static_cast<size_t>(y * nx_ + x)])
-                        best = std::min(best, segment_distance(p, edges_[k].first,
-                                                               edges_[k].second));
+                        best =
+                            std::min(best, segment_distance(p, edges_[k].first, edges_[k].second));
                 }
             }
             // Every edge not yet seen lies at least `ring` whole cells away.
@@ -219,7 +220,7 @@ public:
         return best;
     }
 
-private:
+  private:
     long cx(Coord x) const {
         return std::clamp(static_cast<long>((x - min_x_) / cell_), 0L, std::max(0L, nx_ - 1));
     }
@@ -285,7 +286,7 @@ struct Words {
 };
 
 class Analyser {
-public:
+  public:
     Analyser(const GcodeAnalysisOptions& o, double filament_diameter) : opt_(o) {
         result_.filament_diameter_mm = filament_diameter;
         filament_area_ = std::numbers::pi * filament_diameter * filament_diameter / 4;
@@ -350,7 +351,7 @@ public:
         return std::move(r);
     }
 
-private:
+  private:
     void comment(std::string_view c) {
         GcodeAnalysis& r = result_;
         if (r.generator.empty()) {
@@ -617,7 +618,8 @@ private:
         const double s = kSampleMm * kUnitsPerMm;
         const double margin = s * (std::numbers::sqrt2 / 2 + 0.5) + 2;
         const double threshold = static_cast<double>(far_units_) - margin;
-        if (threshold <= 0) return difference(unsupported, dilate_round(prev_footprint_, far_units_));
+        if (threshold <= 0)
+            return difference(unsupported, dilate_round(prev_footprint_, far_units_));
 
         const NearMap near(prev_footprint_, kCellMm * kUnitsPerMm);
         const double tile = kTileMm * kUnitsPerMm;
@@ -705,8 +707,10 @@ private:
         double best = 0;
         for (const Path& p : outside)
             for (const Point& q : p) best = std::max(best, grid.distance(q));
-        if (std::isfinite(best)) layer_.max_outside_model_mm = best / kUnitsPerMm;
-        else layer_.max_outside_model_mm = std::numeric_limits<double>::infinity();
+        if (std::isfinite(best))
+            layer_.max_outside_model_mm = best / kUnitsPerMm;
+        else
+            layer_.max_outside_model_mm = std::numeric_limits<double>::infinity();
     }
 
     const GcodeAnalysisOptions& opt_;
@@ -752,9 +756,10 @@ bool header_filament_diameter(std::FILE* f, double& diameter) {
     long size = std::ftell(f);
     constexpr long kHead = 64 * 1024, kTail = 512 * 1024;
     std::string head = read_at(0, static_cast<size_t>(std::min(size, kHead)));
-    std::string tail = size > kHead ? read_at(std::max(kHead, size - kTail),
-                                              static_cast<size_t>(size - std::max(kHead, size - kTail)))
-                                    : std::string();
+    std::string tail = size > kHead
+                           ? read_at(std::max(kHead, size - kTail),
+                                     static_cast<size_t>(size - std::max(kHead, size - kTail)))
+                           : std::string();
     std::fseek(f, 0, SEEK_SET);
     for (const std::string* text : {&head, &tail}) {
         if (find_header_value(*text, "filament_diameter =", diameter) ||

@@ -46,14 +46,14 @@ struct GcodeAnalysisOptions {
 
 struct LayerFigures {
     double z_mm = 0;
-    double height_mm = 0;             // z minus the previous layer's z (first layer: z)
-    double extruded_volume_mm3 = 0;   // from the moves that draw this layer
-    double path_length_mm = 0;        // length of the extruding moves
+    double height_mm = 0;            // z minus the previous layer's z (first layer: z)
+    double extruded_volume_mm3 = 0;  // from the moves that draw this layer
+    double path_length_mm = 0;       // length of the extruding moves
     double footprint_area_mm2 = 0;
-    double unsupported_area_mm2 = 0;  // footprint minus previous footprint dilated by r
+    double unsupported_area_mm2 = 0;      // footprint minus previous footprint dilated by r
     double far_unsupported_area_mm2 = 0;  // footprint minus previous footprint dilated by 2 mm
-    double outside_area_mm2 = 0;      // with a model: footprint outside the dilated model slice
-    double max_outside_model_mm = 0;  // with a model: farthest footprint point from the slice
+    double outside_area_mm2 = 0;          // with a model: footprint outside the dilated model slice
+    double max_outside_model_mm = 0;      // with a model: farthest footprint point from the slice
 };
 
 struct GcodeAnalysis {
@@ -70,7 +70,7 @@ struct GcodeAnalysis {
     double footprint_area_mm2 = 0;         // sum over layers
     double unsupported_area_mm2 = 0;
     double far_unsupported_area_mm2 = 0;
-    double unsupported_fraction = 0;       // of footprint_area_mm2
+    double unsupported_fraction = 0;  // of footprint_area_mm2
     double far_unsupported_fraction = 0;
     double first_z_mm = 0, last_z_mm = 0;
     // Figures the slicer wrote in its comments, -1 when absent. Cura's are placeholders when
