@@ -1,0 +1,139 @@
+// Local minima and bridges on constructed slices (report 4.4 and figure 2).
+#include <gtest/gtest.h>
+
+#include "geometry/morphology.hpp"
+#include "geometry/polygon.hpp"
+#include "supports/bridges.hpp"
+
+using namespace carve;
+
+namespace {
+
+Path rect(Coord x0, Coord y0, Coord x1, Coord y1) { return {{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}}; }
+
+double distance_to_boundary(const Point& p, const Paths& region) {
+    double best = 1e18;
+    for (const Path& c : region)
+        for (size_t i = 0; i < c.size(); ++i) {
+            const Point& a = c[i];
+            const Point& b = c[(i + 1) % c.size()];
+            const double dx = double(b.X - a.X), dy = double(b.Y - a.Y);
+            const double len2 = dx * dx + dy * dy;
+            double t = len2 > 0 ? ((p.X - a.X) * dx + (p.Y - a.Y) * dy) / len2 : 0;
+            t = std::clamp(t, 0.0, 1.0);
+            best = std::min(best, std::hypot(p.X - (a.X + t * dx), p.Y - (a.Y + t * dy)));
+        }
+    return best;
+}
+
+BridgeOptions options() {
+    BridgeOptions o;
+    o.line_width = 400;
+    o.dilation = 200;
+    o.max_length = 30000;  // the constructed cavities are 20 mm across
+    return o;
+}
+
+}  // namespace
+
+TEST(Bridges, IslandHoleCoveredBelowGetsOneAnchoredBridge) {
+    // Upper cavity slice: a 20 mm square with an empty 4 mm hole; the slice below is the whole
+    // square grown by r: the hole vanished, so its walls would hang in the air.
+    Path hole = rect(8000, 8000, 12000, 12000);
+    std::reverse(hole.begin(), hole.end());
+    LayerPartition upper, lower;
+    upper.carvable = lower.carvable = {rect(-5000, -5000, 25000, 25000)};
+    upper.cavities = {{rect(0, 0, 20000, 20000), hole}};
+    lower.cavities = {dilate({rect(0, 0, 20000, 20000)}, 200)};
+    add_bridges(upper, &lower, options());
+
+    ASSERT_EQ(upper.bridges.size(), 1u);
+    const Bridge& b = upper.bridges[0];
+    EXPECT_TRUE(b.island);
+    EXPECT_EQ(b.cavity, 1);
+    EXPECT_TRUE(std::fmod(b.angle_deg, 90.0) == 0.0) << b.angle_deg;  // shortest lines
+    // The lines, widened to the line width, cover the hole.
+    const Paths printed = dilate_lines(b.lines, 200);
+    EXPECT_LT(area(subtract({rect(8000, 8000, 12000, 12000)}, printed)), 0.01 * 16e6);
+    // Every line ends on the cavity boundary at both ends (anchored on the walls).
+    const Paths outer{rect(0, 0, 20000, 20000)};
+    for (const Path& line : b.lines) {
+        ASSERT_EQ(line.size(), 2u);
+        EXPECT_LT(distance_to_boundary(line.front(), outer), 5.0);
+        EXPECT_LT(distance_to_boundary(line.back(), outer), 5.0);
+    }
+    // The hole is filled in the cavity: no wall is printed around it in this slice.
+    EXPECT_TRUE(empty_holes(upper.cavities[0]).empty());
+}
+
+TEST(Bridges, NothingWhenTheSliceBelowHoldsTheHole) {
+    Path hole = rect(8000, 8000, 12000, 12000);
+    std::reverse(hole.begin(), hole.end());
+    LayerPartition upper, lower;
+    upper.carvable = lower.carvable = {rect(-5000, -5000, 25000, 25000)};
+    upper.cavities = {{rect(0, 0, 20000, 20000), hole}};
+    // Below, the hole only shrinks by r: the cavity grows as it should, the walls are supported.
+    lower.cavities = {dilate(upper.cavities[0], 200)};
+    add_bridges(upper, &lower, options());
+    EXPECT_TRUE(upper.bridges.empty());
+}
+
+TEST(Bridges, NarrowConcavityIsAnEdgeLikeMinimum) {
+    // Report figure 2: a narrow notch (0.3 mm < 2r) cut into the cavity's left side vanishes
+    // when the cavity is dilated into the slice below.
+    const Paths cavity = subtract({rect(0, 0, 20000, 10000)}, {rect(0, 4850, 6000, 5150)});
+    LayerPartition upper, lower;
+    upper.carvable = lower.carvable = {rect(-1000, -1000, 21000, 11000)};
+    upper.cavities = {cavity};
+    lower.cavities = {intersect(dilate(cavity, 200), {rect(0, 0, 20000, 10000)})};
+    const auto needs = unsupported_regions(upper.cavities[0], lower.cavities[0], upper.carvable,
+                                           options());
+    ASSERT_EQ(needs.size(), 1u);
+    EXPECT_GT(area(needs[0]), 0.5 * 300 * 6000);
+    add_bridges(upper, &lower, options());
+    ASSERT_EQ(upper.bridges.size(), 1u);
+    EXPECT_FALSE(upper.bridges[0].island);
+    // The least total length is one line along the notch, anchored on the walls at both ends
+    // of the cavity (15 lines across it would total 150 mm against 20 mm).
+    EXPECT_DOUBLE_EQ(upper.bridges[0].angle_deg, 0.0);
+    EXPECT_EQ(upper.bridges[0].lines.size(), 1u);
+}
+
+TEST(Bridges, SpikeAtASharpCornerIsNotAMinimum) {
+    // A cavity whose slice below is its exact dilation: only the tiny spikes at reflex corners
+    // differ, and they are dropped by the area filter.
+    const Paths cavity = {{{0, 0}, {20000, 0}, {20000, 20000}, {10000, 9000}, {0, 20000}}};
+    const Paths carvable{rect(-5000, -5000, 25000, 25000)};
+    const auto needs = unsupported_regions(cavity, dilate(cavity, 200), carvable, options());
+    EXPECT_TRUE(needs.empty());
+}
+
+TEST(Bridges, CoversAreNotBridged) {
+    // The carvable region stops where the covers start: cavity tops under a cover are spanned
+    // by the cover's own solid lines.
+    const Paths below{rect(0, 0, 20000, 20000)};
+    const auto needs = unsupported_regions({}, below, {}, options());
+    EXPECT_TRUE(needs.empty());
+}
+
+TEST(Bridges, SpansLongerThanThePrinterBridgesAreLeftOut) {
+    // The same island inside a 20 mm cavity, with bridges limited to 10 mm: a 20 mm span would
+    // sag more than the 4 mm minimum it holds, so no bridge is made.
+    Path hole = rect(8000, 8000, 12000, 12000);
+    std::reverse(hole.begin(), hole.end());
+    LayerPartition upper, lower;
+    upper.carvable = lower.carvable = {rect(-5000, -5000, 25000, 25000)};
+    upper.cavities = {{rect(0, 0, 20000, 20000), hole}};
+    lower.cavities = {dilate({rect(0, 0, 20000, 20000)}, 200)};
+    BridgeOptions o = options();
+    o.max_length = 10000;
+    add_bridges(upper, &lower, o);
+    EXPECT_TRUE(upper.bridges.empty());
+    // With a small cavity around the same minimum the bridge is short and kept.
+    LayerPartition small_upper, small_lower;
+    small_upper.carvable = small_lower.carvable = upper.carvable;
+    small_upper.cavities = {{rect(6000, 6000, 14000, 14000), hole}};
+    small_lower.cavities = {dilate({rect(6000, 6000, 14000, 14000)}, 200)};
+    add_bridges(small_upper, &small_lower, o);
+    EXPECT_EQ(small_upper.bridges.size(), 1u);
+}

@@ -1,0 +1,142 @@
+// Properties of the carving sweep on every layer of real and synthetic models (report section 3).
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "carving/carving.hpp"
+#include "geometry/morphology.hpp"
+#include "geometry/polygon.hpp"
+#include "mesh/mesh.hpp"
+
+using namespace carve;
+
+namespace {
+
+std::string model(const std::string& name) { return std::string(CARVE_MODELS_DIR) + "/" + name; }
+
+struct SweepFigures {
+    int layers = 0;
+    double carvable_mm3 = 0, remainder_mm3 = 0, model_mm3 = 0;
+    std::vector<double> cavity_mm3;
+    double worst_partition_error = 0;  // relative area error of the partition, worst layer
+    double worst_support_violation_mm2 = 0;
+    double worst_cover_overlap_mm2 = 0;
+};
+
+// Runs the sweep over a model and checks, layer by layer, the invariants of the partition.
+SweepFigures sweep(const std::string& path, Settings settings) {
+    MeshReport report;
+    Mesh mesh = load_mesh(path, report);
+    TopDownSlicer slicer(mesh, settings.layer_height);
+    CarvableStream carvable(slicer, settings);
+    CarvingSweep carving(carvable, settings);
+    SweepFigures f;
+    f.model_mm3 = report.volume_mm3;
+    f.cavity_mm3.assign(carving.iterations(), 0);
+    const Coord r = settings.dilation_per_layer();
+    std::optional<LayerPartition> above;
+    while (auto layer = carving.next()) {
+        ++f.layers;
+        const double h = settings.layer_height;
+        f.carvable_mm3 += area_mm2(layer->carvable) * h;
+        f.remainder_mm3 += area_mm2(layer->remainder) * h;
+        // Partition: pairwise disjoint pieces whose union is the carvable region.
+        Paths all = layer->remainder;
+        double sum = area(layer->remainder);
+        for (size_t j = 0; j < layer->cavities.size(); ++j) {
+            f.cavity_mm3[j] += area_mm2(layer->cavities[j]) * h;
+            sum += area(layer->cavities[j]);
+            all = unite(all, layer->cavities[j]);
+            f.worst_cover_overlap_mm2 =
+                std::max(f.worst_cover_overlap_mm2, area_mm2(intersect(layer->cavities[j], layer->covers)));
+        }
+        const double whole = area(layer->carvable);
+        if (whole > 1e6) {  // above 1 mm^2: smaller slices only carry rounding noise
+            f.worst_partition_error =
+                std::max({f.worst_partition_error, std::abs(sum - whole) / whole,
+                          area(symmetric_difference(all, layer->carvable)) / whole});
+        }
+        // Self-support: the cavity above, grown by r and clipped to what iteration j could
+        // carve here, lies inside the cavity here.
+        if (above) {
+            Paths remainder = layer->carvable;
+            for (size_t j = 0; j < layer->cavities.size(); ++j) {
+                Paths grown = intersect(dilate(above->cavities[j], r), remainder);
+                f.worst_support_violation_mm2 = std::max(
+                    f.worst_support_violation_mm2, area_mm2(subtract(grown, layer->cavities[j])));
+                remainder = subtract(remainder, layer->cavities[j]);
+            }
+        }
+        above = std::move(layer);
+    }
+    return f;
+}
+
+}  // namespace
+
+TEST(Carving, FigureThreeCubeTwoIterations) {
+    Settings s;
+    s.cavities = 2;
+    const SweepFigures f = sweep(model("synthetic/fig3_cube_indent.stl"), s);
+    EXPECT_EQ(f.layers, 60);
+    ASSERT_EQ(f.cavity_mm3.size(), 2u);
+    EXPECT_GT(f.cavity_mm3[0], 0.3 * f.carvable_mm3);  // C^1 takes most of the volume
+    EXPECT_GT(f.cavity_mm3[1], 0.0);                   // C^2 is seeded in what C^1 left
+    EXPECT_LT(f.worst_partition_error, 1e-4);
+    EXPECT_LT(f.worst_support_violation_mm2, 0.01);
+    EXPECT_LT(f.worst_cover_overlap_mm2, 0.005);  // integer rounding slivers of ~1 um width
+}
+
+TEST(Carving, SphereSixIterationsLeavesLittle) {
+    Settings s;
+    s.cavities = 6;
+    const SweepFigures f = sweep(model("synthetic/sphere_40mm.stl"), s);
+    double carved = 0;
+    for (double v : f.cavity_mm3) carved += v;
+    EXPECT_NEAR(carved + f.remainder_mm3, f.carvable_mm3, 1e-3 * f.carvable_mm3);
+    RecordProperty("remainder_percent_of_volume", std::to_string(100 * f.remainder_mm3 / f.model_mm3));
+    std::printf("sphere: V^6 = %.2f %% of the model volume, carvable %.1f %%\n",
+                100 * f.remainder_mm3 / f.model_mm3, 100 * f.carvable_mm3 / f.model_mm3);
+    EXPECT_LT(f.remainder_mm3, 0.05 * f.model_mm3);
+    EXPECT_LT(f.worst_partition_error, 1e-4);
+    EXPECT_LT(f.worst_support_violation_mm2, 0.01);
+}
+
+TEST(Carving, FandiskEveryLayerIsAnExactSelfSupportingPartition) {
+    Settings s;
+    const SweepFigures f = sweep(model("fandisk.stl"), s);
+    std::printf("fandisk: V^6 = %.2f %% of the model volume\n", 100 * f.remainder_mm3 / f.model_mm3);
+    EXPECT_EQ(f.layers, 400);
+    EXPECT_LT(f.worst_partition_error, 1e-4);
+    EXPECT_LT(f.worst_support_violation_mm2, 0.01);
+    EXPECT_LT(f.worst_cover_overlap_mm2, 0.005);  // integer rounding slivers of ~1 um width
+    EXPECT_LT(f.remainder_mm3, 0.05 * f.model_mm3);
+}
+
+TEST(Carving, ZeroCavitiesIsAPlainShell) {
+    Settings s;
+    s.cavities = 0;
+    const SweepFigures f = sweep(model("synthetic/tall_box_30x30x80.stl"), s);
+    EXPECT_TRUE(f.cavity_mm3.empty());
+    EXPECT_NEAR(f.remainder_mm3, f.carvable_mm3, 1e-9);
+}
+
+TEST(Carving, CoversKeepTopAndBottomSolid) {
+    Settings s;
+    s.covers = 3;
+    MeshReport report;
+    Mesh mesh = load_mesh(model("synthetic/tall_box_30x30x80.stl"), report);
+    TopDownSlicer slicer(mesh, s.layer_height);
+    CarvableStream stream(slicer, s);
+    int n = slicer.layer_count(), seen = 0;
+    while (auto layer = stream.next()) {
+        ++seen;
+        const bool near_surface = layer->index < 3 || layer->index >= n - 3;
+        EXPECT_EQ(layer->carvable.empty(), near_surface) << "layer " << layer->index;
+        // Inside: the carvable region is bounded by the outer wall centreline, s inside.
+        if (!near_surface) {
+            EXPECT_NEAR(area_mm2(layer->carvable), (30 - 0.4) * (30 - 0.4), 0.5);
+        }
+    }
+    EXPECT_EQ(seen, n);
+}

@@ -1,0 +1,215 @@
+// End-to-end tests of the carve executable: the contracts of DESIGN.md (exit codes, one-line
+// errors, no partial output, stats fields) and the printability of real G-code, judged from the
+// G-code alone.
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <thread>
+
+#include "geometry/polygon.hpp"
+#include "mesh/mesh.hpp"
+#include "report/gcode_analysis.hpp"
+#include "slice/slicer.hpp"
+
+namespace fs = std::filesystem;
+using namespace carve;
+
+namespace {
+
+struct CarveRun {
+    int status = -1;
+    std::string out, err;
+};
+
+fs::path scratch() {
+    static fs::path dir = [] {
+        fs::path d = fs::temp_directory_path() / ("carve_cli_test_" + std::to_string(getpid()));
+        fs::create_directories(d);
+        return d;
+    }();
+    return dir;
+}
+
+std::string read(const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+}
+
+CarveRun run_carve(const std::string& args) {
+    const fs::path out = scratch() / "stdout.txt", err = scratch() / "stderr.txt";
+    const std::string cmd = std::string(CARVE_BINARY) + " " + args + " >" + out.string() + " 2>" +
+                            err.string() + " </dev/null";
+    CarveRun r;
+    const int raw = std::system(cmd.c_str());
+    r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : 128 + WTERMSIG(raw);
+    r.out = read(out);
+    r.err = read(err);
+    return r;
+}
+
+std::string model(const std::string& name) { return std::string(CARVE_MODELS_DIR) + "/" + name; }
+
+int lines(const std::string& s) {
+    int n = 0;
+    for (char c : s) n += c == '\n';
+    return n;
+}
+
+}  // namespace
+
+TEST(Cli, EveryUnreadableFileGivesOneLineAndExitOneAndNoOutput) {
+    for (const char* bad : {"empty.stl", "truncated.stl", "nan_coords.stl"}) {
+        const fs::path gcode = scratch() / (std::string(bad) + ".gcode");
+        const CarveRun r = run_carve("slice " + model(std::string("bad/") + bad) + " -o " + gcode.string());
+        EXPECT_EQ(r.status, 1) << bad;
+        EXPECT_EQ(lines(r.err), 1) << bad << ": " << r.err;
+        EXPECT_NE(r.err.find("carve: "), std::string::npos);
+        EXPECT_FALSE(fs::exists(gcode)) << bad;
+    }
+    const CarveRun missing = run_carve("info /nonexistent/model.stl");
+    EXPECT_EQ(missing.status, 1);
+    EXPECT_EQ(lines(missing.err), 1);
+}
+
+TEST(Cli, RepairableFilesSliceWithAWarning) {
+    for (const char* name : {"flipped_all_inward.stl", "flipped_some.stl", "open_cube_missing_top.stl",
+                             "degenerate_collapsed.stl", "nonmanifold_two_cubes_shared_edge.stl"}) {
+        const fs::path gcode = scratch() / "repair.gcode";
+        const CarveRun r = run_carve("slice " + model(std::string("bad/") + name) + " -o " + gcode.string() +
+                            " --cavities 2");
+        EXPECT_EQ(r.status, 0) << name << ": " << r.err;
+        EXPECT_NE(r.err.find("warning"), std::string::npos) << name;
+        EXPECT_TRUE(fs::exists(gcode)) << name;
+        fs::remove(gcode);
+    }
+}
+
+TEST(Cli, NonsenseOptionsAreRejectedInOneLine) {
+    const fs::path gcode = scratch() / "opt.gcode";
+    for (const char* opts : {"--cavities lots", "--layer-height -1", "--walls triple",
+                             "--preset 9z9s", "--bed 10by10", "--printer nosuch", "--frobnicate",
+                             "--layer-height 0.8 --nozzle 0.4"}) {
+        const CarveRun r = run_carve("slice " + model("synthetic/fig3_cube_indent.stl") + " -o " +
+                            gcode.string() + " " + opts);
+        EXPECT_EQ(r.status, 1) << opts;
+        EXPECT_EQ(lines(r.err), 1) << opts << ": " << r.err;
+        EXPECT_FALSE(fs::exists(gcode)) << opts;
+    }
+}
+
+TEST(Cli, ModelLargerThanTheBedIsRefusedUnlessAsked) {
+    const fs::path gcode = scratch() / "bed.gcode";
+    const std::string base = "slice " + model("synthetic/tall_box_30x30x80.stl") + " -o " + gcode.string();
+    const CarveRun r = run_carve(base + " --bed 20x20");
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.err.find("larger than the bed"), std::string::npos);
+    EXPECT_FALSE(fs::exists(gcode));
+    EXPECT_EQ(run_carve(base + " --bed 20x20 --no-bed-check --cavities 1 -q").status, 0);
+}
+
+TEST(Cli, StatsHaveTheContractFields) {
+    const fs::path gcode = scratch() / "fig3.gcode", stats = scratch() / "fig3.json";
+    const CarveRun r = run_carve("slice " + model("synthetic/fig3_cube_indent.stl") + " -o " + gcode.string() +
+                        " --stats " + stats.string());
+    ASSERT_EQ(r.status, 0) << r.err;
+    const auto j = nlohmann::json::parse(read(stats));
+    for (const char* key : {"model_volume_mm3", "triangles", "layers", "cavities", "bridges",
+                            "extruded_volume_mm3", "filament_length_mm", "filament_weight_g",
+                            "material_percent", "estimated_print_time_s", "processing_time_s",
+                            "peak_memory_mb"})
+        EXPECT_TRUE(j.contains(key)) << key;
+    EXPECT_NEAR(j["model_volume_mm3"].get<double>(), 1620.0, 1.0);
+    EXPECT_EQ(j["layers"].get<int>(), 60);
+    EXPECT_EQ(j["triangles"].get<int>(), 24);
+    EXPECT_GT(j["material_percent"].get<double>(), 1.0);
+    EXPECT_LT(j["material_percent"].get<double>(), 100.0);
+    // The G-code's own extrusion agrees with the stats.
+    const GcodeAnalysis a = analyse_gcode(gcode.string());
+    EXPECT_NEAR(a.extruded_volume_mm3, j["extruded_volume_mm3"].get<double>(),
+                0.01 * a.extruded_volume_mm3);
+    EXPECT_EQ(a.layers, 60);
+    EXPECT_NE(r.out.find("G-code"), std::string::npos);
+}
+
+TEST(Cli, InfoDescribesTheMesh) {
+    const CarveRun r = run_carve("info " + model("fandisk.stl") + " --json");
+    ASSERT_EQ(r.status, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["triangles"].get<int>(), 12946);
+    EXPECT_TRUE(j["closed"].get<bool>());
+    EXPECT_NEAR(j["model_volume_mm3"].get<double>(), 71900, 100);
+}
+
+TEST(Cli, SameInputSameBytesWithOneAndTwoThreads) {
+    const fs::path a = scratch() / "t1.gcode", b = scratch() / "t2.gcode";
+    const std::string base = "slice " + model("synthetic/sphere_40mm.stl") + " -q";
+    ASSERT_EQ(run_carve(base + " -o " + a.string() + " --threads 1").status, 0);
+    ASSERT_EQ(run_carve(base + " -o " + b.string() + " --threads 2").status, 0);
+    EXPECT_TRUE(read(a) == read(b));
+}
+
+TEST(Cli, KilledMidRunLeavesNoOutput) {
+    const fs::path gcode = scratch() / "killed.gcode";
+    const pid_t pid = fork();
+    if (pid == 0) {
+        freopen("/dev/null", "w", stdout);
+        freopen("/dev/null", "w", stderr);
+        execl(CARVE_BINARY, CARVE_BINARY, "slice", model("skull.stl").c_str(), "-o",
+              gcode.string().c_str(), (char*)nullptr);
+        _exit(127);
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+    kill(pid, SIGKILL);
+    int status = 0;
+    waitpid(pid, &status, 0);
+    EXPECT_FALSE(fs::exists(gcode));
+    // No temporary file left next to the output either.
+    for (const auto& entry : fs::directory_iterator(scratch()))
+        EXPECT_EQ(entry.path().filename().string().find("killed.gcode"), std::string::npos)
+            << entry.path();
+}
+
+// Golden figures on a real model, measured from the G-code alone: material well under a
+// conventional infill, practically nothing printed far from support, and nothing printed
+// outside the model's own slice.
+TEST(Cli, FandiskPrintsHollowSupportedAndInsideTheModel) {
+    const fs::path gcode = scratch() / "fandisk.gcode", stats = scratch() / "fandisk.json";
+    const CarveRun r = run_carve("slice " + model("fandisk.stl") + " -o " + gcode.string() + " --stats " +
+                        stats.string() + " --bed 200x200");
+    ASSERT_EQ(r.status, 0) << r.err;
+    const auto j = nlohmann::json::parse(read(stats));
+    const double material = j["material_percent"].get<double>();
+    std::printf("fandisk: material %.2f %%, %d bridges\n", material, j["bridges"].get<int>());
+    EXPECT_LT(material, 15.0);  // PrusaSlicer's 15 % grid: 32.2 %, its plain hollow shell 10.7 %
+    EXPECT_GT(material, 5.0);
+
+    MeshReport report;
+    const Mesh mesh = load_mesh(model("fandisk.stl"), report);
+    const double dx = 100 - (report.bbox.min.x + report.bbox.max.x) / 2;
+    const double dy = 100 - (report.bbox.min.y + report.bbox.max.y) / 2;
+    GcodeAnalysisOptions options;
+    options.model_slice = [&](double z) {
+        Paths region = slice_at(mesh, report.bbox.min.z + z);
+        for (Path& p : region)
+            for (Point& q : p) q.X += to_units(dx), q.Y += to_units(dy);
+        return region;
+    };
+    const GcodeAnalysis a = analyse_gcode(gcode.string(), options);
+    std::printf("fandisk: unsupported %.3f %%, far-unsupported %.3f %%, outside %.3f mm2 (max %.3f mm)\n",
+                100 * a.unsupported_fraction, 100 * a.far_unsupported_fraction, a.outside_area_mm2,
+                a.max_outside_model_mm);
+    // PrusaSlicer's hollow shell leaves 0.427 % far-unsupported on this model, its lightning
+    // infill 0.113 %; part of what remains is the model's own external overhang.
+    EXPECT_LT(a.far_unsupported_fraction, 0.0025);
+    EXPECT_LT(a.max_outside_model_mm, 0.25);
+}
