@@ -152,6 +152,8 @@ int main(int argc, char** argv) {
     slice->add_option("--svg-every", run.svg_every, "With --svg-layers: every N-th layer")
         ->check(CLI::Range(0, 100000));
     slice->add_option("--raster", run.raster_dir, "Write a PNG slice stack for resin printers into DIR");
+    slice->add_option("--scale", settings.scale, "Scale the model uniformly by this factor [1]")
+        ->check(CLI::Range(0.01, 100.0));
     slice->add_option("--threads", settings.threads,
                       "Worker threads: 2 runs carving beside toolpaths and G-code [2]")
         ->check(CLI::Range(1, 2));

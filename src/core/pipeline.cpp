@@ -61,6 +61,16 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
 
     Mesh mesh = load_mesh(options.model_path, result.mesh);
     for (const std::string& w : result.mesh.warnings) note(w);
+    if (settings.scale != 1.0) {
+        // Scale about the bottom centre so that the model stays on the bed where it was.
+        const BBox3 b = result.mesh.bbox;
+        const Vec3 c{(b.min.x + b.max.x) / 2, (b.min.y + b.max.y) / 2, b.min.z};
+        for (Vec3& v : mesh.vertices)
+            v = {c.x + (v.x - c.x) * settings.scale, c.y + (v.y - c.y) * settings.scale,
+                 c.z + (v.z - c.z) * settings.scale};
+        result.mesh.bbox = bounding_box(mesh);
+        result.mesh.volume_mm3 = signed_volume(mesh);
+    }
     const BBox3& box = result.mesh.bbox;
     const double size_x = box.max.x - box.min.x, size_y = box.max.y - box.min.y;
     if (settings.bed_check && (size_x > settings.bed_x || size_y > settings.bed_y))

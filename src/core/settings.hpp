@@ -29,6 +29,7 @@ struct Settings {
     double bridge_angle_step = 5.0;   // degrees
     bool tear_limit = true;           // new cavities open by at most r/2 per slice
     bool prune_bridges = true;
+    double scale = 1.0;  // uniform scale applied to the model about its centre
     int threads = 2;  // 1 = everything on the calling thread
     double max_bridge_length = 10.0;  // mm; a longer span would sag more than the minimum it holds
 
