@@ -18,6 +18,7 @@
 #include "report/html_report.hpp"
 #include "report/raster.hpp"
 #include "report/stats.hpp"
+#include "report/svg.hpp"
 #include "supports/bridges.hpp"
 #include "toolpath/toolpath.hpp"
 
@@ -93,6 +94,12 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
     if (settings.threads > 1) carved = std::make_unique<ThreadedSource>(sweep);
     BridgeStage supports(carved ? static_cast<LayerSource&>(*carved) : sweep, settings);
     GcodeWriter writer(options.gcode_path, settings, offset_x, offset_y, layer_count);
+    std::unique_ptr<SvgLayerWriter> svg;
+    if (!options.svg_dir.empty())
+        svg = std::make_unique<SvgLayerWriter>(
+            options.svg_every > 0 ? SvgLayerWriter::every(options.svg_dir, options.svg_every)
+                                  : SvgLayerWriter(options.svg_dir,
+                                                   SvgLayerWriter::spread(layer_count, 8)));
     std::unique_ptr<HtmlReportWriter> html;
     if (!options.report_path.empty())
         html = std::make_unique<HtmlReportWriter>(options.report_path, settings);
@@ -110,6 +117,7 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
     int done = 0;
     while (auto layer = supports.next()) {
         LayerToolpaths paths = plan_layer(*layer, settings);
+        if (svg) svg->add(*layer, &paths);
         if (html) html->add_layer(*layer, paths);
         if (raster) raster->add_layer(*layer);
         writer.add_layer(paths);
