@@ -434,6 +434,21 @@ TEST(Slicer, BoxWhoseTopIsAtACutHeight) {
     }
 }
 
+TEST(Slicer, NegativeZeroTopOnAPlaneAtZero) {
+    // zmin = -10 and h = 4 put plane 2 at exactly +0.0; the first box's top is at -0.0, equal
+    // to it, so it counts as above and the box is cut on that plane.
+    Mesh m = box(0, 0, -10, 10, 10, -0.0);
+    append(m, box(20, 0, -10, 30, 10, 10));
+    TopDownSlicer slicer(m, 4.0);
+    while (auto s = slicer.next()) {
+        if (s->index != 2) continue;
+        EXPECT_EQ(s->z, 0.0);
+        EXPECT_NEAR(area_mm2(s->region), 200, 1e-9);
+        EXPECT_EQ(count_outers(s->region), 2);
+    }
+    EXPECT_NEAR(area_mm2(slice_at(m, 0.0)), 200, 1e-9);
+}
+
 // ---- open and broken meshes ----
 
 TEST(Slicer, BoxWithoutItsTopSlicesWithoutCrash) {

@@ -61,10 +61,11 @@ ActiveTriangle gather(const Mesh& mesh, uint32_t t) {
 
 // The smallest float not below x, as an unsigned key whose order is the floats' order: sorting
 // these keys sorts the triangles' tops, and comparing a key with a plane never misses a
-// triangle whose top is a hair above it.
+// triangle whose top is a hair above it. -0 and +0 get the same key, as they compare equal.
 uint32_t top_key(double x) {
     float f = float(x);
     if (double(f) < x) f = std::nextafter(f, std::numeric_limits<float>::infinity());
+    if (f == 0) f = 0;
     const uint32_t bits = std::bit_cast<uint32_t>(f);
     return bits & 0x80000000u ? ~bits : bits | 0x80000000u;
 }
