@@ -250,6 +250,18 @@ TEST(HtmlReport, BudgetSimplifiesThenSubsamples) {
     std::filesystem::remove(path);
 }
 
+TEST(HtmlReport, ModelNameWithoutStatsEntry) {
+    const auto path = temp_file("named.html");
+    Settings st;
+    HtmlReportWriter writer(path.string(), st);
+    writer.set_model_name("/models/fandisk.stl");
+    const HandLayer h = make_layer(st, 0, true);
+    writer.add_layer(h.part, h.paths);
+    writer.finish(fake_run(), nlohmann::json::object());
+    EXPECT_NE(read_all(path).find("<h1>fandisk.stl</h1>"), std::string::npos);
+    std::filesystem::remove(path);
+}
+
 TEST(HtmlReport, NothingLeftBehindWithoutFinish) {
     const auto path = temp_file("abandoned.html");
     {

@@ -544,6 +544,7 @@ struct HtmlReportWriter::Impl {
     BBox2 box;
     std::vector<ReportLayer> layers;
     bool finished = false;
+    std::string model_name;
 
     std::string drawing(const LayerPartition& layer, const LayerToolpaths& paths, double tol) const;
 };
@@ -608,6 +609,10 @@ HtmlReportWriter::~HtmlReportWriter() {
         std::error_code ec;
         std::filesystem::remove(impl_->tmp_path, ec);
     }
+}
+
+void HtmlReportWriter::set_model_name(std::string path) {
+    impl_->model_name = std::move(path);
 }
 
 void HtmlReportWriter::set_budget(size_t bytes) {
@@ -732,7 +737,9 @@ void HtmlReportWriter::finish(const RunResult& run, const nlohmann::json& stats)
     if (bridges == 0)
         for (const ReportLayer& l : layers) bridges += l.bridges;
 
-    std::string model = "model";
+    std::string model = m.model_name.empty()
+                            ? std::string("model")
+                            : std::filesystem::path(m.model_name).filename().string();
     if (stats.is_object()) {
         for (const char* key : {"model", "model_path", "input"}) {
             if (stats.contains(key) && stats[key].is_string()) {
@@ -936,8 +943,8 @@ void HtmlReportWriter::finish(const RunResult& run, const nlohmann::json& stats)
         << sig3(perimeter_mm3 / 1000) << " cm³ + solid " << sig3(covers_mm3 / 1000)
         << " cm³ + infill " << sig3(carvable_mm3 / 1000) << " cm³ = " << sig3(conventional / 1000)
         << " cm³ (" << fixed(conventional_g, 1)
-        << " g). Real slicers differ by a few tens of percent (overlaps, gap fill, "
-           "infill pattern).</p>\n"
+        << " g). It is an estimate: a real slicer's figure differs with its overlaps, gap "
+           "fill and infill pattern.</p>\n"
         << "<p class=\"small\">Layer drawings: paths simplified (Douglas&ndash;Peucker) to "
         << fixed(kTolerances[0] / kUnitsPerMm, 2) << " mm and rounded to 0.01 mm";
     if (max_tol > kTolerances[0] / kUnitsPerMm + 1e-9)

@@ -64,6 +64,8 @@ class HtmlReportWriter {
     // the run's stats JSON (shown as is; "model" is used for the title when present).
     void finish(const RunResult& run, const nlohmann::json& stats);
 
+    // The model's file (its name titles the page) when the stats JSON has no "model" entry.
+    void set_model_name(std::string path);
     // Drawing budget for the whole page in bytes (default 16 MB). Set before the first layer.
     void set_budget(size_t bytes);
     const std::vector<ReportLayer>& layers() const;

@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 #include <png.h>
 #include <zip.h>
+#include <zlib.h>
 
 #include <algorithm>
 #include <cmath>
@@ -53,10 +54,12 @@ bool write_png_file(FILE* file, int width, int height, const uint8_t* pixels) {
         return false;
     }
     png_init_io(png, file);
-    // Binary images of large flat areas: the Sub filter and a middling level compress them to a
-    // few kilobytes without costing much time.
+    // Binary images of long runs: the Sub filter turns runs into zeros and run-length matching
+    // finds them; on fandisk this halves zlib's time against the default strategy for a 25 %
+    // larger archive (2.9 against 2.3 MB for 400 layers of 1481 x 826 pixels).
     png_set_filter(png, PNG_FILTER_TYPE_BASE, PNG_FILTER_SUB);
     png_set_compression_level(png, 6);
+    png_set_compression_strategy(png, Z_RLE);
     png_set_IHDR(png, info, static_cast<png_uint_32>(width), static_cast<png_uint_32>(height), 8,
                  PNG_COLOR_TYPE_GRAY, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT,
                  PNG_FILTER_TYPE_DEFAULT);
