@@ -342,7 +342,7 @@ main{max-width:1400px;margin:0 auto;padding:16px 22px 36px}
 .zoom{position:absolute;right:10px;top:10px;display:flex;gap:4px}
 .zoom button,.controls button{font:inherit;font-size:13px;border:1px solid var(--line);background:#fff;border-radius:7px;padding:3px 10px;cursor:pointer;color:var(--ink)}
 .zoom button:hover,.controls button:hover{background:#f3f4f6}
-.hint{position:absolute;left:12px;bottom:8px;font-size:11.5px;color:#9ca3af}
+.hint{position:absolute;left:12px;top:12px;font-size:11.5px;color:#9ca3af}
 .side h2{margin:0;font-size:22px;font-weight:720;font-variant-numeric:tabular-nums}
 .side .z{color:var(--muted);font-size:13px;margin-bottom:8px}
 #slider{width:100%;accent-color:var(--accent);margin:4px 0 6px}
