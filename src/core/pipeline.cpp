@@ -103,6 +103,7 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
     std::unique_ptr<HtmlReportWriter> html;
     if (!options.report_path.empty())
         html = std::make_unique<HtmlReportWriter>(options.report_path, settings);
+    if (html) html->set_model_name(options.model_path);
     std::unique_ptr<RasterWriter> raster;
     if (!options.raster_dir.empty()) {
         const BBox2 footprint{to_units(box.min.x), to_units(box.min.y), to_units(box.max.x),
