@@ -40,7 +40,7 @@ Paths seeds(const Paths& remainder, const Paths& propagated, const SkeletonOptio
 
 }  // namespace
 
-CarvingSweep::CarvingSweep(CarvableStream& input, const Settings& settings)
+CarvingSweep::CarvingSweep(LayerSource& input, const Settings& settings)
     : input_(input),
       settings_(settings),
       previous_(settings.cavities_auto ? kAutoMaxCavities : std::max(0, settings.cavities)) {}
@@ -55,12 +55,17 @@ std::optional<LayerPartition> CarvingSweep::next() {
 
     Paths remainder = layer->carvable;  // V^{j-1}_i
     layer->cavities.reserve(previous_.size());
-    for (Paths& above : previous_) {  // above = C^j_{i+1}, replaced by C^j_i
+    for (size_t j = 0; j < previous_.size(); ++j) {
+        Paths& above = previous_[j];  // C^j_{i+1}, replaced by C^j_i
         Paths cavity;
         if (!remainder.empty()) {
             Paths propagated = above.empty() ? Paths{} : dilate(above, r);  // G
             const bool seed = !settings_.cavities_auto || !erode(remainder, w).empty();
-            Paths s = seed ? seeds(remainder, propagated, options) : Paths{};
+            Paths s;
+            if (seed && j == 0 && layer->first_seed)
+                s = *layer->first_seed;
+            else if (seed)
+                s = seeds(remainder, propagated, options);
             cavity = intersect(unite(propagated, s), remainder);
             remainder = subtract(remainder, cavity);
         }
@@ -68,6 +73,18 @@ std::optional<LayerPartition> CarvingSweep::next() {
         above = std::move(cavity);
     }
     layer->remainder = std::move(remainder);
+    layer->first_seed.reset();
+    return layer;
+}
+
+SeedAhead::SeedAhead(LayerSource& input, const Settings& settings)
+    : input_(input), settings_(settings) {}
+
+std::optional<LayerPartition> SeedAhead::next() {
+    auto layer = input_.next();
+    if (layer && settings_.cavities != 0 && !layer->carvable.empty() &&
+        (!settings_.cavities_auto || !erode(layer->carvable, settings_.line_width()).empty()))
+        layer->first_seed = skeleton(layer->carvable, seed_options(settings_));
     return layer;
 }
 

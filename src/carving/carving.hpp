@@ -15,15 +15,27 @@ namespace carve {
 
 class CarvingSweep : public LayerSource {
 public:
-    CarvingSweep(CarvableStream& input, const Settings& settings);
+    CarvingSweep(LayerSource& input, const Settings& settings);
     // The next layer going down with cavities and remainder filled in.
     std::optional<LayerPartition> next() override;
     int iterations() const { return static_cast<int>(previous_.size()); }
 
 private:
-    CarvableStream& input_;
+    LayerSource& input_;
     const Settings& settings_;
     std::vector<Paths> previous_;  // C^j_{i+1}, j = 1..k
+};
+
+// Computes the first iteration's seed SKEL(V^0_i) of each layer as it passes: it needs no
+// carving state, so it can run on the slicing thread while the sweep works on the layer above.
+class SeedAhead : public LayerSource {
+public:
+    SeedAhead(LayerSource& input, const Settings& settings);
+    std::optional<LayerPartition> next() override;
+
+private:
+    LayerSource& input_;
+    const Settings& settings_;
 };
 
 }  // namespace carve

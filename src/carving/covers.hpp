@@ -14,12 +14,12 @@
 
 namespace carve {
 
-class CarvableStream {
+class CarvableStream : public LayerSource {
 public:
     CarvableStream(TopDownSlicer& slicer, const Settings& settings);
     // The next layer going down with outline, wall_region, shell_paths_region, carvable and
     // covers filled in; nothing after layer 0.
-    std::optional<LayerPartition> next();
+    std::optional<LayerPartition> next() override;
 
 private:
     TopDownSlicer& slicer_;

@@ -88,11 +88,14 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
         throw InputError(fmt::format("{}: the model is thinner than one layer ({} mm)",
                                      options.model_path, settings.layer_height));
     CarvableStream carvable(slicer, settings);
-    CarvingSweep sweep(carvable, settings);
-    // Two threads: slicing, covers and carving on one; bridges, toolpaths and G-code on this one.
-    std::unique_ptr<ThreadedSource> carved;
-    if (settings.threads > 1) carved = std::make_unique<ThreadedSource>(sweep);
-    BridgeStage supports(carved ? static_cast<LayerSource&>(*carved) : sweep, settings);
+    // Two threads: slicing, covers and the first seeds on one; the sweep, bridges, toolpaths
+    // and G-code on this one. The first seed (a whole-slice medial axis) is the largest single
+    // piece of work and needs no carving state, which is what balances the two.
+    SeedAhead seeded(carvable, settings);
+    std::unique_ptr<ThreadedSource> ahead;
+    if (settings.threads > 1) ahead = std::make_unique<ThreadedSource>(seeded);
+    CarvingSweep sweep(ahead ? static_cast<LayerSource&>(*ahead) : seeded, settings);
+    BridgeStage supports(sweep, settings);
     GcodeWriter writer(options.gcode_path, settings, offset_x, offset_y, layer_count);
     std::unique_ptr<SvgLayerWriter> svg;
     if (!options.svg_dir.empty())
