@@ -143,8 +143,6 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(0.0, 20.0));
     slice->add_option("--z-hop", settings.z_hop, "Lift on travel with retraction, mm [0]")
         ->check(CLI::Range(0.0, 10.0));
-    slice->add_flag("!--no-tear-limit", settings.tear_limit,
-                    "Let new cavities open faster than r/2 per layer (the report's plain tearing)");
     slice->add_flag("!--keep-all-bridges", settings.prune_bridges,
                     "Keep bridges that the layer below already supports");
     slice->add_option("--report", run.report_path, "Write an HTML report (self-contained)");

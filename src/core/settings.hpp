@@ -27,7 +27,6 @@ struct Settings {
     double opening_factor = 0.9;      // s' = 0.9 s
     double wall_extension = 1.0;      // mm, open curves extended along printed walls
     double bridge_angle_step = 5.0;   // degrees
-    bool tear_limit = true;           // new cavities open by at most r/2 per slice
     bool prune_bridges = true;
     double scale = 1.0;  // uniform scale applied to the model about its centre
     int threads = 2;  // 1 = everything on the calling thread
