@@ -82,7 +82,6 @@ std::vector<std::pair<std::string, std::string>> setting_lines(const Settings& s
         {"opening_factor", num(s.opening_factor)},
         {"wall_extension", num(s.wall_extension)},
         {"bridge_angle_step", num(s.bridge_angle_step)},
-        {"tear_limit", s.tear_limit ? "1" : "0"},
         {"prune_bridges", s.prune_bridges ? "1" : "0"},
         {"gcode_flavor", std::string(flavor_name(s.flavor))},
         {"printer_name", s.printer_name},
