@@ -1,0 +1,234 @@
+// Benchmarks of SKEL (report section 5.2), the hottest function of the carving sweep (k calls
+// per layer): medial_axis() and skeleton() on synthetic regions and on real slices.
+//
+// Real slices come from a bench-local binary STL reader and plane cut (the product's slicer was
+// not committed when this was written), then carved k = 6 times the way the sweep does it with
+// the cavity above left out: V^j = V^{j-1} minus (SKEL(V^{j-1}) dilated by 2 mm).
+#include <benchmark/benchmark.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <fstream>
+#include <map>
+#include <numbers>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "geometry/morphology.hpp"
+#include "geometry/polygon.hpp"
+#include "skeleton/skeleton.hpp"
+#include "skeleton/skeleton_detail.hpp"
+
+using namespace carve;
+
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+Path jittered_circle(double r, int n, int jitter, uint64_t seed) {
+    std::mt19937_64 rng(seed);
+    Path p;
+    for (int i = 0; i < n; ++i) {
+        const double a = 2 * kPi * i / n;
+        p.emplace_back(std::llround(r * std::cos(a)) + int(rng() % (2 * jitter + 1)) - jitter,
+                       std::llround(r * std::sin(a)) + int(rng() % (2 * jitter + 1)) - jitter);
+    }
+    return p;
+}
+
+Path star(double r_in, double r_out, int spikes, double cx = 0, double cy = 0) {
+    Path p;
+    for (int i = 0; i < 2 * spikes; ++i) {
+        const double a = kPi * i / spikes;
+        const double r = (i % 2) ? r_in : r_out;
+        p.emplace_back(std::llround(cx + r * std::cos(a)), std::llround(cy + r * std::sin(a)));
+    }
+    return p;
+}
+
+Paths multi_component() {
+    Paths region;
+    for (int i = 0; i < 4; ++i)
+        for (int j = 0; j < 4; ++j) {
+            const Coord x = i * 25000, y = j * 25000;
+            Path outer = jittered_circle(10000, 500, 2, uint64_t(i * 4 + j));
+            for (Point& p : outer) p.X += x, p.Y += y;
+            region.push_back(outer);
+            if ((i + j) % 2) {
+                Path hole = jittered_circle(4000, 200, 2, uint64_t(100 + i * 4 + j));
+                for (Point& p : hole) p.X += x + 2000, p.Y += y;
+                std::reverse(hole.begin(), hole.end());
+                region.push_back(hole);
+            }
+        }
+    return region;
+}
+
+// ---- bench-local STL plane cut ----
+struct Tri {
+    float v[3][3];
+};
+
+std::vector<Tri> read_stl(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    std::vector<Tri> tris;
+    if (!in) return tris;
+    char header[80];
+    uint32_t count = 0;
+    in.read(header, 80);
+    in.read(reinterpret_cast<char*>(&count), 4);
+    tris.resize(count);
+    for (uint32_t i = 0; i < count; ++i) {
+        char rec[50];
+        in.read(rec, 50);
+        std::memcpy(tris[i].v, rec + 12, 36);
+    }
+    return tris;
+}
+
+Paths cut(const std::vector<Tri>& tris, double z) {
+    using Key = std::pair<std::array<float, 3>, std::array<float, 3>>;
+    auto key = [](const float* a, const float* b) {
+        std::array<float, 3> p{a[0], a[1], a[2]}, q{b[0], b[1], b[2]};
+        return p < q ? Key{p, q} : Key{q, p};
+    };
+    std::map<Key, std::vector<int>> at;  // crossing edge -> segments through it
+    std::vector<std::array<Key, 2>> segs;
+    for (const Tri& t : tris) {
+        std::vector<Key> crossing;
+        for (int k = 0; k < 3; ++k) {
+            const float* a = t.v[k];
+            const float* b = t.v[(k + 1) % 3];
+            if ((a[2] >= z) != (b[2] >= z)) crossing.push_back(key(a, b));
+        }
+        if (crossing.size() != 2) continue;
+        const int id = int(segs.size());
+        segs.push_back({crossing[0], crossing[1]});
+        at[crossing[0]].push_back(id);
+        at[crossing[1]].push_back(id);
+    }
+    auto point = [z](const Key& k) {
+        const auto& a = k.first;
+        const auto& b = k.second;
+        const double t = (z - a[2]) / (double(b[2]) - a[2]);
+        return Point(std::llround(1000 * (a[0] + t * (b[0] - a[0]))),
+                     std::llround(1000 * (a[1] + t * (b[1] - a[1]))));
+    };
+    std::vector<char> used(segs.size(), 0);
+    Paths loops;
+    for (size_t s = 0; s < segs.size(); ++s) {
+        if (used[s]) continue;
+        Path loop;
+        int cur = int(s);
+        Key k = segs[s][0];
+        while (cur >= 0 && !used[cur]) {
+            used[cur] = 1;
+            const Key next = segs[cur][0] == k ? segs[cur][1] : segs[cur][0];
+            loop.push_back(point(next));
+            k = next;
+            int nxt = -1;
+            for (int o : at[k])
+                if (!used[o]) nxt = o;
+            cur = nxt;
+        }
+        if (loop.size() >= 3) loops.push_back(loop);
+    }
+    ClipperLib::Clipper c;
+    c.AddPaths(loops, ClipperLib::ptSubject, true);
+    Paths out;
+    c.Execute(ClipperLib::ctUnion, out, ClipperLib::pftEvenOdd, ClipperLib::pftEvenOdd);
+    return out;
+}
+
+Paths mid_slice(const std::string& model) {
+    const std::vector<Tri> tris = read_stl(std::string(CARVE_MODELS_DIR) + "/" + model);
+    float lo = 1e30f, hi = -1e30f;
+    for (const Tri& t : tris)
+        for (const auto& v : t.v) lo = std::min(lo, v[2]), hi = std::max(hi, v[2]);
+    return cut(tris, 0.5 * (lo + hi) + 0.0123);
+}
+
+// The remainders V^0..V^5 of a slice carved without the cavity above.
+std::vector<Paths> remainders(const Paths& slice) {
+    std::vector<Paths> out{slice};
+    SkeletonOptions opt;
+    for (int j = 1; j < 6; ++j) {
+        const Paths& v = out.back();
+        out.push_back(subtract(v, dilate(skeleton(v, opt), 2000)));
+    }
+    return out;
+}
+
+size_t vertices(const Paths& region) {
+    size_t n = 0;
+    for (const Path& p : region) n += p.size();
+    return n;
+}
+
+void run_axis(benchmark::State& state, const Paths& region) {
+    SkeletonOptions opt;
+    for (auto _ : state) benchmark::DoNotOptimize(medial_axis(region, opt));
+    state.counters["vertices"] = double(vertices(region));
+    state.counters["axis_edges"] = skel::last_stats().edges;
+    state.counters["retries"] = skel::last_stats().retries;
+}
+
+void run_skeleton(benchmark::State& state, const Paths& region) {
+    SkeletonOptions opt;
+    for (auto _ : state) benchmark::DoNotOptimize(skeleton(region, opt));
+    state.counters["vertices"] = double(vertices(region));
+}
+
+void BM_AxisCircle2000(benchmark::State& s) {
+    run_axis(s, {jittered_circle(20000, 2000, 1, 1)});
+}
+void BM_SkeletonCircle2000(benchmark::State& s) {
+    run_skeleton(s, {jittered_circle(20000, 2000, 1, 1)});
+}
+void BM_AxisStar(benchmark::State& s) {
+    run_axis(s, {star(8000, 30000, 40)});
+}
+void BM_SkeletonStar(benchmark::State& s) {
+    run_skeleton(s, {star(8000, 30000, 40)});
+}
+void BM_AxisMultiComponent(benchmark::State& s) {
+    run_axis(s, multi_component());
+}
+void BM_SkeletonMultiComponent(benchmark::State& s) {
+    run_skeleton(s, multi_component());
+}
+
+const std::vector<Paths>& elephant() {
+    static const std::vector<Paths> v = remainders(mid_slice("elephant.stl"));
+    return v;
+}
+const std::vector<Paths>& skull() {
+    static const std::vector<Paths> v = remainders(mid_slice("skull.stl"));
+    return v;
+}
+
+void BM_SkeletonElephantMid(benchmark::State& s) {
+    run_skeleton(s, elephant()[size_t(s.range(0))]);
+}
+void BM_AxisElephantMid(benchmark::State& s) {
+    run_axis(s, elephant()[size_t(s.range(0))]);
+}
+void BM_SkeletonSkullMid(benchmark::State& s) {
+    run_skeleton(s, skull()[size_t(s.range(0))]);
+}
+
+}  // namespace
+
+BENCHMARK(BM_AxisCircle2000)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_SkeletonCircle2000)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_AxisStar)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_SkeletonStar)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_AxisMultiComponent)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_SkeletonMultiComponent)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_AxisElephantMid)->DenseRange(0, 2)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_SkeletonElephantMid)->DenseRange(0, 2)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_SkeletonSkullMid)->DenseRange(0, 3)->Unit(benchmark::kMicrosecond);

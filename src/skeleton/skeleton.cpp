@@ -1,0 +1,164 @@
+// SKEL (report section 5.2): pruned medial axis of a slice and its thickening into a seed.
+//
+// Per region component: clean the contours into integer polygons whose segments meet only at
+// endpoints (contours.cpp; simplified within max_arc_error, since the builder's cost is per
+// segment), build the inner medial axis from the segment Voronoi diagram (voronoi_axis.cpp),
+// burn it with the extended grassfire and keep what has EDF - R >= prune_threshold (edf.cpp).
+// Boost's builder fails on some inputs; a rejected diagram is rebuilt in a slightly rotated
+// frame. Rotations are exact (a Pythagorean triple (a, b, c) maps (x, y) to (a x - b y,
+// b x + a y), a rotation scaled by c), so the rotated input meets the same precondition; the
+// axis is rotated back in doubles. A component whose every frame fails gets no axis (reported
+// in last_stats()); nothing throws.
+#include "skeleton/skeleton.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <utility>
+#include <vector>
+
+#include "geometry/morphology.hpp"
+#include "geometry/polygon.hpp"
+#include "skeleton/axis_graph.hpp"
+#include "skeleton/contours.hpp"
+#include "skeleton/skeleton_detail.hpp"
+#include "skeleton/voronoi_axis.hpp"
+
+namespace carve {
+
+namespace skel {
+
+namespace {
+
+struct Rotation {
+    Coord a, b, c;
+};
+// Identity, then rotations by about 22.6, 36.9 and 12.7 degrees.
+constexpr std::array<Rotation, 4> kFrames{{{1, 0, 1}, {12, 5, 13}, {4, 3, 5}, {40, 9, 41}}};
+
+struct Frame {
+    Coord cx = 0, cy = 0;
+    Rotation rot{1, 0, 1};
+    Point forward(const Point& p) const {
+        const Coord x = p.X - cx, y = p.Y - cy;
+        return Point(rot.a * x - rot.b * y, rot.b * x + rot.a * y);
+    }
+    Point back(const DPoint& q) const {
+        const double c2 = double(rot.c) * double(rot.c);
+        const double x = (double(rot.a) * q.x + double(rot.b) * q.y) / c2;
+        const double y = (-double(rot.b) * q.x + double(rot.a) * q.y) / c2;
+        return Point(cx + std::llround(x), cy + std::llround(y));
+    }
+};
+
+struct Workspace {
+    VoronoiWorkspacePtr voronoi = make_voronoi_workspace();
+    AxisGraph graph;
+    Burn burn;
+    Paths frame_contours;
+    std::vector<Polyline> lines;
+    SkeletonStats stats;
+};
+
+Workspace& workspace() {
+    thread_local Workspace ws;
+    return ws;
+}
+
+void axis_of_component(const Paths& comp, const SkeletonOptions& options, const AxisTrace& trace,
+                       Workspace& ws, Paths& out) {
+    Coord min_x = comp[0][0].X, max_x = min_x, min_y = comp[0][0].Y, max_y = min_y;
+    for (const Path& c : comp)
+        for (const Point& p : c) {
+            min_x = std::min(min_x, p.X), max_x = std::max(max_x, p.X);
+            min_y = std::min(min_y, p.Y), max_y = std::max(max_y, p.Y);
+        }
+    Frame frame;
+    frame.cx = min_x + (max_x - min_x) / 2;
+    frame.cy = min_y + (max_y - min_y) / 2;
+    const Coord half =
+        std::max({max_x - frame.cx, frame.cx - min_x, max_y - frame.cy, frame.cy - min_y});
+
+    for (size_t k = 0; k < kFrames.size(); ++k) {
+        frame.rot = kFrames[(size_t(trace.first_frame) + k) % kFrames.size()];
+        if (int(k) < trace.reject_attempts) {
+            ws.stats.rejections.push_back("rejected by the caller");
+            if (k + 1 < kFrames.size()) ++ws.stats.retries;
+            continue;
+        }
+        AxisStatus status = AxisStatus::kOutOfRange;
+        // |a x - b y| <= (a + b) * half must stay within Boost's int32 input (with margin).
+        if ((frame.rot.a + frame.rot.b) * half < (Coord(1) << 30)) {
+            const Paths& src = comp;
+            ws.frame_contours.resize(src.size());
+            for (size_t i = 0; i < src.size(); ++i) {
+                Path& fc = ws.frame_contours[i];
+                fc.resize(src[i].size());
+                for (size_t j = 0; j < src[i].size(); ++j) fc[j] = frame.forward(src[i][j]);
+            }
+            const double scale = double(frame.rot.c);
+            status = build_axis(ws.frame_contours, double(options.max_arc_error) * scale,
+                                *ws.voronoi, ws.graph);
+            if (status == AxisStatus::kOk) {
+                ws.stats.nodes += int(ws.graph.nodes.size());
+                ws.stats.edges += int(ws.graph.edges.size());
+                burn(ws.graph, ws.burn);
+                ws.lines.clear();
+                prune(ws.graph, ws.burn, double(options.prune_threshold) * scale, ws.lines);
+                for (const Polyline& line : ws.lines) {
+                    Path path;
+                    path.reserve(line.size());
+                    for (const DPoint& q : line) {
+                        const Point p = frame.back(q);
+                        if (path.empty() || path.back() != p) path.push_back(p);
+                    }
+                    out.push_back(std::move(path));
+                }
+                return;
+            }
+        }
+        ws.stats.rejections.push_back(to_string(status));
+        if (k + 1 < kFrames.size()) ++ws.stats.retries;
+    }
+    ++ws.stats.abandoned;
+}
+
+}  // namespace
+
+Paths medial_axis(const Paths& region, const SkeletonOptions& options, const AxisTrace& trace) {
+    Workspace& ws = workspace();
+    ws.stats = SkeletonStats{};
+    Paths out;
+    if (region.empty()) return out;
+    // The contours may move by max_arc_error, the error already allowed on the arcs.
+    const std::vector<Paths> comps =
+        prepare_components(region, std::max(1.0, double(options.max_arc_error)), &ws.stats.mended);
+    ws.stats.components = int(comps.size());
+    for (const Paths& comp : comps) axis_of_component(comp, options, trace, ws, out);
+    return out;
+}
+
+const SkeletonStats& last_stats() {
+    return workspace().stats;
+}
+
+int frame_count() {
+    return int(kFrames.size());
+}
+
+}  // namespace skel
+
+Paths medial_axis(const Paths& region, const SkeletonOptions& options) {
+    return skel::medial_axis(region, options, skel::AxisTrace{});
+}
+
+Paths skeleton(const Paths& region, const SkeletonOptions& options) {
+    if (options.thickness <= 0) return {};
+    const Paths lines = medial_axis(region, options);
+    if (lines.empty()) return {};
+    return intersect(dilate_lines(lines, options.thickness), region);
+}
+
+}  // namespace carve
