@@ -1,9 +1,17 @@
 // Minkowski sums by contour convolution with a regular 24-gon (report Appendix A).
 //
 // For each contour vertex the convolution walks the structuring element's vertices between the
-// supporting vertices of the incoming and outgoing edges: forwards on a left turn, backwards on a
-// right turn. The backwards walks create small loops of negative winding that the positive-fill
-// union removes, leaving the exact sum of the polygon with the (integer) 24-gon.
+// supporting vertices of the incoming and outgoing edges. The report walks forwards on a left
+// turn and backwards on a right turn, then keeps positive winding. That is only exact while no
+// offset edge inverts: a hole smaller than the element, dilated, leaves a loop of winding -1
+// that cancels the +1 of the outer contour and keeps a hole that should have closed (and
+// erosion by more than the inradius leaves a phantom). So on a right turn we go back through
+// the vertex itself instead (v + q_from, v, v + q_to). Then, contour by contour, the winding
+// number of the cycle is the contour's own winding plus one for every swept edge (the edge and
+// its translate by its supporting vertex) and every fan of the element at a left turn, all of
+// them positive. Their union with the region is exactly the region plus the element: the
+// positive-fill union is exact however large the radius. Erosion is the same on the reversed
+// contours: the region minus the inward swept edges and fans.
 #include "geometry/morphology.hpp"
 
 #include <array>
@@ -56,25 +64,33 @@ void convolve(const Path& contour, const std::array<Point, kSides>& q, Paths& ou
         edge[i] = Point(b.X - a.X, b.Y - a.Y);
         idx[i] = support(edge[i]);
     }
-    result.reserve(n * 2 + kSides);
+    result.reserve(n * 3 + kSides);
     for (size_t i = 0; i < n; ++i) {
         const size_t prev_edge = (i + n - 1) % n;
         const int from = idx[prev_edge];
         const int to = idx[i];
         const Point& e0 = edge[prev_edge];
         const Point& e1 = edge[i];
+        // Exact for |coordinates| below 2^26 um (67 m).
         const double turn = double(e0.X) * double(e1.Y) - double(e0.Y) * double(e1.X);
-        int forward = ((to - from) % kSides + kSides) % kSides;
-        int backward = (kSides - forward) % kSides;
-        int dir = 1, steps = forward;
-        if (turn < 0 || (turn == 0 && forward > kSides / 2)) dir = -1, steps = backward;
-        if (steps > kSides / 2 && turn != 0) {  // rounding of the normal angle: take the short way
-            dir = -dir;
-            steps = kSides - steps;
-        }
+        const double dot = double(e0.X) * double(e1.X) + double(e0.Y) * double(e1.Y);
+        const int forward = ((to - from) % kSides + kSides) % kSides;
         const Point& v = p[i];
-        for (int s = 0, m = from; s <= steps; ++s, m = ((m + dir) % kSides + kSides) % kSides)
-            result.emplace_back(v.X + q[m].X, v.Y + q[m].Y);
+        // A left turn sweeps the fan of the element between the two normals. A reversal
+        // (polyline end, spike) is treated as a left turn: its fan lies in the sum anyway, as
+        // does any fan at a vertex of the region. A left turn whose rounded normals disagree
+        // with the turn's sign (nearly straight edges) falls through to the vertex path.
+        const bool fan = turn > 0 ? forward <= kSides / 2 + 1 : (turn == 0 && dot < 0);
+        if (fan) {
+            for (int s = 0, m = from; s <= forward; ++s, m = (m + 1) % kSides)
+                result.emplace_back(v.X + q[m].X, v.Y + q[m].Y);
+        } else if (from == to) {
+            result.emplace_back(v.X + q[from].X, v.Y + q[from].Y);
+        } else {
+            result.emplace_back(v.X + q[from].X, v.Y + q[from].Y);
+            result.emplace_back(v);
+            result.emplace_back(v.X + q[to].X, v.Y + q[to].Y);
+        }
     }
     out.push_back(std::move(result));
 }
@@ -94,13 +110,17 @@ Path disk(Coord radius) {
     return Path(q.begin(), q.end());
 }
 
+// The convolution reads orientation as sign, so a region given clockwise (a mirrored mesh, a
+// hand-made square) is normalised first. Overlapping outers are not detected (see header).
 Paths dilate(const Paths& region, Coord radius) {
     if (radius <= 0 || region.empty()) return radius < 0 ? erode(region, -radius) : region;
+    if (area(region) < 0) return dilate(unite(region), radius);
     return unite_positive(convolve_all(region, radius));
 }
 
 Paths erode(const Paths& region, Coord radius) {
     if (radius <= 0 || region.empty()) return radius < 0 ? dilate(region, -radius) : region;
+    if (area(region) < 0) return erode(unite(region), radius);
     Paths reversed = region;
     ClipperLib::ReversePaths(reversed);
     Paths conv = convolve_all(reversed, radius);  // the element is centrally symmetric

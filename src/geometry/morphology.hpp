@@ -14,10 +14,19 @@ namespace carve {
 // The structuring element of radius r: 24 integer vertices, counter-clockwise, centred on 0.
 Path disk(Coord radius);
 
+// `region` must be normalised as every function of polygon.hpp returns it: outers
+// counter-clockwise, holes clockwise, no overlaps. A region given wholly clockwise is accepted;
+// overlapping outers (raw non-zero fill) are fine for dilate but must be united before erode.
+// The result is exact for any radius, up to the rounding of the element to integers and of
+// Clipper's intersections (about 1 um per use; repeated uses add up, see the tests).
 Paths dilate(const Paths& region, Coord radius);  // S ⊕ D(r)
-Paths erode(const Paths& region, Coord radius);   // S ⊖ D(r), complement of the dilated complement
-inline Paths open(const Paths& region, Coord radius) { return dilate(erode(region, radius), radius); }
-inline Paths close(const Paths& region, Coord radius) { return erode(dilate(region, radius), radius); }
+Paths erode(const Paths& region, Coord radius);  // S ⊖ D(r), complement of the dilated complement
+inline Paths open(const Paths& region, Coord radius) {
+    return dilate(erode(region, radius), radius);
+}
+inline Paths close(const Paths& region, Coord radius) {
+    return erode(dilate(region, radius), radius);
+}
 
 // Thickens open polylines (e.g. a pruned medial axis) into a region of half-width `radius`.
 Paths dilate_lines(const Paths& polylines, Coord radius);

@@ -1,0 +1,174 @@
+// Tests of the boolean and measure wrappers (polygon.hpp): orientation of results, nesting of
+// components, holes and islands, open-line clipping, and the small-area filter.
+#include "geometry/polygon.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+using namespace carve;
+
+namespace {
+
+Path square(Coord x0, Coord y0, Coord side) {
+    return {{x0, y0}, {x0 + side, y0}, {x0 + side, y0 + side}, {x0, y0 + side}};
+}
+
+Path reversed(Path p) {
+    std::reverse(p.begin(), p.end());
+    return p;
+}
+
+// A square ring with an island inside its hole: three nesting levels.
+Paths ring_with_island() {
+    return {square(0, 0, 10000), reversed(square(2000, 2000, 6000)), square(4000, 4000, 2000)};
+}
+
+// Every outer counter-clockwise, every hole clockwise.
+bool normalised(const Paths& region) {
+    for (const Paths& comp : components(region)) {
+        if (area(comp.front()) <= 0) return false;
+        for (size_t i = 1; i < comp.size(); ++i)
+            if (area(comp[i]) >= 0) return false;
+    }
+    return true;
+}
+
+}  // namespace
+
+TEST(Polygon, SignedArea) {
+    EXPECT_DOUBLE_EQ(area(square(0, 0, 1000)), 1e6);
+    EXPECT_DOUBLE_EQ(area(reversed(square(0, 0, 1000))), -1e6);
+    EXPECT_DOUBLE_EQ(area(ring_with_island()), 1e8 - 36e6 + 4e6);
+    EXPECT_DOUBLE_EQ(area_mm2(Paths{square(0, 0, 2000)}), 4.0);
+    EXPECT_EQ(area(Paths{}), 0.0);
+}
+
+TEST(Polygon, UniteMergesOverlapsAndFixesOrientation) {
+    const Paths overlapping{square(0, 0, 1000), square(500, 0, 1000)};
+    const Paths u = unite(overlapping);
+    ASSERT_EQ(u.size(), 1u);
+    EXPECT_DOUBLE_EQ(area(u), 1500.0 * 1000.0);
+    // Non-zero fill: a clockwise contour alone is filled too, and comes back counter-clockwise.
+    const Paths cw = unite(Paths{reversed(square(0, 0, 1000))});
+    ASSERT_EQ(cw.size(), 1u);
+    EXPECT_DOUBLE_EQ(area(cw), 1e6);
+    // Where a clockwise and a counter-clockwise contour overlap the winding is 0: empty.
+    EXPECT_DOUBLE_EQ(area(unite(Paths{square(0, 0, 1000), reversed(square(500, 0, 1000))})), 1e6);
+    EXPECT_TRUE(normalised(unite(ring_with_island())));
+    EXPECT_DOUBLE_EQ(area(unite(Paths{square(0, 0, 10)}, Paths{square(20, 0, 10)})), 200.0);
+}
+
+TEST(Polygon, IntersectSubtractXor) {
+    const Paths a{square(0, 0, 1000)}, b{square(500, 500, 1000)};
+    EXPECT_DOUBLE_EQ(area(intersect(a, b)), 250000.0);
+    EXPECT_DOUBLE_EQ(area(subtract(a, b)), 750000.0);
+    EXPECT_DOUBLE_EQ(area(symmetric_difference(a, b)), 1500000.0);
+    EXPECT_TRUE(intersect(a, Paths{}).empty());
+    EXPECT_TRUE(subtract(Paths{}, a).empty());
+    EXPECT_DOUBLE_EQ(area(subtract(a, Paths{})), area(a));
+    // Subtracting an inner square makes a hole, returned clockwise.
+    const Paths holed = subtract(Paths{square(0, 0, 3000)}, Paths{square(1000, 1000, 1000)});
+    ASSERT_EQ(holed.size(), 2u);
+    EXPECT_TRUE(normalised(holed));
+    EXPECT_DOUBLE_EQ(area(holed), 8e6);
+}
+
+TEST(Polygon, UnitePositiveKeepsOnlyPositiveWinding) {
+    // A counter-clockwise square and a clockwise one inside it: positive fill keeps the ring,
+    // a clockwise square alone is nothing.
+    const Paths ring{square(0, 0, 3000), reversed(square(1000, 1000, 1000))};
+    EXPECT_DOUBLE_EQ(area(unite_positive(ring)), 8e6);
+    EXPECT_TRUE(unite_positive(Paths{reversed(square(0, 0, 1000))}).empty());
+    // Winding 2 where two counter-clockwise squares overlap: still inside once.
+    EXPECT_DOUBLE_EQ(area(unite_positive(Paths{square(0, 0, 1000), square(500, 0, 1000)})), 1.5e6);
+}
+
+TEST(Polygon, DropSmallRemovesSpecksAndTinyHoles) {
+    Paths r = ring_with_island();
+    r.push_back(square(20000, 0, 10));  // a speck of 100 um^2
+    r[0] = square(0, 0, 10000);
+    Paths with_pinhole = r;
+    with_pinhole.push_back(reversed(square(500, 500, 5)));  // a pinhole in the ring
+    const Paths kept = drop_small(with_pinhole, 1000);
+    EXPECT_DOUBLE_EQ(area(kept), area(ring_with_island()));
+    EXPECT_EQ(kept.size(), 3u);
+    // A threshold between the island (4 mm^2) and the hole (36 mm^2) drops only the island.
+    const Paths no_island = drop_small(ring_with_island(), 5e6);
+    EXPECT_EQ(no_island.size(), 2u);
+    EXPECT_DOUBLE_EQ(area(no_island), 1e8 - 36e6);
+    // Dropping an outer drops its holes with it.
+    const Paths small_ring{square(0, 0, 100), reversed(square(40, 40, 20))};
+    EXPECT_TRUE(drop_small(small_ring, 1e5).empty());
+    EXPECT_DOUBLE_EQ(area(drop_small(ring_with_island(), 3e6)), area(ring_with_island()));
+}
+
+TEST(Polygon, ClipLinesInsideAndOutside) {
+    const Paths region{square(0, 0, 1000)};
+    const Paths lines{{{-500, 500}, {1500, 500}}, {{200, -100}, {200, 2000}}};
+    const Paths in = clip_lines(lines, region);
+    const Paths out = clip_lines_outside(lines, region);
+    EXPECT_DOUBLE_EQ(length(in, false), 2000.0);
+    EXPECT_DOUBLE_EQ(length(out, false), 1000.0 + 100.0 + 1000.0);
+    EXPECT_EQ(out.size(), 4u);
+    EXPECT_TRUE(clip_lines(lines, Paths{}).empty());
+    EXPECT_EQ(clip_lines_outside(lines, Paths{}).size(), 2u);
+    // A line across a hole is cut in two.
+    const Paths holed = subtract(Paths{square(0, 0, 3000)}, Paths{square(1000, 1000, 1000)});
+    const Paths across = clip_lines(Paths{{{-1, 1500}, {3001, 1500}}}, holed);
+    EXPECT_EQ(across.size(), 2u);
+    EXPECT_DOUBLE_EQ(length(across, false), 2000.0);
+}
+
+TEST(Polygon, CleanDropsDuplicateAndCollinearPoints) {
+    const Paths messy{{{0, 0}, {500, 0}, {500, 0}, {1000, 0}, {1000, 1000}, {0, 1000}, {0, 1}}};
+    const Paths c = clean(messy);
+    ASSERT_EQ(c.size(), 1u);
+    EXPECT_EQ(c[0].size(), 4u);
+    EXPECT_NEAR(area(c), 1e6, 600);
+    EXPECT_TRUE(clean(Paths{{{0, 0}, {1, 0}, {1, 1}}}).empty());  // collapses below 3 points
+}
+
+TEST(Polygon, BoundsAndLength) {
+    const BBox2 b = bounds(ring_with_island());
+    EXPECT_FALSE(b.empty);
+    EXPECT_EQ(b.min_x, 0);
+    EXPECT_EQ(b.max_y, 10000);
+    EXPECT_TRUE(bounds(Paths{}).empty);
+    EXPECT_DOUBLE_EQ(length(Paths{square(0, 0, 1000)}, true), 4000.0);
+    EXPECT_DOUBLE_EQ(length(Paths{square(0, 0, 1000)}, false), 3000.0);
+    EXPECT_DOUBLE_EQ(length(Paths{{{0, 0}, {300, 400}}}, false), 500.0);
+}
+
+TEST(Polygon, ComponentsSeparateIslandsInHoles) {
+    const std::vector<Paths> comps = components(ring_with_island());
+    ASSERT_EQ(comps.size(), 2u);
+    // One component is the ring (outer + hole), the other the island alone.
+    size_t ring = comps[0].size() == 2 ? 0 : 1;
+    EXPECT_EQ(comps[ring].size(), 2u);
+    EXPECT_EQ(comps[1 - ring].size(), 1u);
+    EXPECT_DOUBLE_EQ(area(comps[ring]), 1e8 - 36e6);
+    EXPECT_DOUBLE_EQ(area(comps[1 - ring]), 4e6);
+    EXPECT_TRUE(components(Paths{}).empty());
+}
+
+TEST(Polygon, EmptyHolesAreTheHolesWithoutIslands) {
+    // The ring's hole holds the island: not empty. A second hole with nothing in it is.
+    Paths r = ring_with_island();
+    r.push_back(reversed(square(500, 500, 1000)));
+    const Paths holes = empty_holes(r);
+    ASSERT_EQ(holes.size(), 1u);
+    EXPECT_DOUBLE_EQ(area(holes), 1e6);  // returned counter-clockwise
+    EXPECT_TRUE(empty_holes(Paths{square(0, 0, 100)}).empty());
+}
+
+TEST(Polygon, PointInRegionRespectsHolesAndIslands) {
+    const Paths r = ring_with_island();
+    EXPECT_TRUE(point_in_region({1000, 1000}, r));   // in the ring
+    EXPECT_FALSE(point_in_region({3000, 3000}, r));  // in the hole
+    EXPECT_TRUE(point_in_region({5000, 5000}, r));   // on the island
+    EXPECT_FALSE(point_in_region({-1, 5000}, r));    // outside
+    EXPECT_TRUE(point_in_region({0, 5000}, r));      // on the boundary counts as inside
+    EXPECT_FALSE(point_in_region({0, 0}, Paths{}));
+}
