@@ -14,7 +14,9 @@
 #include <sstream>
 #include <thread>
 
+#include "geometry/morphology.hpp"
 #include "geometry/polygon.hpp"
+#include <map>
 #include "mesh/mesh.hpp"
 #include "report/gcode_analysis.hpp"
 #include "slice/slicer.hpp"
@@ -212,4 +214,49 @@ TEST(Cli, FandiskPrintsHollowSupportedAndInsideTheModel) {
     // infill 0.113 %; part of what remains is the model's own external overhang.
     EXPECT_LT(a.far_unsupported_fraction, 0.0025);
     EXPECT_LT(a.max_outside_model_mm, 0.25);
+}
+
+// The outer wall is complete on every layer: the length of the external perimeter printed at
+// each layer matches the perimeter of the model's slice shrunk by half a line width.
+TEST(Cli, OuterWallIsCompleteOnEveryLayer) {
+    const fs::path gcode = scratch() / "cat_wall.gcode";
+    ASSERT_EQ(run_carve("slice " + model("cat.stl") + " -o " + gcode.string() + " -q --cavities 1")
+                  .status,
+              0);
+    // Sum the external-perimeter extrusion per layer straight from the G-code text.
+    std::map<int, double> printed;
+    std::ifstream in(gcode);
+    std::string line, type;
+    int layer = -1;
+    double x = 0, y = 0, e = 0;
+    while (std::getline(in, line)) {
+        if (line.rfind(";LAYER:", 0) == 0) layer = std::stoi(line.substr(7));
+        if (line.rfind(";TYPE:", 0) == 0) type = line.substr(6);
+        if (line.rfind("G1 ", 0) != 0 && line.rfind("G0 ", 0) != 0) continue;
+        double nx = x, ny = y, ne = e;
+        bool has_e = false;
+        std::istringstream ss(line.substr(0, line.find(';')));
+        std::string word;
+        ss >> word;
+        while (ss >> word) {
+            if (word[0] == 'X') nx = std::stod(word.substr(1));
+            if (word[0] == 'Y') ny = std::stod(word.substr(1));
+            if (word[0] == 'E') ne = std::stod(word.substr(1)), has_e = true;
+        }
+        if (has_e && ne > e && type == "External perimeter") printed[layer] += std::hypot(nx - x, ny - y);
+        x = nx, y = ny;
+        if (has_e) e = ne;
+    }
+    MeshReport report;
+    const Mesh mesh = load_mesh(model("cat.stl"), report);
+    TopDownSlicer slicer(mesh, 0.2);
+    int checked = 0;
+    while (auto s = slicer.next()) {
+        const Paths wall = erode(s->region, 200);
+        const double expected = to_mm(static_cast<Coord>(length(wall, true)));
+        if (expected < 5) continue;  // tiny tips: the outer wall may be dropped as a speck
+        ++checked;
+        EXPECT_NEAR(printed[s->index], expected, 0.03 * expected) << "layer " << s->index;
+    }
+    EXPECT_GT(checked, 500);
 }
