@@ -20,7 +20,9 @@
 
 #include "geometry/morphology.hpp"
 #include "geometry/polygon.hpp"
+#include "mesh/mesh.hpp"
 #include "skeleton/skeleton.hpp"
+#include "slice/slicer.hpp"
 #include "skeleton/skeleton_detail.hpp"
 
 using namespace carve;
@@ -69,86 +71,18 @@ Paths multi_component() {
 }
 
 // ---- bench-local STL plane cut ----
-struct Tri {
-    float v[3][3];
-};
-
-std::vector<Tri> read_stl(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    std::vector<Tri> tris;
-    if (!in) return tris;
-    char header[80];
-    uint32_t count = 0;
-    in.read(header, 80);
-    in.read(reinterpret_cast<char*>(&count), 4);
-    tris.resize(count);
-    for (uint32_t i = 0; i < count; ++i) {
-        char rec[50];
-        in.read(rec, 50);
-        std::memcpy(tris[i].v, rec + 12, 36);
-    }
-    return tris;
+// Real slices come from the product's own loader and slicer.
+carve::Mesh read_model(const std::string& path) {
+    carve::MeshReport report;
+    return carve::load_mesh(path, report);
 }
 
-Paths cut(const std::vector<Tri>& tris, double z) {
-    using Key = std::pair<std::array<float, 3>, std::array<float, 3>>;
-    auto key = [](const float* a, const float* b) {
-        std::array<float, 3> p{a[0], a[1], a[2]}, q{b[0], b[1], b[2]};
-        return p < q ? Key{p, q} : Key{q, p};
-    };
-    std::map<Key, std::vector<int>> at;  // crossing edge -> segments through it
-    std::vector<std::array<Key, 2>> segs;
-    for (const Tri& t : tris) {
-        std::vector<Key> crossing;
-        for (int k = 0; k < 3; ++k) {
-            const float* a = t.v[k];
-            const float* b = t.v[(k + 1) % 3];
-            if ((a[2] >= z) != (b[2] >= z)) crossing.push_back(key(a, b));
-        }
-        if (crossing.size() != 2) continue;
-        const int id = int(segs.size());
-        segs.push_back({crossing[0], crossing[1]});
-        at[crossing[0]].push_back(id);
-        at[crossing[1]].push_back(id);
-    }
-    auto point = [z](const Key& k) {
-        const auto& a = k.first;
-        const auto& b = k.second;
-        const double t = (z - a[2]) / (double(b[2]) - a[2]);
-        return Point(std::llround(1000 * (a[0] + t * (b[0] - a[0]))),
-                     std::llround(1000 * (a[1] + t * (b[1] - a[1]))));
-    };
-    std::vector<char> used(segs.size(), 0);
-    Paths loops;
-    for (size_t s = 0; s < segs.size(); ++s) {
-        if (used[s]) continue;
-        Path loop;
-        int cur = int(s);
-        Key k = segs[s][0];
-        while (cur >= 0 && !used[cur]) {
-            used[cur] = 1;
-            const Key next = segs[cur][0] == k ? segs[cur][1] : segs[cur][0];
-            loop.push_back(point(next));
-            k = next;
-            int nxt = -1;
-            for (int o : at[k])
-                if (!used[o]) nxt = o;
-            cur = nxt;
-        }
-        if (loop.size() >= 3) loops.push_back(loop);
-    }
-    ClipperLib::Clipper c;
-    c.AddPaths(loops, ClipperLib::ptSubject, true);
-    Paths out;
-    c.Execute(ClipperLib::ctUnion, out, ClipperLib::pftEvenOdd, ClipperLib::pftEvenOdd);
-    return out;
-}
+Paths cut(const carve::Mesh& mesh, double z) { return carve::slice_at(mesh, z); }
 
 Paths mid_slice(const std::string& model) {
-    const std::vector<Tri> tris = read_stl(std::string(CARVE_MODELS_DIR) + "/" + model);
-    float lo = 1e30f, hi = -1e30f;
-    for (const Tri& t : tris)
-        for (const auto& v : t.v) lo = std::min(lo, v[2]), hi = std::max(hi, v[2]);
+    const carve::Mesh tris = read_model(std::string(CARVE_MODELS_DIR) + "/" + model);
+    const carve::BBox3 box = carve::bounding_box(tris);
+    const double lo = box.min.z, hi = box.max.z;
     return cut(tris, 0.5 * (lo + hi) + 0.0123);
 }
 
