@@ -1,6 +1,7 @@
 // The HTML report: per-layer reduction on arrival (numbers in memory, drawing spilled to a
 // temporary file), then one pass at the end that writes the page bottom up.
 #include "report/html_report.hpp"
+#include "report/svg.hpp"
 
 #include <fmt/format.h>
 
@@ -136,29 +137,6 @@ int cavity_class(int j) {
     return (std::max(j - 1, 0) % int(kCavityColors.size())) + 1;
 }
 
-std::string escape(std::string_view s) {
-    std::string out;
-    out.reserve(s.size());
-    for (char c : s) {
-        switch (c) {
-            case '&':
-                out += "&amp;";
-                break;
-            case '<':
-                out += "&lt;";
-                break;
-            case '>':
-                out += "&gt;";
-                break;
-            case '"':
-                out += "&quot;";
-                break;
-            default:
-                out += c;
-        }
-    }
-    return out;
-}
 
 // Rounds to `digits` significant-looking decimals so the JSON stays short.
 double rounded(double v, int decimals) {
@@ -763,7 +741,7 @@ void HtmlReportWriter::finish(const RunResult& run, const nlohmann::json& stats)
     const double line_w = st.nozzle * kUnitsPerMm / grid;  // stroke width in drawing units
     out << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
            "<meta name=\"viewport\" content=\"width=device-width,initial-scale=1\">\n";
-    out << "<title>carve report: " << escape(model) << "</title>\n<style>" << kCss;
+    out << "<title>carve report: " << xml_escape(model) << "</title>\n<style>" << kCss;
     out << fmt::format("#view .o{{stroke:{};stroke-width:{:.1f}px}}\n", kOuterColor, 0.85 * line_w);
     out << fmt::format("#view .s{{stroke:{};stroke-width:{:.1f}px}}\n", kShellColor, 0.85 * line_w);
     out << fmt::format("#view .c{{stroke:{};stroke-width:{:.1f}px}}\n", kCoverColor, 0.7 * line_w);
@@ -782,8 +760,8 @@ void HtmlReportWriter::finish(const RunResult& run, const nlohmann::json& stats)
                     layer_count, st.layer_height, st.nozzle,
                     st.cavities_auto ? std::string("auto") : std::to_string(st.cavities), st.covers,
                     st.shells, st.walls == WallMode::Single ? "single-filament" : "double");
-    out << "<header class=\"top\"><div class=\"brand\">carve</div><div><h1>" << escape(model)
-        << "</h1><div class=\"sub\">" << escape(preset) << " &middot; " << escape(date)
+    out << "<header class=\"top\"><div class=\"brand\">carve</div><div><h1>" << xml_escape(model)
+        << "</h1><div class=\"sub\">" << xml_escape(preset) << " &middot; " << xml_escape(date)
         << "</div></div></header>\n<main>\n";
 
     // Cards.
@@ -811,7 +789,7 @@ void HtmlReportWriter::finish(const RunResult& run, const nlohmann::json& stats)
     }
     out << "<div class=\"card\"><div class=\"label\">Estimated print time</div><div class=\"big\">"
         << (run.print.estimated_print_time_s > 0
-                ? escape(format_duration(run.print.estimated_print_time_s))
+                ? xml_escape(format_duration(run.print.estimated_print_time_s))
                 : std::string("&mdash;"))
         << "</div><div class=\"small\">sliced in " << fixed(run.processing_time_s, 1) << " s";
     if (run.peak_memory_mb > 0) out << ", peak memory " << fixed(run.peak_memory_mb, 0) << " MB";
@@ -958,12 +936,12 @@ void HtmlReportWriter::finish(const RunResult& run, const nlohmann::json& stats)
     if (!run.mesh.warnings.empty()) {
         out << "<h2>What was repaired in the mesh</h2><ul>";
         for (const std::string& wline : run.mesh.warnings)
-            out << "<li class=\"warn\">" << escape(wline) << "</li>";
+            out << "<li class=\"warn\">" << xml_escape(wline) << "</li>";
         out << "</ul>\n";
     }
     out << "</div><div>\n<h2>Settings</h2><table class=\"settings\">";
     auto setting = [&](const std::string& k, const std::string& v) {
-        out << "<tr><td>" << k << "</td><td>" << escape(v) << "</td></tr>";
+        out << "<tr><td>" << k << "</td><td>" << xml_escape(v) << "</td></tr>";
     };
     setting("printer", st.printer_name);
     setting("layer height", fmt::format("{} mm", st.layer_height));
@@ -975,7 +953,7 @@ void HtmlReportWriter::finish(const RunResult& run, const nlohmann::json& stats)
     setting("filament", fmt::format("{} mm, {} g/cm³", st.filament_diameter, st.filament_density));
     setting("temperatures",
             fmt::format("{} °C nozzle, {} °C bed", st.nozzle_temperature, st.bed_temperature));
-    out << "</table>\n<details><summary>Stats JSON</summary><pre>" << escape(stats.dump(2))
+    out << "</table>\n<details><summary>Stats JSON</summary><pre>" << xml_escape(stats.dump(2))
         << "</pre></details>\n</div></div></section>\n</main>\n"
         << "<footer>Made by carve &middot; self-contained page, nothing is loaded from the "
            "network</footer>\n";

@@ -51,28 +51,6 @@ std::string superscript(int n) {
     return out;
 }
 
-std::string escape(const std::string& text) {
-    std::string out;
-    for (char c : text) {
-        switch (c) {
-            case '&':
-                out += "&amp;";
-                break;
-            case '<':
-                out += "&lt;";
-                break;
-            case '>':
-                out += "&gt;";
-                break;
-            case '"':
-                out += "&quot;";
-                break;
-            default:
-                out += c;
-        }
-    }
-    return out;
-}
 
 // Model micrometres to picture pixels.
 struct Frame {
@@ -238,12 +216,12 @@ std::string layer_svg(const LayerPartition& layer, const LayerToolpaths* paths,
         R"~(<svg xmlns="http://www.w3.org/2000/svg" width="{0:.0f}" height="{1:.0f}" viewBox="0 0 {0:.0f} {1:.0f}" font-family="DejaVu Sans, Helvetica, Arial, sans-serif">)~",
         std::ceil(width), std::ceil(height));
     svg += "\n";
-    svg += fmt::format("<title>{}</title>\n", escape(title));
+    svg += fmt::format("<title>{}</title>\n", xml_escape(title));
     svg += R"~(<rect x="0" y="0" width="100%" height="100%" fill="#ffffff"/>)~";
     svg += "\n";
     svg += fmt::format(
         R"~(<text x="{}" y="27" font-size="18" font-weight="bold" fill="#222">{}</text>)~", f.left,
-        escape(title));
+        xml_escape(title));
     svg += "\n";
 
     // The partition, back to front. Cavities, covers and remainder are disjoint; the outline
@@ -304,7 +282,7 @@ std::string layer_svg(const LayerPartition& layer, const LayerToolpaths* paths,
         for (const LegendEntry& e : legend) {
             svg += fmt::format(
                 R"~(<g transform="translate(0 {:.1f})">{}<text x="22" y="11">{}</text></g>)~", y,
-                e.swatch, escape(e.label));
+                e.swatch, xml_escape(e.label));
             svg += "\n";
             y += 22;
         }
@@ -388,6 +366,30 @@ std::string SvgLayerWriter::add(const LayerPartition& layer, const LayerToolpath
     write_layer_svg(file, layer, paths, options_);
     written_.push_back(file);
     return file;
+}
+
+std::string xml_escape(std::string_view text) {
+    // One escaper for the SVG pictures and the HTML report.
+    std::string out;
+    for (char c : text) {
+        switch (c) {
+            case '&':
+                out += "&amp;";
+                break;
+            case '<':
+                out += "&lt;";
+                break;
+            case '>':
+                out += "&gt;";
+                break;
+            case '"':
+                out += "&quot;";
+                break;
+            default:
+                out += c;
+        }
+    }
+    return out;
 }
 
 }  // namespace carve

@@ -7,6 +7,7 @@
 
 #include <set>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "carving/partition.hpp"
@@ -26,6 +27,8 @@ struct SvgOptions {
 
 // Colour of cavity C^j (j >= 1), as "#rrggbb". The first four follow the report's figures.
 std::string cavity_colour(int j);
+// Text made safe inside XML/HTML markup and attributes.
+std::string xml_escape(std::string_view text);
 
 // One layer as an SVG document. `paths` may be null (partition only).
 std::string layer_svg(const LayerPartition& layer, const LayerToolpaths* paths,
