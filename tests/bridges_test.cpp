@@ -34,17 +34,27 @@ BridgeOptions options() {
     return o;
 }
 
+// Upper cavity slice: the square [lo, hi]^2 with an empty 4 mm hole in the middle of the 20 mm
+// frame; the slice below is the whole square grown by r, so the hole vanished there.
+struct SlicePair {
+    LayerPartition upper, lower;
+};
+SlicePair vanishing_island(Coord lo, Coord hi) {
+    Path hole = rect(8000, 8000, 12000, 12000);
+    std::reverse(hole.begin(), hole.end());
+    SlicePair p;
+    p.upper.carvable = p.lower.carvable = {rect(-5000, -5000, 25000, 25000)};
+    p.upper.cavities = {{rect(lo, lo, hi, hi), hole}};
+    p.lower.cavities = {dilate({rect(lo, lo, hi, hi)}, 200)};
+    return p;
+}
+
 }  // namespace
 
 TEST(Bridges, IslandHoleCoveredBelowGetsOneAnchoredBridge) {
     // Upper cavity slice: a 20 mm square with an empty 4 mm hole; the slice below is the whole
     // square grown by r: the hole vanished, so its walls would hang in the air.
-    Path hole = rect(8000, 8000, 12000, 12000);
-    std::reverse(hole.begin(), hole.end());
-    LayerPartition upper, lower;
-    upper.carvable = lower.carvable = {rect(-5000, -5000, 25000, 25000)};
-    upper.cavities = {{rect(0, 0, 20000, 20000), hole}};
-    lower.cavities = {dilate({rect(0, 0, 20000, 20000)}, 200)};
+    auto [upper, lower] = vanishing_island(0, 20000);
     add_bridges(upper, &lower, options());
 
     ASSERT_EQ(upper.bridges.size(), 1u);
@@ -67,11 +77,7 @@ TEST(Bridges, IslandHoleCoveredBelowGetsOneAnchoredBridge) {
 }
 
 TEST(Bridges, NothingWhenTheSliceBelowHoldsTheHole) {
-    Path hole = rect(8000, 8000, 12000, 12000);
-    std::reverse(hole.begin(), hole.end());
-    LayerPartition upper, lower;
-    upper.carvable = lower.carvable = {rect(-5000, -5000, 25000, 25000)};
-    upper.cavities = {{rect(0, 0, 20000, 20000), hole}};
+    auto [upper, lower] = vanishing_island(0, 20000);
     // Below, the hole only shrinks by r: the cavity grows as it should, the walls are supported.
     lower.cavities = {dilate(upper.cavities[0], 200)};
     add_bridges(upper, &lower, options());
@@ -119,21 +125,13 @@ TEST(Bridges, CoversAreNotBridged) {
 TEST(Bridges, SpansLongerThanThePrinterBridgesAreLeftOut) {
     // The same island inside a 20 mm cavity, with bridges limited to 10 mm: a 20 mm span would
     // sag more than the 4 mm minimum it holds, so no bridge is made.
-    Path hole = rect(8000, 8000, 12000, 12000);
-    std::reverse(hole.begin(), hole.end());
-    LayerPartition upper, lower;
-    upper.carvable = lower.carvable = {rect(-5000, -5000, 25000, 25000)};
-    upper.cavities = {{rect(0, 0, 20000, 20000), hole}};
-    lower.cavities = {dilate({rect(0, 0, 20000, 20000)}, 200)};
+    auto [upper, lower] = vanishing_island(0, 20000);
     BridgeOptions o = options();
     o.max_length = 10000;
     add_bridges(upper, &lower, o);
     EXPECT_TRUE(upper.bridges.empty());
     // With a small cavity around the same minimum the bridge is short and kept.
-    LayerPartition small_upper, small_lower;
-    small_upper.carvable = small_lower.carvable = upper.carvable;
-    small_upper.cavities = {{rect(6000, 6000, 14000, 14000), hole}};
-    small_lower.cavities = {dilate({rect(6000, 6000, 14000, 14000)}, 200)};
+    auto [small_upper, small_lower] = vanishing_island(6000, 14000);
     add_bridges(small_upper, &small_lower, o);
     EXPECT_EQ(small_upper.bridges.size(), 1u);
 }

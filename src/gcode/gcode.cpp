@@ -256,9 +256,8 @@ class Emitter {
         fixed(st_.relative_e ? target - e_units_ : target, 5);
     }
 
-    void retract() {
-        if (retract_units_ == 0 || retracted_) return;
-        const long long target = e_units_ - retract_units_;
+    // Retraction and its recovery are the same pure-filament move at the retraction speed.
+    void move_filament(long long target) {
         if (out_) {
             put("G1");
             e_word(target);
@@ -266,23 +265,20 @@ class Emitter {
         feed(st_.retract_speed);
         if (out_) buf_.push_back('\n');
         e_units_ = target;
+        planner_.dwell(st_.retract_length / st_.retract_speed);
+    }
+
+    void retract() {
+        if (retract_units_ == 0 || retracted_) return;
+        move_filament(e_units_ - retract_units_);
         retracted_ = true;
         ++stats_.retractions;
-        planner_.dwell(st_.retract_length / st_.retract_speed);
     }
 
     void unretract() {
         if (!retracted_) return;
-        const long long target = std::llround(e_mm_ * kEScale);
-        if (out_) {
-            put("G1");
-            e_word(target);
-        }
-        feed(st_.retract_speed);
-        if (out_) buf_.push_back('\n');
-        e_units_ = target;
+        move_filament(std::llround(e_mm_ * kEScale));
         retracted_ = false;
-        planner_.dwell(st_.retract_length / st_.retract_speed);
     }
 
     void move_z(Coord z) {
