@@ -21,6 +21,10 @@ struct SweepFigures {
     double worst_partition_error = 0;  // relative area error of the partition, worst layer
     double worst_support_violation_mm2 = 0;
     double worst_cover_overlap_mm2 = 0;
+    // Tear front: area of cavity pieces that reach beyond dilate(C^j_{i+1}, r + tear + s) in a
+    // component the cavity above already touches, and the widest piece torn where it does not.
+    double worst_tear_excess_mm2 = 0;
+    double widest_new_tear_mm = 0;
 };
 
 // Runs the sweep over a model and checks, layer by layer, the invariants of the partition.
@@ -65,6 +69,24 @@ SweepFigures sweep(const std::string& path, Settings settings) {
                 f.worst_support_violation_mm2 = std::max(
                     f.worst_support_violation_mm2, area_mm2(subtract(grown, layer->cavities[j])));
                 remainder = subtract(remainder, layer->cavities[j]);
+            }
+        }
+        if (above) {
+            const Coord reach = r + to_units(settings.tear_limit) + settings.nozzle_radius() + 5;
+            for (size_t j = 0; j < layer->cavities.size(); ++j) {
+                const Paths& up = above->cavities[j];
+                const Paths grown = up.empty() ? Paths{} : dilate(up, reach);
+                for (const Paths& piece : components(layer->cavities[j])) {
+                    if (!intersect(piece, up).empty()) {
+                        f.worst_tear_excess_mm2 = std::max(f.worst_tear_excess_mm2,
+                                                           area_mm2(subtract(piece, grown)));
+                    } else {
+                        const BBox2 b = bounds(piece);
+                        f.widest_new_tear_mm =
+                            std::max(f.widest_new_tear_mm,
+                                     to_mm(std::max(b.max_x - b.min_x, b.max_y - b.min_y)));
+                    }
+                }
             }
         }
         above = std::move(layer);
@@ -139,4 +161,25 @@ TEST(Carving, CoversKeepTopAndBottomSolid) {
         }
     }
     EXPECT_EQ(seen, n);
+}
+
+// The report's conclusion: a tear front limited to r/2 per slice. On the indented cube the
+// unlimited seed opens the whole pruned axis (an X across the square) in one slice, and the
+// cavity front runs far ahead of the dilation; limited, every piece stays within
+// r + t + s of the cavity above and new tears start no wider than a seed's width plus 2t.
+TEST(Carving, TearLimitBoundsHowFastCavitiesOpen) {
+    Settings open;
+    open.cavities = 2;
+    const SweepFigures free = sweep(model("synthetic/fig3_cube_indent.stl"), open);
+    EXPECT_GT(free.widest_new_tear_mm, 3.0);
+
+    Settings limited = open;
+    limited.tear_limit = 0.1;
+    const SweepFigures f = sweep(model("synthetic/fig3_cube_indent.stl"), limited);
+    EXPECT_LT(f.worst_tear_excess_mm2, 0.01);
+    EXPECT_LE(f.widest_new_tear_mm, 2 * (0.1 + 0.2) + 0.1);
+    EXPECT_LT(f.worst_partition_error, 1e-4);
+    EXPECT_LT(f.worst_support_violation_mm2, 0.01);
+    // Opening slower carves less: the uncarved remainder is what the limit costs.
+    EXPECT_GT(f.remainder_mm3, free.remainder_mm3);
 }

@@ -276,6 +276,7 @@ TEST(Toolpath, PrintOrderFollowsTheReport) {
     l.covers = subtract(l.shell_paths_region, l.carvable);
     l.cavities.push_back(rect(-6 * kMm, -6 * kMm, 0, 6 * kMm));
     l.cavities.push_back(rect(1 * kMm, -3 * kMm, 6 * kMm, 3 * kMm));
+    l.remainder.clear();  // fully carved: no solid fill after the cavity walls
     Bridge b;
     b.cavity = 2;
     b.lines = {{{2 * kMm, 0}, {5 * kMm, 0}}, {{2 * kMm, 400}, {5 * kMm, 400}}};
@@ -500,4 +501,28 @@ TEST(Toolpath, ThinCoverBandStillGetsItsEdge) {
     ASSERT_EQ(covers.size(), 1u);
     EXPECT_TRUE(covers[0]->closed);
     EXPECT_NEAR(path_length(*covers[0]) / kMm, 4 * 18.4, 0.01);
+}
+
+// What the iterations left uncarved (V^k) is solid model: filled with cover lines inside the
+// cavity walls that bound it, never left as a void nothing holds the top of.
+TEST(Toolpath, UncarvedRemainderIsFilledSolid) {
+    Settings st;
+    LayerPartition l = two_cavities(st);
+    const LayerToolpaths t = plan_layer(l, st);
+    const Paths solid = erode(l.remainder, st.line_width() / 2);
+    double inside = 0, total = 0;
+    for (const Extrusion& e : t.extrusions) {
+        if (e.feature != Feature::Cover) continue;
+        const double len = length(Paths{e.points}, false);
+        total += len;
+        if (!clip_lines(Paths{e.points}, solid).empty()) inside += len;
+    }
+    // Lines at spacing w over the remainder: about its area / w of length.
+    EXPECT_NEAR(total / kMm, area_mm2(l.remainder) / st.nozzle, 0.15 * area_mm2(l.remainder) / st.nozzle);
+    EXPECT_NEAR(inside, total, 1e-6 * total);
+
+    l.remainder.clear();  // fully carved: nothing solid inside
+    const LayerToolpaths empty = plan_layer(l, st);
+    EXPECT_TRUE(std::none_of(empty.extrusions.begin(), empty.extrusions.end(),
+                             [](const Extrusion& e) { return e.feature == Feature::Cover; }));
 }

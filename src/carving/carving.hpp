@@ -26,7 +26,7 @@ private:
     std::vector<Paths> previous_;  // C^j_{i+1}, j = 1..k
 };
 
-// Computes the first iteration's seed SKEL(V^0_i) of each layer as it passes: it needs no
+// Computes the medial axis of V^0_i for the first iteration's seed of each layer as it passes: it needs no
 // carving state, so it can run on the slicing thread while the sweep works on the layer above.
 class SeedAhead : public LayerSource {
 public:

@@ -1,6 +1,8 @@
 // Covers and shells from a sliding window of 2 * covers + 1 slices.
 #include "carving/covers.hpp"
 
+#include "core/stage_timer.hpp"
+
 #include "geometry/morphology.hpp"
 #include "geometry/polygon.hpp"
 
@@ -25,6 +27,7 @@ std::optional<LayerPartition> CarvableStream::next() {
     }
     while (!window_.empty() && window_.front().index > i + c) window_.pop_front();
 
+    StageTimer timer(Stage::kCovers);
     LayerPartition layer;
     const Slice* own = nullptr;
     int in_range = 0;

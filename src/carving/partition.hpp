@@ -33,8 +33,9 @@ struct LayerPartition {
     std::vector<Paths> cavities;       // C^1_i .. C^k_i, pairwise disjoint, inside carvable
     Paths remainder;                   // V^k_i
     std::vector<Bridge> bridges;       // filled in by the supports stage
-    // SKEL(V^0_i): depends on nothing but this slice, so it may be computed ahead on another
-    // thread (SeedAhead); the sweep uses it for its first iteration when present.
+    // The medial axis of V^0_i (before thickening into SKEL): depends on nothing but this
+    // slice, so it may be computed ahead on another thread (SeedAhead); the sweep uses it for
+    // its first iteration when present.
     std::optional<Paths> first_seed;
 };
 

@@ -143,6 +143,11 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(0.0, 20.0));
     slice->add_option("--z-hop", settings.z_hop, "Lift on travel with retraction, mm [0]")
         ->check(CLI::Range(0.0, 10.0));
+    slice->add_option("--tear-limit", settings.tear_limit,
+                      "How far a cavity may tear open along its seed per slice beyond the dilated "
+                      "cavity, mm; smaller leaves less unsupported but uses more material "
+                      "(the report proposes r/2 = 0.1) [0 = no limit]")
+        ->check(CLI::Range(0.0, 1000.0));
     slice->add_flag("!--keep-all-bridges", settings.prune_bridges,
                     "Keep bridges that the layer below already supports");
     slice->add_option("--report", run.report_path, "Write an HTML report (self-contained)");
@@ -153,8 +158,9 @@ int main(int argc, char** argv) {
     slice->add_option("--scale", settings.scale, "Scale the model uniformly by this factor [1]")
         ->check(CLI::Range(0.01, 100.0));
     slice->add_option("--threads", settings.threads,
-                      "Worker threads: 2 runs carving beside toolpaths and G-code [2]")
-        ->check(CLI::Range(1, 2));
+                      "Pipeline threads: 1 runs every stage in turn, 2 slices ahead of the "
+                      "carving sweep, 3 also plans bridges, toolpaths and G-code behind it [3]")
+        ->check(CLI::Range(1, 3));
     slice->add_option("--max-bridge-length", settings.max_bridge_length,
                       "Longest span a bridge may have, mm; longer ones are left out [10]")
         ->check(CLI::Range(1.0, 500.0));

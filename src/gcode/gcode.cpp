@@ -8,6 +8,8 @@
 // the body.
 #include "gcode/gcode.hpp"
 
+#include "core/stage_timer.hpp"
+
 #include <fcntl.h>
 #include <fmt/format.h>
 #include <sys/stat.h>
@@ -489,6 +491,7 @@ GcodeWriter::~GcodeWriter() {
 }
 
 void GcodeWriter::add_layer(const LayerToolpaths& layer) {
+    StageTimer timer(Stage::kGcode);
     const std::string blob = encode_layer(layer);
     std::lock_guard lock(impl_->mutex);
     Impl& m = *impl_;

@@ -14,6 +14,8 @@
 // contours: the region minus the inward swept edges and fans.
 #include "geometry/morphology.hpp"
 
+#include "core/stage_timer.hpp"
+
 #include <array>
 #include <numbers>
 
@@ -113,12 +115,14 @@ Path disk(Coord radius) {
 // The convolution reads orientation as sign, so a region given clockwise (a mirrored mesh, a
 // hand-made square) is normalised first. Overlapping outers are not detected (see header).
 Paths dilate(const Paths& region, Coord radius) {
+    StageTimer timer(Stage::kMorphology);
     if (radius <= 0 || region.empty()) return radius < 0 ? erode(region, -radius) : region;
     if (area(region) < 0) return dilate(unite(region), radius);
     return unite_positive(convolve_all(region, radius));
 }
 
 Paths erode(const Paths& region, Coord radius) {
+    StageTimer timer(Stage::kMorphology);
     if (radius <= 0 || region.empty()) return radius < 0 ? dilate(region, -radius) : region;
     if (area(region) < 0) return erode(unite(region), radius);
     Paths reversed = region;
@@ -129,6 +133,7 @@ Paths erode(const Paths& region, Coord radius) {
 }
 
 Paths dilate_lines(const Paths& polylines, Coord radius) {
+    StageTimer timer(Stage::kMorphology);
     Paths closed;
     closed.reserve(polylines.size());
     for (const Path& line : polylines) {

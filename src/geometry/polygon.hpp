@@ -36,6 +36,8 @@ Paths clip_lines_outside(const Paths& lines, const Paths& region);
 Paths clean(const Paths& region, double tolerance = 1.415);
 
 BBox2 bounds(const Paths& region);
+// Whether two boxes share at least a point (closed boxes; an empty box overlaps nothing).
+bool overlap(const BBox2& a, const BBox2& b);
 
 // Total length of polylines in units; closed = count the closing edge.
 double length(const Paths& paths, bool closed);

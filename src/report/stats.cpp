@@ -44,6 +44,9 @@ nlohmann::json stats_json(const RunResult& run, const Settings& settings) {
     s["shells"] = settings.shells;
     s["walls"] = settings.walls == WallMode::Single ? "single" : "double";
     s["filament_diameter_mm"] = settings.filament_diameter;
+    s["tear_limit_mm"] = settings.tear_limit;
+    s["max_bridge_length_mm"] = settings.prune_bridges ? settings.max_bridge_length : 0.0;
+    s["prune_bridges"] = settings.prune_bridges;
     s["printer"] = settings.printer_name;
     j["settings"] = s;
     return j;

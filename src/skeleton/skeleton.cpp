@@ -11,6 +11,8 @@
 // in last_stats()); nothing throws.
 #include "skeleton/skeleton.hpp"
 
+#include "core/stage_timer.hpp"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -128,6 +130,7 @@ void axis_of_component(const Paths& comp, const SkeletonOptions& options, const 
 }  // namespace
 
 Paths medial_axis(const Paths& region, const SkeletonOptions& options, const AxisTrace& trace) {
+    StageTimer timer(Stage::kSkeleton);
     Workspace& ws = workspace();
     ws.stats = SkeletonStats{};
     Paths out;

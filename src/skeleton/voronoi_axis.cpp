@@ -16,6 +16,8 @@
 // every axis end is a boundary vertex); the caller retries in a rotated frame on failure.
 #include "skeleton/voronoi_axis.hpp"
 
+#include "core/stage_timer.hpp"
+
 #include <algorithm>
 #include <boost/polygon/voronoi.hpp>
 #include <cmath>
@@ -256,6 +258,7 @@ int add_parabola(AxisGraph& g, int from, const Vertex& p0, const Vertex& p1, con
 
 AxisStatus build_axis(const Paths& contours, double max_arc_error, VoronoiWorkspace& ws,
                       AxisGraph& g) {
+    StageTimer timer(Stage::kVoronoi);
     g.clear();
     auto& segs = ws.segs;
     segs.clear();

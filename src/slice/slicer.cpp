@@ -7,6 +7,8 @@
 // exact in topology whatever the rounding of the coordinates.
 #include "slice/slicer.hpp"
 
+#include "core/stage_timer.hpp"
+
 #include <algorithm>
 #include <array>
 #include <bit>
@@ -372,6 +374,7 @@ int TopDownSlicer::layer_count() const {
 }
 
 std::optional<Slice> TopDownSlicer::next() {
+    StageTimer timer(Stage::kSlice);
     Impl& m = *impl_;
     if (m.next_index < 0) return std::nullopt;
     Slice slice;

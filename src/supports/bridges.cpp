@@ -1,6 +1,8 @@
 // Bridge detection and line planning for local minima.
 #include "supports/bridges.hpp"
 
+#include "core/stage_timer.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -33,19 +35,33 @@ Paths rotated(const Paths& region, const Rotation& rot, bool undo) {
     return out;
 }
 
-// Intervals [x0, x1] where the horizontal line at height y is inside a normalised region.
-std::vector<std::pair<double, double>> scan(const Paths& region, double y) {
-    std::vector<double> xs;
+// For each of `count` horizontal lines y_k = first + k * spacing, the intervals [x0, x1] where
+// the line is inside a normalised region. Each edge goes straight to the lines it crosses, so
+// the cost is edges plus crossings rather than lines times edges: the bridge search asks this
+// for 36 angles per minimum. The lines are off integer heights, so no vertex lies on one.
+std::vector<std::vector<std::pair<double, double>>> scan_lines(const Paths& region, double first,
+                                                              double spacing, int count) {
+    std::vector<std::vector<double>> xs(count);
     for (const Path& p : region)
         for (size_t i = 0, n = p.size(); i < n; ++i) {
             const Point& a = p[i];
             const Point& b = p[(i + 1) % n];
-            if ((a.Y <= y) == (b.Y <= y)) continue;
-            xs.push_back(a.X + (y - a.Y) * double(b.X - a.X) / double(b.Y - a.Y));
+            if (a.Y == b.Y) continue;
+            const double lo = double(std::min(a.Y, b.Y)), hi = double(std::max(a.Y, b.Y));
+            // Lines with lo <= y < hi cross the edge.
+            const int k0 = std::max(0, static_cast<int>(std::ceil((lo - first) / spacing)));
+            const int k1 = std::min(count - 1, static_cast<int>(std::floor((hi - first) / spacing)));
+            for (int k = k0; k <= k1; ++k) {
+                const double y = first + k * spacing;
+                if (y < lo || y >= hi) continue;
+                xs[k].push_back(a.X + (y - a.Y) * double(b.X - a.X) / double(b.Y - a.Y));
+            }
         }
-    std::sort(xs.begin(), xs.end());
-    std::vector<std::pair<double, double>> out;
-    for (size_t i = 0; i + 1 < xs.size(); i += 2) out.emplace_back(xs[i], xs[i + 1]);
+    std::vector<std::vector<std::pair<double, double>>> out(count);
+    for (int k = 0; k < count; ++k) {
+        std::sort(xs[k].begin(), xs[k].end());
+        for (size_t i = 0; i + 1 < xs[k].size(); i += 2) out[k].emplace_back(xs[k][i], xs[k][i + 1]);
+    }
     return out;
 }
 
@@ -55,13 +71,14 @@ double horizontal_lines(const Paths& need, const Paths& span, Coord spacing, Pat
     if (b.empty) return 0;
     double total = 0;
     const int count = std::max<int>(1, static_cast<int>(std::ceil(double(b.max_y - b.min_y) / spacing)));
-    const double first = (b.min_y + b.max_y) / 2.0 - (count - 1) * spacing / 2.0;
+    const double first = (b.min_y + b.max_y) / 2.0 - (count - 1) * spacing / 2.0 + 0.5;
+    const auto holes_at = scan_lines(need, first, double(spacing), count);
+    const auto spans_at = scan_lines(span, first, double(spacing), count);
     for (int k = 0; k < count; ++k) {
-        // Nudge off integer heights so that no vertex lies exactly on the scan line.
-        const double y = first + k * spacing + 0.5;
-        const auto holes = scan(need, y);
+        const auto& holes = holes_at[k];
         if (holes.empty()) continue;
-        for (const auto& [x0, x1] : scan(span, y)) {
+        const double y = first + k * double(spacing);
+        for (const auto& [x0, x1] : spans_at[k]) {
             const bool over = std::any_of(holes.begin(), holes.end(), [&](const auto& h) {
                 return h.second > x0 && h.first < x1;
             });
@@ -187,6 +204,7 @@ std::optional<LayerPartition> BridgeStage::next() {
     }
     if (!pending_) return std::nullopt;
     std::optional<LayerPartition> below = input_.next();
+    StageTimer timer(Stage::kBridges);
     add_bridges(*pending_, below ? &*below : nullptr, options_);
     std::optional<LayerPartition> out = std::move(pending_);
     pending_ = std::move(below);

@@ -6,6 +6,8 @@
 // the solid cover lines need an inset (to sit beside the innermost wall, not on it).
 #include "toolpath/toolpath.hpp"
 
+#include "core/stage_timer.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -98,6 +100,7 @@ std::string_view feature_name(Feature f) {
 }
 
 LayerToolpaths plan_layer(const LayerPartition& layer, const Settings& settings) {
+    StageTimer timer(Stage::kToolpaths);
     LayerToolpaths result;
     result.index = layer.index;
     result.z = (layer.index + 1) * settings.layer_height;
@@ -168,6 +171,17 @@ LayerToolpaths plan_layer(const LayerPartition& layer, const Settings& settings)
         if (j + 1 < layer.cavities.size()) remaining = subtract(remaining, cavity);
     }
 
+    // What the k iterations left uncarved (V^k) is solid model: its boundary is the last
+    // cavities' walls, so it is filled like a cover inside them. Left empty it would be a void
+    // whose top nothing holds. With the defaults it is a few specks; it grows when cavities
+    // open slowly (the tear limit) or when --cavities is small.
+    std::vector<Extrusion> solid_lines;
+    if (!layer.remainder.empty() && !layer.cavities.empty()) {
+        const Coord overlap = static_cast<Coord>(std::llround(kCoverOverlap * double(w)));
+        const double angle = (layer.index % 2 == 0) ? 45.0 : -45.0;
+        solid_lines = fill_solid(erode(layer.remainder, w - overlap), angle, w, Feature::Cover);
+    }
+
     // 5. Order: groups in print order, nearest neighbour inside each group.
     BBox2 box = bounds(layer.outline.empty() ? layer.wall_region : layer.outline);
     Point pos(box.min_x, box.min_y);
@@ -181,6 +195,7 @@ LayerToolpaths plan_layer(const LayerPartition& layer, const Settings& settings)
     for (Extrusion& e : cover_lines) cover_edges.push_back(std::move(e));
     append(cover_edges);
     for (auto& group : cavity_walls) append(group);
+    append(solid_lines);
     // 4. Bridges last: they hang over the cavity below, anchored on the walls just printed.
     for (Extrusion& e : order_bridges(layer.bridges, settings.bridge_flow, pos))
         result.extrusions.push_back(std::move(e));

@@ -1,0 +1,64 @@
+// Thread CPU clocks rather than wall clocks: stages run on two threads and the machines we
+// measure on are shared, so CPU time is the figure that stays comparable between runs.
+#include "core/stage_timer.hpp"
+
+#include <time.h>
+
+#include <array>
+#include <atomic>
+#include <cstdlib>
+
+#include <fmt/format.h>
+
+namespace carve {
+
+namespace {
+
+struct Counter {
+    std::atomic<int64_t> ns{0};
+    std::atomic<int64_t> calls{0};
+};
+
+std::array<Counter, size_t(Stage::kCount)> counters;
+
+constexpr std::array<const char*, size_t(Stage::kCount)> kNames{
+    "slice", "covers", "first seed", "sweep", "skeleton", "voronoi",
+    "bridges", "toolpaths", "gcode", "morphology", "boolean"};
+
+int64_t thread_ns() {
+    timespec ts{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+    return int64_t(ts.tv_sec) * 1000000000 + ts.tv_nsec;
+}
+
+}  // namespace
+
+bool profiling_enabled() {
+    static const bool on = [] {
+        const char* v = std::getenv("CARVE_PROFILE");
+        return v && *v && std::string(v) != "0";
+    }();
+    return on;
+}
+
+StageTimer::StageTimer(Stage stage) : stage_(stage) {
+    if (profiling_enabled()) start_ns_ = thread_ns();
+}
+
+StageTimer::~StageTimer() {
+    if (start_ns_ < 0) return;
+    Counter& c = counters[size_t(stage_)];
+    c.ns.fetch_add(thread_ns() - start_ns_, std::memory_order_relaxed);
+    c.calls.fetch_add(1, std::memory_order_relaxed);
+}
+
+std::string profile_table() {
+    if (!profiling_enabled()) return {};
+    std::string out = "stage          CPU s      calls\n";
+    for (size_t i = 0; i < counters.size(); ++i)
+        out += fmt::format("{:<12} {:>8.3f} {:>10}\n", kNames[i], counters[i].ns.load() * 1e-9,
+                           counters[i].calls.load());
+    return out;
+}
+
+}  // namespace carve
