@@ -141,12 +141,13 @@ TEST(Help, EveryOptionStatesItsDefaultAndItsUnit) {
             if (e.names == "-h,--help") continue;
             ++checked;
             EXPECT_NE(default_marker(e.description), "")
-                << sub << " " << e.names << ": no [default] at the end of '" << e.description << "'";
+                << sub << " " << e.names << ": no [default] at the end of '" << e.description
+                << "'";
             const bool number = e.type.rfind("FLOAT", 0) == 0 || e.type.rfind("INT", 0) == 0;
             if (number) {
                 EXPECT_TRUE(std::regex_search(e.description, unit))
-                    << sub << " " << e.names << " (" << e.type << "): no unit in '"
-                    << e.description << "'";
+                    << sub << " " << e.names << " (" << e.type << "): no unit in '" << e.description
+                    << "'";
             }
         }
     }

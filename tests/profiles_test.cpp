@@ -2,6 +2,8 @@
 // (tests/data/prusa_mk3s.ini, made by tests/data/export_prusa_mk3s.py), the placeholders of its
 // custom G-code, the built-in printers, and the order in which the sources override each other,
 // end to end through the carve executable.
+#include "core/profiles.hpp"
+
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -14,7 +16,6 @@
 
 #include "core/error.hpp"
 #include "core/placeholders.hpp"
-#include "core/profiles.hpp"
 #include "core/settings.hpp"
 
 namespace fs = std::filesystem;
@@ -26,7 +27,8 @@ const std::string kMk3s = std::string(CARVE_SOURCE_DIR) + "/tests/data/prusa_mk3
 
 fs::path scratch() {
     static fs::path dir = [] {
-        fs::path d = fs::temp_directory_path() / ("carve_profiles_test_" + std::to_string(getpid()));
+        fs::path d =
+            fs::temp_directory_path() / ("carve_profiles_test_" + std::to_string(getpid()));
         fs::create_directories(d);
         return d;
     }();
@@ -119,7 +121,8 @@ TEST(PrusaProfile, EveryKeyThatMattersLandsInSettings) {
     EXPECT_EQ(s.covers, 6);  // max(top_solid_layers 6, bottom_solid_layers 4)
     EXPECT_EQ(s.shells, 1);  // perimeters 2 = the outer wall and one more
     // Custom G-code: "\n" in the file is a line break in the G-code, not two characters.
-    EXPECT_NE(s.start_gcode.find("G28 W ; home all without mesh bed level\nG80"), std::string::npos);
+    EXPECT_NE(s.start_gcode.find("G28 W ; home all without mesh bed level\nG80"),
+              std::string::npos);
     EXPECT_EQ(s.start_gcode.find("\\n"), std::string::npos);
     EXPECT_NE(s.end_gcode.find("M84 ; disable motors"), std::string::npos);
     EXPECT_EQ(s.end_gcode.back(), '\n');
@@ -137,10 +140,12 @@ TEST(PrusaProfile, UnknownKeysGiveOneNoteWithTheirCount) {
     EXPECT_GT(std::stoi(m[1]), 200);
 
     Settings s;
-    EXPECT_TRUE(load_prusa_profile(write_ini("known.ini", "temperature = 230\n").string(), s).empty());
+    EXPECT_TRUE(
+        load_prusa_profile(write_ini("known.ini", "temperature = 230\n").string(), s).empty());
     EXPECT_EQ(s.nozzle_temperature, 230);
     const auto two = load_prusa_profile(
-        write_ini("two.ini", "temperature = 230\nwipe_tower = 1\nsome_future_key = x\n").string(), s);
+        write_ini("two.ini", "temperature = 230\nwipe_tower = 1\nsome_future_key = x\n").string(),
+        s);
     ASSERT_EQ(two.size(), 1u);
     EXPECT_NE(two[0].find("ignored 2 keys"), std::string::npos) << two[0];
 }
@@ -166,7 +171,7 @@ TEST(PrusaProfile, InvalidValuesAreRejectedNamingTheKey) {
         {"nozzle_diameter", "0"},
         {"filament_diameter", "-1.75"},
         {"filament_diameter", "2.85;1.75"},  // ';' separates strings, not numbers
-        {"nozzle_diameter", "0x10"},          // no hexadecimal
+        {"nozzle_diameter", "0x10"},         // no hexadecimal
         {"temperature", "hot"},
         {"first_layer_temperature", ""},
         {"bed_temperature", "60C"},
@@ -259,7 +264,8 @@ TEST(Placeholders, WhatCannotBeEvaluatedBecomesACommentAndANote) {
     EXPECT_TRUE(n.unresolved.empty());
     EXPECT_EQ(n.text, "M104 S210\n10\n");
     // Text without placeholders is left exactly as it is.
-    EXPECT_EQ(expand_custom_gcode("G28 ; home [all]\nG1 Z5\n", s).text, "G28 ; home [all]\nG1 Z5\n");
+    EXPECT_EQ(expand_custom_gcode("G28 ; home [all]\nG1 Z5\n", s).text,
+              "G28 ; home [all]\nG1 Z5\n");
     EXPECT_TRUE(expand_custom_gcode("G28 ; home [all]\n", s).unresolved.empty());
 }
 
@@ -291,8 +297,8 @@ std::map<std::string, std::string> run_config(const std::string& args) {
                             gcode.string() + " --scale 0.25 --cavities 1 -q " + args +
                             " >/dev/null 2>" + (scratch() / "err.txt").string();
     const int raw = std::system(cmd.c_str());
-    EXPECT_TRUE(WIFEXITED(raw) && WEXITSTATUS(raw) == 0)
-        << cmd << "\n" << read(scratch() / "err.txt");
+    EXPECT_TRUE(WIFEXITED(raw) && WEXITSTATUS(raw) == 0) << cmd << "\n"
+                                                         << read(scratch() / "err.txt");
     std::map<std::string, std::string> config;
     std::ifstream in(gcode);
     std::string line;
@@ -310,7 +316,8 @@ std::string ini(const std::string& name, const std::string& text) {
 }  // namespace
 
 TEST(Precedence, EachSourceOverridesTheOnesBeforeIt) {
-    const std::string covers_ini = ini("covers.ini", "top_solid_layers = 4\nbottom_solid_layers = 4\n");
+    const std::string covers_ini =
+        ini("covers.ini", "top_solid_layers = 4\nbottom_solid_layers = 4\n");
     const std::string retract_ini = ini("retract.ini", "retract_length = 2.5\ntemperature = 230\n");
 
     const auto defaults = run_config("");
@@ -328,7 +335,8 @@ TEST(Precedence, EachSourceOverridesTheOnesBeforeIt) {
     EXPECT_EQ(run_config("--retract-length 1.2").at("retract_length"), "1.2");
     // --printer < --load, whichever comes first on the command line
     EXPECT_EQ(run_config("--printer ender3 --load " + retract_ini).at("retract_length"), "2.5");
-    EXPECT_EQ(run_config("--load " + retract_ini + " --printer ender3").at("retract_length"), "2.5");
+    EXPECT_EQ(run_config("--load " + retract_ini + " --printer ender3").at("retract_length"),
+              "2.5");
     // --printer < --preset: the klipper printer has 2 covers like the defaults, so the printer
     // is checked to hold where the preset says nothing.
     {

@@ -8,12 +8,12 @@
 #include <zip.h>
 
 #include <algorithm>
-#include <filesystem>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
-#include <sstream>
 #include <set>
+#include <sstream>
 #include <string>
 
 #include "carving/carving.hpp"
@@ -378,8 +378,8 @@ TEST(RasterWriter, WallAreaOfARealModelDoesNotDependOnPixelSize) {
         const BBox2 b = bounds(layer->outline);
         for (size_t k = 0; k < pixels_um.size(); ++k) {
             const double p = pixels_um[k];
-            const RasterGrid g = grid_over(b.min_x - kMm, b.min_y - kMm, b.max_x + kMm,
-                                           b.max_y + kMm, p);
+            const RasterGrid g =
+                grid_over(b.min_x - kMm, b.min_y - kMm, b.max_x + kMm, b.max_y + kMm, p);
             std::vector<uint8_t> image;
             rasterize(walls, g, image);
             total_mm2[k] += double(count_white(image)) * (p / kMm) * (p / kMm);
@@ -414,6 +414,8 @@ TEST(RasterCli, PixelAndWallOptionsReachTheStack) {
     EXPECT_DOUBLE_EQ(plain["pixel_mm"].get<double>(), 0.05);  // the documented default
     EXPECT_DOUBLE_EQ(plain["min_wall_mm"].get<double>(), 0.4);
     EXPECT_DOUBLE_EQ(coarse["min_wall_mm"].get<double>(), 1.2);
+    EXPECT_DOUBLE_EQ(plain["shell_mm"].get<double>(), 0.4);
+    EXPECT_DOUBLE_EQ(coarse["shell_mm"].get<double>(), 1.2);  // the outer wall is cured too
     // A 20 mm sphere: 800 + 8 pixels across at 0.025 mm, 200 + 8 at 0.1 mm (+1 for rounding).
     EXPECT_NEAR(fine["width_px"].get<int>(), 808, 1);
     EXPECT_NEAR(coarse["width_px"].get<int>(), 208, 1);

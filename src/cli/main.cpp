@@ -85,7 +85,8 @@ int main(int argc, char** argv) {
     bool quiet = false, no_bed_check = false;
 
     CLI::App* slice = app.add_subcommand("slice", "Slice MODEL into hollow G-code (the main job)");
-    slice->add_option("model", run.model_path, "Mesh file: STL (binary or ASCII), OBJ or 3MF; millimetres [required]")
+    slice->add_option("model", run.model_path,
+                      "Mesh file: STL (binary or ASCII), OBJ or 3MF; millimetres [required]")
         ->required();
     slice->add_option("-o,--output", run.gcode_path, "G-code file to write [required]")->required();
     slice->add_option("--stats", stats_path, "Write the run's figures as JSON to this file [none]");
@@ -110,21 +111,25 @@ int main(int argc, char** argv) {
                       "the line width); 0 = a plain hollow shell [6]");
     slice->add_option("--covers", settings.covers, "Solid layers at tops and bottoms, layers [2]")
         ->check(CLI::Range(0, 50));
-    slice->add_option("--shells", settings.shells, "Extra perimeters inside the outer wall, lines [0]")
+    slice->add_option("--shells", settings.shells,
+                      "Extra perimeters inside the outer wall, lines [0]")
         ->check(CLI::Range(0, 20));
     slice->add_option("--walls", walls_text,
                       "Cavity walls: single (one filament, report 4.3) or double (4.1) [single]")
         ->check(CLI::IsMember({"single", "double"}));
     slice->add_option("--flavor", flavor_text, "G-code flavour: marlin, reprap or klipper [marlin]")
         ->check(CLI::IsMember({"marlin", "reprap", "klipper"}));
-    slice->add_flag("--relative-e", settings.relative_e, "Relative extrusion distances (M83) [off: absolute, M82]");
+    slice->add_flag("--relative-e", settings.relative_e,
+                    "Relative extrusion distances (M83) [off: absolute, M82]");
     slice->add_option("--filament-diameter", settings.filament_diameter, "Filament diameter, mm [1.75]")
         ->check(CLI::Range(0.5, 5.0));
     slice->add_option("--bed", bed_text, "Bed size WxH, mm; the model is centred on it [250x210]");
     slice->add_flag("--no-bed-check", no_bed_check, "Allow a model larger than the bed [off]");
-    slice->add_option("--temperature", settings.nozzle_temperature, "Nozzle temperature after the first layer, C [210]")
+    slice->add_option("--temperature", settings.nozzle_temperature,
+                      "Nozzle temperature after the first layer, C [210]")
         ->check(CLI::Range(0, 450));
-    slice->add_option("--bed-temperature", settings.bed_temperature, "Bed temperature after the first layer, C [60]")
+    slice->add_option("--bed-temperature", settings.bed_temperature,
+                      "Bed temperature after the first layer, C [60]")
         ->check(CLI::Range(0, 150));
     slice->add_option("--first-layer-temperature", settings.first_layer_nozzle_temperature,
                       "Nozzle temperature on the first layer, C [215]")
@@ -164,9 +169,13 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(0.0, 10.0));
     slice->add_flag("!--keep-all-bridges", settings.prune_bridges,
                     "Keep bridges that the layer below already supports [off]");
-    slice->add_option("--report", run.report_path, "Write an HTML report (self-contained) to this file [none]");
-    slice->add_option("--svg-layers", run.svg_dir, "Write SVG pictures of some layers into DIR [none]");
-    slice->add_option("--svg-every", run.svg_every, "With --svg-layers: every N-th layer, layers [0: eight spread over the height]")
+    slice->add_option("--report", run.report_path,
+                      "Write an HTML report (self-contained) to this file [none]");
+    slice->add_option("--svg-layers", run.svg_dir,
+                      "Write SVG pictures of some layers into DIR [none]");
+    slice->add_option("--svg-every", run.svg_every,
+                      "With --svg-layers: every N-th layer, layers [0: eight spread over the "
+                      "height]")
         ->check(CLI::Range(0, 100000));
     slice->add_option("--raster", run.raster_dir,
                       "Write a PNG slice stack for resin printers, and its zip, into DIR [none]");
@@ -177,7 +186,8 @@ int main(int argc, char** argv) {
                       "With --raster: thinnest wall the resin printer cures; cavity outlines are "
                       "thickened to it, mm [0.4]")
         ->check(CLI::Range(0.01, 10.0));
-    slice->add_option("--scale", settings.scale, "Scale the model uniformly by this factor, ratio [1]")
+    slice->add_option("--scale", settings.scale,
+                      "Scale the model uniformly by this factor, ratio [1]")
         ->check(CLI::Range(0.01, 100.0));
     slice->add_option("--threads", settings.threads,
                       "Worker threads: 2 runs carving beside toolpaths and G-code, threads [2]")
@@ -206,7 +216,8 @@ int main(int argc, char** argv) {
                       "Distance no filament bridges, mm [2]");
     check->add_option("--filament-diameter", check_options.filament_diameter_mm,
                       "Filament diameter, mm [1.75]");
-    check->add_flag("--json", check_json, "JSON output (the plain output is the same JSON for now) [off]");
+    check->add_flag("--json", check_json,
+                    "JSON output (the plain output is the same JSON for now) [off]");
 
     std::vector<std::string> profile_notes;
     try {
@@ -251,10 +262,12 @@ int main(int argc, char** argv) {
         for (const std::string& n : profile_notes)
             if (!quiet) std::fprintf(stderr, "carve: note: %s\n", n.c_str());
         // Placeholders of the custom G-code that carve cannot evaluate: said once, up front.
-        const std::map<std::string, double> at_end{{"max_layer_z", 0}, {"layer_z", 0}, {"layer_num", 0}};
+        const std::map<std::string, double> at_end{
+            {"max_layer_z", 0}, {"layer_z", 0}, {"layer_num", 0}};
         for (const auto& [name, text] : {std::pair{"start_gcode", &settings.start_gcode},
                                          std::pair{"end_gcode", &settings.end_gcode}})
-            for (const std::string& u : carve::expand_custom_gcode(*text, settings, at_end).unresolved)
+            for (const std::string& u :
+                 carve::expand_custom_gcode(*text, settings, at_end).unresolved)
                 if (!quiet)
                     std::fprintf(stderr, "carve: note: %s: %s\n",
                                  name, u.c_str());

@@ -121,9 +121,9 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
     if (!options.raster_dir.empty()) {
         const BBox2 footprint{to_units(box.min.x), to_units(box.min.y), to_units(box.max.x),
                               to_units(box.max.y), false};
-        raster = std::make_unique<RasterWriter>(options.raster_dir, settings, footprint,
-                                                options.raster_pixel_mm,
-                                                options.raster_min_wall_mm);
+        raster =
+            std::make_unique<RasterWriter>(options.raster_dir, settings, footprint,
+                                           options.raster_pixel_mm, options.raster_min_wall_mm);
     }
 
     result.layers = layer_count;

@@ -4,14 +4,14 @@
 // never guessed: the affected line becomes a comment.
 #include "core/placeholders.hpp"
 
+#include <fmt/format.h>
+
 #include <cctype>
 #include <cmath>
 #include <optional>
 #include <regex>
 #include <sstream>
 #include <stdexcept>
-
-#include <fmt/format.h>
 
 namespace carve {
 
@@ -31,8 +31,12 @@ struct Value {
     bool truthy() const { return is_number ? number != 0 : !text.empty(); }
 };
 
-Value num(double d) { return {true, d, {}}; }
-Value text(std::string s) { return {false, 0, std::move(s)}; }
+Value num(double d) {
+    return {true, d, {}};
+}
+Value text(std::string s) {
+    return {false, 0, std::move(s)};
+}
 
 struct Unresolved : std::runtime_error {
     using std::runtime_error::runtime_error;
@@ -54,7 +58,8 @@ std::optional<Value> profile_element(const std::string& raw, size_t index) {
     if (items.empty()) items.push_back("");
     if (index >= items.size()) return std::nullopt;
     std::string v = items[index];
-    if (v.size() >= 2 && v.front() == '"' && v.back() == '"') return text(v.substr(1, v.size() - 2));
+    if (v.size() >= 2 && v.front() == '"' && v.back() == '"')
+        return text(v.substr(1, v.size() - 2));
     try {
         size_t used = 0;
         const double d = std::stod(v, &used);
@@ -169,7 +174,8 @@ class Parser {
             const Value b = sum();
             const std::string o = op;
             if (o == "==" || o == "!=" || o == "<>") {
-                const bool eq = a.is_number && b.is_number ? a.number == b.number : a.str() == b.str();
+                const bool eq =
+                    a.is_number && b.is_number ? a.number == b.number : a.str() == b.str();
                 return num(o == "==" ? eq : !eq);
             }
             const double x = need_number(a), y = need_number(b);
@@ -297,15 +303,15 @@ std::string expand_brackets(const std::string& in, const Context& ctx,
         if (!v && std::regex_match(name, im, indexed))
             v = ctx.lookup(im[1], static_cast<size_t>(std::stoul(im[2])));
         const size_t line_start = in.rfind('\n', m.position(0));
-        const bool in_comment =
-            in.find(';', line_start == std::string::npos ? 0 : line_start) <
-            static_cast<size_t>(m.position(0));
+        const bool in_comment = in.find(';', line_start == std::string::npos ? 0 : line_start) <
+                                static_cast<size_t>(m.position(0));
         if (v) {
             out += v->str();
         } else if (in_comment) {
             out += m.str(0);  // "; home [all]": harmless text for the firmware
         } else {
-            unresolved.push_back(fmt::format("[{}]: unknown variable (line written as a comment)", name));
+            unresolved.push_back(
+                fmt::format("[{}]: unknown variable (line written as a comment)", name));
             out += kBad + m.str(0);
         }
     }
@@ -336,8 +342,8 @@ ExpandedGcode expand_custom_gcode(const std::string& text, const Settings& setti
     size_t i = 0;
     while (i < text.size()) {
         const size_t open = text.find('{', i);
-        const std::string literal = text.substr(i, open == std::string::npos ? std::string::npos
-                                                                            : open - i);
+        const std::string literal =
+            text.substr(i, open == std::string::npos ? std::string::npos : open - i);
         if (active()) out += expand_brackets(literal, ctx, result.unresolved);
         if (open == std::string::npos) break;
         const size_t close = text.find('}', open);
@@ -350,7 +356,8 @@ ExpandedGcode expand_custom_gcode(const std::string& text, const Settings& setti
         i = close + 1;
         auto keyword = [&](const std::string& k) {
             return tag.rfind(k, 0) == 0 &&
-                   (tag.size() == k.size() || std::isspace(static_cast<unsigned char>(tag[k.size()])));
+                   (tag.size() == k.size() ||
+                    std::isspace(static_cast<unsigned char>(tag[k.size()])));
         };
         if (keyword("if")) {
             const bool parent = active();
@@ -374,8 +381,10 @@ ExpandedGcode expand_custom_gcode(const std::string& text, const Settings& setti
             b.active = b.parent_active && !b.taken;
             b.taken = true;
         } else if (tag == "endif") {
-            if (branches.empty()) result.unresolved.push_back("{endif} without {if}");
-            else branches.pop_back();
+            if (branches.empty())
+                result.unresolved.push_back("{endif} without {if}");
+            else
+                branches.pop_back();
         } else if (active()) {
             try {
                 out += Parser(tag, ctx).whole().str();

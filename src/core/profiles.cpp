@@ -53,8 +53,9 @@ const std::vector<Preset>& presets() {
              s.acceleration = 3000, s.travel_acceleration = 5000;
              s.travel_speed = 250, s.max_print_speed = 200;
              s.retract_length = 0.8;
-             s.start_gcode = "PRINT_START BED=[first_layer_bed_temperature] "
-                             "EXTRUDER=[first_layer_temperature]\n";
+             s.start_gcode =
+                 "PRINT_START BED=[first_layer_bed_temperature] "
+                 "EXTRUDER=[first_layer_temperature]\n";
              s.end_gcode = "PRINT_END\n";
          }},
     };
@@ -201,9 +202,13 @@ std::vector<std::string> load_prusa_profile(const std::string& path, Settings& s
         // Solid layers and perimeters are carve's covers and shells: a profile's own choice
         // holds unless --preset or --covers/--shells say otherwise.
         {"top_solid_layers",
-         [&](auto& k, auto& v) { s.covers = std::max(top_bottom[0] = count(k, v), top_bottom[1]); }},
+         [&](auto& k, auto& v) {
+             s.covers = std::max(top_bottom[0] = count(k, v), top_bottom[1]);
+         }},
         {"bottom_solid_layers",
-         [&](auto& k, auto& v) { s.covers = std::max(top_bottom[0], top_bottom[1] = count(k, v)); }},
+         [&](auto& k, auto& v) {
+             s.covers = std::max(top_bottom[0], top_bottom[1] = count(k, v));
+         }},
         {"perimeters", [&](auto& k, auto& v) { s.shells = std::max(0, count(k, v) - 1); }},
         {"use_relative_e_distances",
          [&](auto& k, auto& v) {

@@ -184,7 +184,8 @@ class Emitter {
         if (!retracted_ && !first_travel_) retract();
         if (st_.flavor == GcodeFlavor::Klipper && st_.end_gcode.empty()) line("PRINT_END");
         raw(expand_custom_gcode(st_.end_gcode, st_,
-                                {{"max_layer_z", to_mm(layer_z_)}, {"layer_z", to_mm(layer_z_)},
+                                {{"max_layer_z", to_mm(layer_z_)},
+                                 {"layer_z", to_mm(layer_z_)},
                                  {"layer_num", std::max(0, layer_)}})
                 .text);
         planner_.stop();
