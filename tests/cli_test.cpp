@@ -265,3 +265,40 @@ TEST(Cli, OuterWallIsCompleteOnEveryLayer) {
     }
     EXPECT_GT(checked, 500);
 }
+
+// Progress: on a file or a pipe, plain lines (one per tenth of the layers, no carriage
+// returns); on a terminal, a bar redrawn in place; nothing at all with --quiet.
+TEST(Cli, ProgressIsPlainLinesWithoutATerminalAndABarOnOne) {
+    const std::string gcode = (scratch() / "progress.gcode").string();
+    const std::string args =
+        "slice " + model("synthetic/sphere_40mm.stl") + " --scale 0.5 --cavities 2 -o " + gcode;
+    const CarveRun plain = run_carve(args);
+    ASSERT_EQ(plain.status, 0) << plain.err;
+    EXPECT_EQ(plain.err.find('\r'), std::string::npos);
+    std::stringstream lines_in(plain.err);
+    std::string line;
+    int progress = 0;
+    while (std::getline(lines_in, line)) {
+        EXPECT_EQ(line.rfind("carve: ", 0), 0u) << line;
+        if (line.find(" layers (") != std::string::npos) ++progress;
+    }
+    EXPECT_GE(progress, 10);
+    EXPECT_LE(progress, 11);
+    EXPECT_NE(plain.err.find("carve: 100/100 layers (100 %)"), std::string::npos) << plain.err;
+
+    const CarveRun quiet = run_carve(args + " -q");
+    ASSERT_EQ(quiet.status, 0);
+    EXPECT_EQ(quiet.err, "");
+    EXPECT_EQ(quiet.out, "");
+
+    // A pseudo-terminal through script(1), when it is there.
+    if (access("/usr/bin/script", X_OK) != 0) GTEST_SKIP() << "no script(1) for a terminal";
+    const fs::path typescript = scratch() / "tty.txt";
+    const std::string cmd = "/usr/bin/script -qec '" + std::string(CARVE_BINARY) + " " + args +
+                            "' " + typescript.string() + " >/dev/null 2>&1 </dev/null";
+    ASSERT_EQ(std::system(cmd.c_str()), 0);
+    const std::string tty = read(typescript);
+    EXPECT_NE(tty.find("\r["), std::string::npos) << tty;
+    EXPECT_NE(tty.find("] 100/100 layers"), std::string::npos) << tty;
+    EXPECT_EQ(tty.find(" layers (10 %)"), std::string::npos);
+}

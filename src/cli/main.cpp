@@ -8,11 +8,13 @@
 #include <cstdio>
 #include <fstream>
 #include <iostream>
+#include <map>
 
 #include <fmt/format.h>
 
 #include "core/error.hpp"
 #include "core/pipeline.hpp"
+#include "core/placeholders.hpp"
 #include "core/profiles.hpp"
 #include "mesh/mesh.hpp"
 #include "report/gcode_analysis.hpp"
@@ -83,17 +85,18 @@ int main(int argc, char** argv) {
     bool quiet = false, no_bed_check = false;
 
     CLI::App* slice = app.add_subcommand("slice", "Slice MODEL into hollow G-code (the main job)");
-    slice->add_option("model", run.model_path, "Mesh file: STL (binary or ASCII), OBJ or 3MF")
+    slice->add_option("model", run.model_path,
+                      "Mesh file: STL (binary or ASCII), OBJ or 3MF; millimetres [required]")
         ->required();
-    slice->add_option("-o,--output", run.gcode_path, "G-code file to write")->required();
-    slice->add_option("--stats", stats_path, "Write the run's figures as JSON to this file");
+    slice->add_option("-o,--output", run.gcode_path, "G-code file to write [required]")->required();
+    slice->add_option("--stats", stats_path, "Write the run's figures as JSON to this file [none]");
     slice->add_option("--load", profile_path,
                       "PrusaSlicer .ini profile with printer and filament settings (options given "
-                      "on the command line win)");
+                      "on the command line win) [none]");
     slice->add_option("--printer", printer_name,
-                      "Built-in printer preset: " + carve::printer_preset_names());
+                      "Built-in printer preset: " + carve::printer_preset_names() + " [generic]");
     slice->add_option("--preset", preset, "The report's presets: 2c0s (2 covers, no shell) or "
-                                          "3c1s (3 covers, 1 shell)")
+                                          "3c1s (3 covers, 1 shell) [none: 2 covers, 0 shells]")
         ->check(CLI::IsMember({"2c0s", "3c1s"}));
     slice->add_option("--layer-height", settings.layer_height, "Layer height h, mm [0.2]")
         ->check(CLI::Range(0.01, 2.0));
@@ -106,24 +109,37 @@ int main(int argc, char** argv) {
     slice->add_option("--cavities", cavities_text,
                       "Carving iterations k, or 'auto' (stop when the remainder erodes away at "
                       "the line width); 0 = a plain hollow shell [6]");
-    slice->add_option("--covers", settings.covers, "Solid layers at tops and bottoms [2]")
+    slice->add_option("--covers", settings.covers, "Solid layers at tops and bottoms, layers [2]")
         ->check(CLI::Range(0, 50));
-    slice->add_option("--shells", settings.shells, "Extra perimeters inside the outer wall [0]")
+    slice->add_option("--shells", settings.shells,
+                      "Extra perimeters inside the outer wall, lines [0]")
         ->check(CLI::Range(0, 20));
     slice->add_option("--walls", walls_text,
                       "Cavity walls: single (one filament, report 4.3) or double (4.1) [single]")
         ->check(CLI::IsMember({"single", "double"}));
     slice->add_option("--flavor", flavor_text, "G-code flavour: marlin, reprap or klipper [marlin]")
         ->check(CLI::IsMember({"marlin", "reprap", "klipper"}));
-    slice->add_flag("--relative-e", settings.relative_e, "Relative extrusion distances (M83)");
+    slice->add_flag("--relative-e", settings.relative_e,
+                    "Relative extrusion distances (M83) [off: absolute, M82]");
     slice->add_option("--filament-diameter", settings.filament_diameter, "Filament diameter, mm [1.75]")
         ->check(CLI::Range(0.5, 5.0));
-    slice->add_option("--bed", bed_text, "Bed size WxH in mm, the model is centred on it [250x210]");
-    slice->add_flag("--no-bed-check", no_bed_check, "Allow a model larger than the bed");
-    slice->add_option("--temperature", settings.nozzle_temperature, "Nozzle temperature, C [210]")
+    slice->add_option("--bed", bed_text, "Bed size WxH, mm; the model is centred on it [250x210]");
+    slice->add_flag("--no-bed-check", no_bed_check, "Allow a model larger than the bed [off]");
+    slice->add_option("--temperature", settings.nozzle_temperature,
+                      "Nozzle temperature after the first layer, C [210]")
         ->check(CLI::Range(0, 450));
-    slice->add_option("--bed-temperature", settings.bed_temperature, "Bed temperature, C [60]")
+    slice->add_option("--bed-temperature", settings.bed_temperature,
+                      "Bed temperature after the first layer, C [60]")
         ->check(CLI::Range(0, 150));
+    slice->add_option("--first-layer-temperature", settings.first_layer_nozzle_temperature,
+                      "Nozzle temperature on the first layer, C [215]")
+        ->check(CLI::Range(0, 450));
+    slice->add_option("--first-layer-bed-temperature", settings.first_layer_bed_temperature,
+                      "Bed temperature on the first layer, C [60]")
+        ->check(CLI::Range(0, 150));
+    slice->add_option("--filament-density", settings.filament_density,
+                      "Filament density for the weight estimate, g/cm^3 [1.24]")
+        ->check(CLI::Range(0.1, 20.0));
     slice->add_option("--travel-speed", settings.travel_speed, "Travel speed, mm/s [150]")
         ->check(CLI::Range(1.0, 1000.0));
     slice->add_option("--perimeter-speed", settings.perimeter_speed, "Outer wall speed, mm/s [40]")
@@ -139,8 +155,16 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(1.0, 1000.0));
     slice->add_option("--acceleration", settings.acceleration, "Print acceleration, mm/s^2 [1000]")
         ->check(CLI::Range(10.0, 100000.0));
+    slice->add_option("--travel-acceleration", settings.travel_acceleration,
+                      "Travel acceleration, mm/s^2 [1500]")
+        ->check(CLI::Range(10.0, 100000.0));
+    slice->add_option("--max-print-speed", settings.max_print_speed,
+                      "Cap on every printing speed, mm/s [100]")
+        ->check(CLI::Range(1.0, 1000.0));
     slice->add_option("--retract-length", settings.retract_length, "Retraction, mm [0.8]")
         ->check(CLI::Range(0.0, 20.0));
+    slice->add_option("--retract-speed", settings.retract_speed, "Retraction speed, mm/s [35]")
+        ->check(CLI::Range(1.0, 500.0));
     slice->add_option("--z-hop", settings.z_hop, "Lift on travel with retraction, mm [0]")
         ->check(CLI::Range(0.0, 10.0));
     slice->add_option("--tear-limit", settings.tear_limit,
@@ -149,28 +173,42 @@ int main(int argc, char** argv) {
                       "(the report proposes r/2 = 0.1) [0 = no limit]")
         ->check(CLI::Range(0.0, 1000.0));
     slice->add_flag("!--keep-all-bridges", settings.prune_bridges,
-                    "Keep bridges that the layer below already supports");
-    slice->add_option("--report", run.report_path, "Write an HTML report (self-contained)");
-    slice->add_option("--svg-layers", run.svg_dir, "Write SVG pictures of some layers into DIR");
-    slice->add_option("--svg-every", run.svg_every, "With --svg-layers: every N-th layer")
+                    "Keep bridges that the layer below already supports [off]");
+    slice->add_option("--report", run.report_path,
+                      "Write an HTML report (self-contained) to this file [none]");
+    slice->add_option("--svg-layers", run.svg_dir,
+                      "Write SVG pictures of some layers into DIR [none]");
+    slice->add_option("--svg-every", run.svg_every,
+                      "With --svg-layers: every N-th layer, layers [0: eight spread over the "
+                      "height]")
         ->check(CLI::Range(0, 100000));
-    slice->add_option("--raster", run.raster_dir, "Write a PNG slice stack for resin printers into DIR");
-    slice->add_option("--scale", settings.scale, "Scale the model uniformly by this factor [1]")
+    slice->add_option("--raster", run.raster_dir,
+                      "Write a PNG slice stack for resin printers, and its zip, into DIR [none]");
+    slice->add_option("--raster-pixel", run.raster_pixel_mm,
+                      "With --raster: pixel size (the printer's XY resolution), mm [0.05]")
+        ->check(CLI::Range(0.005, 1.0));
+    slice->add_option("--raster-min-wall", run.raster_min_wall_mm,
+                      "With --raster: thinnest wall the resin printer cures; cavity outlines are "
+                      "thickened to it, mm [0.4]")
+        ->check(CLI::Range(0.01, 10.0));
+    slice->add_option("--scale", settings.scale,
+                      "Scale the model uniformly by this factor, ratio [1]")
         ->check(CLI::Range(0.01, 100.0));
     slice->add_option("--threads", settings.threads,
                       "Pipeline threads: 1 runs every stage in turn, 2 slices ahead of the "
-                      "carving sweep, 3 also plans bridges, toolpaths and G-code behind it [3]")
+                      "carving sweep, 3 also plans bridges, toolpaths and G-code behind it, "
+                      "threads [3]")
         ->check(CLI::Range(1, 3));
     slice->add_option("--max-bridge-length", settings.max_bridge_length,
                       "Longest span a bridge may have, mm; longer ones are left out [10]")
         ->check(CLI::Range(1.0, 500.0));
-    slice->add_flag("-q,--quiet", quiet, "Print nothing but errors");
+    slice->add_flag("-q,--quiet", quiet, "Print nothing but errors [off]");
 
     std::string info_model;
     bool info_json = false;
     CLI::App* info = app.add_subcommand("info", "Describe a mesh: size, volume, closedness");
-    info->add_option("model", info_model, "Mesh file")->required();
-    info->add_flag("--json", info_json, "Machine-readable output");
+    info->add_option("model", info_model, "Mesh file: STL, OBJ or 3MF [required]")->required();
+    info->add_flag("--json", info_json, "Machine-readable output (JSON) [off: text]");
 
     std::string check_gcode;
     bool check_json = false;
@@ -178,14 +216,15 @@ int main(int argc, char** argv) {
     CLI::App* check = app.add_subcommand(
         "check", "Measure material and unsupported extrusion of any G-code file (carve's, "
                  "PrusaSlicer's, Cura's)");
-    check->add_option("gcode", check_gcode, "G-code file")->required();
+    check->add_option("gcode", check_gcode, "G-code file [required]")->required();
     check->add_option("--support-radius", check_options.support_radius_mm,
                       "Overhang allowance r, mm [0.2]");
     check->add_option("--far-radius", check_options.far_radius_mm,
                       "Distance no filament bridges, mm [2]");
     check->add_option("--filament-diameter", check_options.filament_diameter_mm,
                       "Filament diameter, mm [1.75]");
-    check->add_flag("--json", check_json, "Machine-readable output");
+    check->add_flag("--json", check_json,
+                    "JSON output (the plain output is the same JSON for now) [off]");
 
     std::vector<std::string> profile_notes;
     try {
@@ -229,6 +268,16 @@ int main(int argc, char** argv) {
         // options the user gave, so those win.
         for (const std::string& n : profile_notes)
             if (!quiet) std::fprintf(stderr, "carve: note: %s\n", n.c_str());
+        // Placeholders of the custom G-code that carve cannot evaluate: said once, up front.
+        const std::map<std::string, double> at_end{
+            {"max_layer_z", 0}, {"layer_z", 0}, {"layer_num", 0}};
+        for (const auto& [name, text] : {std::pair{"start_gcode", &settings.start_gcode},
+                                         std::pair{"end_gcode", &settings.end_gcode}})
+            for (const std::string& u :
+                 carve::expand_custom_gcode(*text, settings, at_end).unresolved)
+                if (!quiet)
+                    std::fprintf(stderr, "carve: note: %s: %s\n",
+                                 name, u.c_str());
 
         if (cavities_text == "auto") {
             settings.cavities_auto = true;
@@ -263,7 +312,8 @@ int main(int argc, char** argv) {
             return fail(fmt::format("--layer-height {} mm is thicker than the {} mm line width",
                                     settings.layer_height, settings.nozzle));
 
-        run.progress = !quiet && isatty(STDERR_FILENO);
+        run.progress = !quiet;
+        run.progress_bar = isatty(STDERR_FILENO);  // plain lines into a log or a pipe
         run.note = [quiet](const std::string& s) {
             if (!quiet) std::fprintf(stderr, "carve: warning: %s\n", s.c_str());
         };

@@ -45,6 +45,16 @@ void progress_bar(int done, int total, double elapsed_s) {
     std::fflush(stderr);
 }
 
+// Without a terminal (a log file, a pipe, a CI job) a redrawn bar would be one long line full
+// of carriage returns: plain lines instead.
+void progress_line(int done, int total, double elapsed_s) {
+    const double f = total > 0 ? double(done) / total : 1.0;
+    const double left = f > 0 ? elapsed_s * (1 - f) / f : 0;
+    std::fprintf(stderr, "carve: %d/%d layers (%.0f %%), %.0f s left\n", done, total, 100 * f,
+                 left);
+    std::fflush(stderr);
+}
+
 double toolpath_volume_mm3(const LayerToolpaths& paths, const Settings& settings) {
     double v = 0;
     for (const Extrusion& e : paths.extrusions)
@@ -115,7 +125,9 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
     if (!options.raster_dir.empty()) {
         const BBox2 footprint{to_units(box.min.x), to_units(box.min.y), to_units(box.max.x),
                               to_units(box.max.y), false};
-        raster = std::make_unique<RasterWriter>(options.raster_dir, settings, footprint);
+        raster =
+            std::make_unique<RasterWriter>(options.raster_dir, settings, footprint,
+                                           options.raster_pixel_mm, options.raster_min_wall_mm);
     }
 
     result.layers = layer_count;
@@ -141,10 +153,16 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
             result.bridge_length_mm += to_mm(static_cast<Coord>(length(b.lines, false)));
         }
         ++done;
-        if (options.progress && (done % 10 == 0 || done == layer_count)) {
+        const int tenth = std::max(1, layer_count / 10);
+        if (options.progress && options.progress_bar && (done % 10 == 0 || done == layer_count)) {
             const double t =
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
             progress_bar(done, layer_count, t);
+        } else if (options.progress && !options.progress_bar &&
+                   (done % tenth == 0 || done == layer_count)) {
+            const double t =
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+            progress_line(done, layer_count, t);
         }
     }
     for (double v : result.cavity_volume_mm3)

@@ -1,9 +1,13 @@
 // Built-in printers and the PrusaSlicer .ini reader.
 #include "core/profiles.hpp"
 
+#include <algorithm>
+#include <charconv>
+#include <cmath>
 #include <fstream>
 #include <functional>
 #include <map>
+#include <optional>
 #include <sstream>
 
 #include <fmt/format.h>
@@ -49,7 +53,9 @@ const std::vector<Preset>& presets() {
              s.acceleration = 3000, s.travel_acceleration = 5000;
              s.travel_speed = 250, s.max_print_speed = 200;
              s.retract_length = 0.8;
-             s.start_gcode = "PRINT_START BED=[bed] EXTRUDER=[nozzle]\n";
+             s.start_gcode =
+                 "PRINT_START BED=[first_layer_bed_temperature] "
+                 "EXTRUDER=[first_layer_temperature]\n";
              s.end_gcode = "PRINT_END\n";
          }},
     };
@@ -63,15 +69,19 @@ std::string trim(std::string s) {
     return s;
 }
 
+// A plain decimal number: std::stod would also read "0x0" (a bed_shape point) as hexadecimal.
+std::optional<double> decimal(const std::string& v) {
+    double d = 0;
+    const auto [end, ec] = std::from_chars(v.data(), v.data() + v.size(), d);
+    if (ec != std::errc() || end != v.data() + v.size() || v.empty() || !std::isfinite(d))
+        return std::nullopt;
+    return d;
+}
+
 double number(const std::string& key, const std::string& value) {
     // PrusaSlicer stores per-extruder values as comma lists; the first extruder is ours.
-    std::string v = trim(value.substr(0, value.find(',')));
-    try {
-        size_t used = 0;
-        double d = std::stod(v, &used);
-        if (used == v.size() && std::isfinite(d)) return d;
-    } catch (const std::exception&) {
-    }
+    const std::string v = trim(value.substr(0, value.find(',')));
+    if (const std::optional<double> d = decimal(v)) return *d;
     throw InputError(fmt::format("profile key '{}': '{}' is not a number", key, value));
 }
 
@@ -79,6 +89,15 @@ double positive(const std::string& key, const std::string& value) {
     double d = number(key, value);
     if (d <= 0) throw InputError(fmt::format("profile key '{}': {} must be positive", key, value));
     return d;
+}
+
+// A whole number from 0 to 50 (layers, perimeters).
+int count(const std::string& key, const std::string& value) {
+    const double d = number(key, value);
+    if (d < 0 || d > 50 || d != std::floor(d))
+        throw InputError(
+            fmt::format("profile key '{}': '{}' is not a whole number from 0 to 50", key, value));
+    return static_cast<int>(d);
 }
 
 std::string unescape(const std::string& v) {
@@ -119,6 +138,7 @@ std::vector<std::string> load_prusa_profile(const std::string& path, Settings& s
     if (!in) throw InputError(fmt::format("{}: cannot open the profile", path));
 
     using Setter = std::function<void(const std::string&, const std::string&)>;
+    int top_bottom[2] = {0, 0};
     const std::map<std::string, Setter> keys = {
         {"bed_shape",
          [&](const std::string& k, const std::string& v) {
@@ -128,11 +148,15 @@ std::vector<std::string> load_prusa_profile(const std::string& path, Settings& s
              std::string pt;
              int n = 0;
              while (std::getline(ss, pt, ',')) {
-                 double x = 0, y = 0;
-                 if (std::sscanf(pt.c_str(), "%lfx%lf", &x, &y) != 2)
+                 const std::string p = trim(pt);
+                 const size_t cross = p.find('x');
+                 const std::optional<double> x = decimal(p.substr(0, cross));
+                 const std::optional<double> y =
+                     cross == std::string::npos ? std::nullopt : decimal(p.substr(cross + 1));
+                 if (!x || !y)
                      throw InputError(fmt::format("profile key '{}': bad point '{}'", k, pt));
-                 min_x = std::min(min_x, x), max_x = std::max(max_x, x);
-                 min_y = std::min(min_y, y), max_y = std::max(max_y, y);
+                 min_x = std::min(min_x, *x), max_x = std::max(max_x, *x);
+                 min_y = std::min(min_y, *y), max_y = std::max(max_y, *y);
                  ++n;
              }
              if (n < 3 || max_x <= min_x || max_y <= min_y)
@@ -175,6 +199,24 @@ std::vector<std::string> load_prusa_profile(const std::string& path, Settings& s
          [&](auto& k, auto& v) { s.acceleration = positive(k, v); }},
         {"machine_max_acceleration_travel",
          [&](auto& k, auto& v) { s.travel_acceleration = positive(k, v); }},
+        // Solid layers and perimeters are carve's covers and shells: a profile's own choice
+        // holds unless --preset or --covers/--shells say otherwise.
+        {"top_solid_layers",
+         [&](auto& k, auto& v) {
+             s.covers = std::max(top_bottom[0] = count(k, v), top_bottom[1]);
+         }},
+        {"bottom_solid_layers",
+         [&](auto& k, auto& v) {
+             s.covers = std::max(top_bottom[0], top_bottom[1] = count(k, v));
+         }},
+        {"perimeters", [&](auto& k, auto& v) { s.shells = std::max(0, count(k, v) - 1); }},
+        {"use_relative_e_distances",
+         [&](auto& k, auto& v) {
+             const std::string b = trim(v);
+             if (b != "0" && b != "1")
+                 throw InputError(fmt::format("profile key '{}': '{}' is not 0 or 1", k, v));
+             s.relative_e = b == "1";
+         }},
         {"gcode_flavor",
          [&](auto& k, auto& v) {
              const std::string f = trim(v);
@@ -198,6 +240,8 @@ std::vector<std::string> load_prusa_profile(const std::string& path, Settings& s
             throw InputError(fmt::format("{}:{}: expected 'key = value'", path, line_no));
         const std::string key = trim(line.substr(0, eq));
         const std::string value = trim(line.substr(eq + 1));
+        // Kept raw for the placeholders of the profile's custom G-code ([printer_model], ...).
+        s.profile_values[key] = value;
         auto it = keys.find(key);
         if (it == keys.end()) {
             ++ignored;

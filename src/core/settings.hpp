@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cmath>
+#include <map>
 #include <numbers>
 #include <string>
 
@@ -55,6 +56,9 @@ struct Settings {
     std::string start_gcode =
         "G28 ; home all axes\nG1 Z5 F3000\nG92 E0\n";
     std::string end_gcode = "M104 S0\nM140 S0\nM107\nG91\nG1 Z10 F600\nG90\nG28 X0\nM84\n";
+    // Raw values of the loaded profile's other keys (printer_model, max_print_height, ...): the
+    // placeholders of its custom G-code may name them (core/placeholders.hpp).
+    std::map<std::string, std::string> profile_values;
 
     // Derived quantities, in micrometres.
     Coord nozzle_radius() const { return to_units(nozzle / 2); }                       // s

@@ -27,6 +27,7 @@
 #include <string_view>
 
 #include "core/error.hpp"
+#include "core/placeholders.hpp"
 #include "gcode/motion.hpp"
 #include "gcode/spill.hpp"
 
@@ -151,7 +152,7 @@ class Emitter {
             if (!user_nozzle)
                 line(fmt::format("M109 S{} ; wait for nozzle", st_.first_layer_nozzle_temperature));
         }
-        raw(st_.start_gcode);
+        raw(expand_custom_gcode(st_.start_gcode, st_).text);
         line("G21 ; millimetres");
         line("G90 ; absolute coordinates");
         line(st_.relative_e ? "M83 ; relative extrusion" : "M82 ; absolute extrusion");
@@ -184,7 +185,11 @@ class Emitter {
     void end() {
         if (!retracted_ && !first_travel_) retract();
         if (st_.flavor == GcodeFlavor::Klipper && st_.end_gcode.empty()) line("PRINT_END");
-        raw(st_.end_gcode);
+        raw(expand_custom_gcode(st_.end_gcode, st_,
+                                {{"max_layer_z", to_mm(layer_z_)},
+                                 {"layer_z", to_mm(layer_z_)},
+                                 {"layer_num", std::max(0, layer_)}})
+                .text);
         planner_.stop();
         stats_.estimated_print_time_s = planner_.time();
         stats_.filament_length_mm = stats_.extruded_volume_mm3 / filament_area_;

@@ -222,8 +222,9 @@ RasterWriter::RasterWriter(std::string dir, const Settings& settings, BBox2 boun
         static_cast<int>(std::ceil(double(bounds.max_x - bounds.min_x) / px)) + 2 * kMarginPixels;
     g.height =
         static_cast<int>(std::ceil(double(bounds.max_y - bounds.min_y) / px)) + 2 * kMarginPixels;
-    impl_->shell = settings.line_width();
     impl_->min_wall = min_wall_mm > 0 ? to_units(min_wall_mm) : settings.line_width();
+    // The outer wall is a wall too: never thinner than what the printer cures.
+    impl_->shell = std::max(settings.line_width(), impl_->min_wall);
     impl_->bridge_half = settings.nozzle_radius();
     impl_->layer_height = settings.layer_height;
 }

@@ -43,7 +43,8 @@ struct RasterLayerStats {
 class RasterWriter {
   public:
     // `bounds`: the model's XY footprint in micrometres (the union of the outlines); the images
-    // cover it plus a margin of a few pixels. `min_wall_mm` <= 0 means the nozzle width.
+    // cover it plus a margin of a few pixels. `min_wall_mm` <= 0 means the nozzle width; the
+    // outer shell is the thicker of the nozzle width and the minimal wall.
     RasterWriter(std::string dir, const Settings& settings, BBox2 bounds, double pixel_mm = 0.05,
                  double min_wall_mm = 0);
     ~RasterWriter();
