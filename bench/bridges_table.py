@@ -40,6 +40,7 @@ def run(carve, model, extra, tmp):
         "material_percent": round(s["material_percent"], 2),
         "estimated_print_time_min": round(s["estimated_print_time_s"] / 60, 1),
         "far_unsupported_percent": round(check["far_unsupported_percent"], 3),
+        "far_unsupported_mm2": round(check["far_unsupported_area_mm2"], 1),
         "unsupported_percent": round(check["unsupported_percent"], 2),
         "wall_s": round(wall, 2),
     }
@@ -67,13 +68,16 @@ def main():
                 + time.strftime("%Y-%m-%d %H:%M") + ". Carve defaults otherwise (2 covers, no "
                 "shell, 6 cavities, 0.4 mm nozzle, 0.2 mm layers). Far-unsupported and "
                 "unsupported are measured from the G-code by `carve check` (BASELINES.md method; "
-                "unsupported uses a 0.2 mm radius). Wall seconds are from a shared machine.\n\n")
+                "unsupported uses a 0.2 mm radius). Far-unsupported is given both as a share of the "
+                "G-code's footprint (BASELINES.md) and as an area: a print with less material has a "
+                "smaller footprint, so the same hanging area is a larger share. Wall seconds are "
+                "from a shared machine.\n\n")
         f.write("| model | configuration | bridges | bridge length mm | material % | "
-                "far-unsupported % | unsupported % | est. print min | wall s |\n")
-        f.write("|---|---|---:|---:|---:|---:|---:|---:|---:|\n")
+                "far-unsupported % | far-unsupported mm2 | unsupported % | est. print min | wall s |\n")
+        f.write("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|\n")
         for r in rows:
             f.write(f"| {r['model']} | {r['config']} | {r['bridges']} | {r['bridge_length_mm']} | "
-                    f"{r['material_percent']} | {r['far_unsupported_percent']} | "
+                    f"{r['material_percent']} | {r['far_unsupported_percent']} | {r['far_unsupported_mm2']} | "
                     f"{r['unsupported_percent']} | {r['estimated_print_time_min']} | "
                     f"{r['wall_s']} |\n")
 

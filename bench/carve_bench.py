@@ -98,7 +98,8 @@ def cura_grid(model_path, stem, work, settings):
 MODEL_FIELDS = [
     'model', 'model_volume_mm3', 'load_before', 'carve_wall_s', 'carve_cpu_s', 'carve_peak_rss_mb',
     'carve_layers', 'carve_bridges', 'carve_extruded_mm3', 'carve_material_percent',
-    'carve_unsupported_percent', 'carve_far_unsupported_percent', 'carve_est_time_s',
+    'carve_unsupported_percent', 'carve_far_unsupported_percent', 'carve_far_unsupported_mm2',
+    'carve_est_time_s',
     'prusa_grid_wall_s', 'prusa_grid_cpu_s', 'prusa_grid_peak_rss_mb', 'prusa_grid_est_time_s',
     'cura_grid_wall_s', 'cura_grid_cpu_s', 'cura_grid_peak_rss_mb', 'cura_grid_est_time_s',
     'wall_ratio_prusa', 'wall_ratio_cura', 'cpu_ratio_prusa', 'cpu_ratio_cura']
@@ -143,7 +144,8 @@ def run_models(args, carve, models):
         row.update(carve_extruded_mm3=round(check['extruded_volume_mm3'], 1),
                    carve_material_percent=round(100 * check['extruded_volume_mm3'] / volume, 2),
                    carve_unsupported_percent=round(check['unsupported_percent'], 3),
-                   carve_far_unsupported_percent=round(check['far_unsupported_percent'], 4))
+                   carve_far_unsupported_percent=round(check['far_unsupported_percent'], 4),
+                   carve_far_unsupported_mm2=round(check['far_unsupported_area_mm2'], 1))
         for slicer in ('prusa', 'cura'):
             if f'{slicer}_grid_wall_s' in row:
                 row[f'wall_ratio_{slicer}'] = round(row['carve_wall_s'] /
@@ -205,6 +207,22 @@ def write_models_md(args, rows, baselines):
             cells.append('–' if mat is None else f'{float(mat):.1f} % · {float(far):.3f} %')
         lines.append(f'| {m} | ' + ' | '.join(cells) +
                      f" | {r['carve_unsupported_percent']:.3f} | {r.get('carve_bridges', '')} |")
+
+    lines += ['', '## Far-unsupported extrusion as an area (mm²)', '',
+              'The same measure as an area instead of a share of the footprint: a print with '
+              'less material has a smaller footprint, so the same hanging area is a larger share '
+              'of it. Baselines: their footprint times their share.', '',
+              '| model | **carve** | ' + ' | '.join(c[2] for c in configs) + ' |',
+              '|---|---:|' + '---:|' * len(configs)]
+    for r in rows:
+        m = r['model']
+        cells = [f"**{float(r['carve_far_unsupported_mm2']):.1f}**"]
+        for slicer, config, _ in configs:
+            foot = base(m, slicer, config, 'footprint_area_mm2')
+            far = base(m, slicer, config, 'far_unsupported_percent')
+            cells.append('–' if foot in (None, '') else
+                         f'{float(foot) * float(far) / 100:.1f}')
+        lines.append(f'| {m} | ' + ' | '.join(cells) + ' |')
 
     lines += ['', '## Estimated print time (min), from each slicer', '',
               'carve from its stats; Prusa from its G-code footer (normal mode); Cura from its -v '

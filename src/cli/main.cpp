@@ -223,8 +223,11 @@ int main(int argc, char** argv) {
                       "Distance no filament bridges, mm [2]");
     check->add_option("--filament-diameter", check_options.filament_diameter_mm,
                       "Filament diameter, mm [1.75]");
-    check->add_flag("--json", check_json,
-                    "JSON output (the plain output is the same JSON for now) [off]");
+    check->add_flag("--json", check_json, "Machine-readable output (JSON) [off: text]");
+    bool check_layers = false;
+    check->add_flag("--layers", check_layers,
+                    "With --json: the figures of every layer too (z, footprint, unsupported, "
+                    "far-unsupported) [off]");
 
     std::vector<std::string> profile_notes;
     try {
@@ -257,9 +260,9 @@ int main(int argc, char** argv) {
         if (*check) {
             const carve::GcodeAnalysis a = carve::analyse_gcode(check_gcode, check_options);
             if (check_json)
-                std::cout << carve::to_json(a).dump(2) << "\n";
+                std::cout << carve::to_json(a, check_layers).dump(2) << "\n";
             else
-                std::cout << carve::to_json(a).dump(2) << "\n";
+                std::cout << carve::describe(a);
             return 0;
         }
 
