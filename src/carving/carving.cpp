@@ -69,10 +69,9 @@ Paths start_of_tear(const Paths& lines, Coord step) {
 // from a piece that long. The cavity's front then moves at most r + tear_limit per slice
 // along the axis, so the thin solid strips a long tear leaves beside G (minima needing
 // bridges) are fewer.
-Paths seeds(const Paths& remainder, const Paths& propagated, const SkeletonOptions& options,
-            const Paths* axis, Coord tear_limit) {
-    const Paths uncovered = propagated.empty() ? remainder : subtract(remainder, propagated);
-    if (uncovered.empty()) return {};
+// `uncovered` is V \ G, non-empty.
+Paths seeds(const Paths& remainder, const Paths& propagated, const Paths& uncovered,
+            const SkeletonOptions& options, const Paths* axis, Coord tear_limit) {
     Paths reach;
     if (tear_limit > 0 && !propagated.empty()) reach = dilate(propagated, tear_limit);
     const BBox2 open_box = bounds(uncovered);
@@ -117,14 +116,27 @@ std::optional<LayerPartition> CarvingSweep::next() {
         Paths& above = previous_[j];  // C^j_{i+1}, replaced by C^j_i
         Paths cavity;
         if (!remainder.empty()) {
-            Paths propagated = above.empty() ? Paths{} : dilate(above, r);  // G
-            const bool seed = !settings_.cavities_auto || !erode(remainder, w).empty();
-            Paths s;
-            if (seed)
-                s = seeds(remainder, propagated, options,
-                          j == 0 && layer->first_seed ? &*layer->first_seed : nullptr, tear);
-            cavity = intersect(s.empty() ? propagated : unite(propagated, s), remainder);
-            remainder = subtract(remainder, cavity);
+            const Paths propagated = above.empty() ? Paths{} : dilate(above, r);  // G
+            // V \ G: what the propagated cavity leaves; it is also V^j when no seed is added,
+            // and where G covers all of V the cavity is V itself: each saves a Clipper pass.
+            Paths uncovered = subtract(remainder, propagated);
+            if (uncovered.empty()) {
+                cavity = std::move(remainder);
+                remainder.clear();
+            } else {
+                const bool seed = !settings_.cavities_auto || !erode(remainder, w).empty();
+                Paths s;
+                if (seed)
+                    s = seeds(remainder, propagated, uncovered, options,
+                              j == 0 && layer->first_seed ? &*layer->first_seed : nullptr, tear);
+                if (s.empty()) {
+                    cavity = intersect(propagated, remainder);
+                    remainder = std::move(uncovered);
+                } else {
+                    cavity = intersect(unite(propagated, s), remainder);
+                    remainder = subtract(uncovered, s);
+                }
+            }
         }
         layer->cavities.push_back(cavity);
         above = std::move(cavity);

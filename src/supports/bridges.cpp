@@ -121,8 +121,14 @@ std::vector<Paths> unsupported_regions(const Paths& cavity_here, const Paths& ca
     if (deep_below.empty()) return out;
     Paths u = intersect(subtract(deep_below, cavity_here), carvable_here);
     const double r2 = double(options.dilation) * options.dilation;
-    u = drop_small(u, options.min_area_r2 * r2);
-    for (Paths& comp : components(u)) {
+    // One PolyTree pass both splits U and drops what is too small to matter: outlines and
+    // holes under min_area_r2 * r^2 are spikes and slivers, not minima.
+    for (Paths& all : components(u)) {
+        const double min_area = options.min_area_r2 * r2;
+        if (std::abs(area(all.front())) < min_area) continue;
+        Paths comp{all.front()};
+        for (size_t h = 1; h < all.size(); ++h)
+            if (std::abs(area(all[h])) >= min_area) comp.push_back(std::move(all[h]));
         // A speck that fits within a couple of line widths is held by the filament around it:
         // printed over it, nothing hangs further than a line width from support.
         if (options.prune) {
