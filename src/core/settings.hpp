@@ -31,6 +31,9 @@ struct Settings {
     double scale = 1.0;  // uniform scale applied to the model about its centre
     int threads = 2;  // 1 = everything on the calling thread
     double max_bridge_length = 10.0;  // mm; a longer span would sag more than the minimum it holds
+    // Resource guard: a slice with more contour vertices stops the run (0 = no limit). Millions
+    // of vertices per layer would make carving run for hours.
+    long long max_vertices_per_layer = 5'000'000;
 
     // Printer and filament.
     GcodeFlavor flavor = GcodeFlavor::Marlin;
