@@ -29,11 +29,15 @@ std::string zip_model(std::string_view model) {
     if (z) {
         zip_source_t* a = zip_source_buffer(z, rels.data(), rels.size(), 0);
         zip_source_t* b = zip_source_buffer(z, model.data(), model.size(), 0);
-        bool ok = a && zip_file_add(z, "_rels/.rels", a, 0) >= 0;
-        if (!ok && a) zip_source_free(a);
-        const bool ok_b = b && zip_file_add(z, "3D/3dmodel.model", b, 0) >= 0;
-        if (!ok_b && b) zip_source_free(b);
-        ok = ok && ok_b && zip_close(z) == 0;
+        const zip_int64_t ia = a ? zip_file_add(z, "_rels/.rels", a, 0) : -1;
+        if (ia < 0 && a) zip_source_free(a);
+        const zip_int64_t ib = b ? zip_file_add(z, "3D/3dmodel.model", b, 0) : -1;
+        if (ib < 0 && b) zip_source_free(b);
+        bool ok = ia >= 0 && ib >= 0;
+        // Stored, not deflated: compressing every input would dominate the run time.
+        ok = ok && zip_set_file_compression(z, zip_uint64_t(ia), ZIP_CM_STORE, 0) == 0 &&
+             zip_set_file_compression(z, zip_uint64_t(ib), ZIP_CM_STORE, 0) == 0;
+        ok = ok && zip_close(z) == 0;
         if (!ok) zip_discard(z);
         if (ok && zip_source_open(out) == 0) {
             zip_stat_t st;
