@@ -3,6 +3,7 @@
 #include "mesh/mesh.hpp"
 
 #include <gtest/gtest.h>
+#include <sys/resource.h>
 #include <unistd.h>
 #include <zip.h>
 
@@ -543,6 +544,33 @@ TEST(MeshFormats, DamagedThreeMfIsAnInputError) {
     std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
     write_file(path, bytes.substr(0, bytes.size() / 2));
     expect_input_error(path, {"3MF"});
+}
+
+TEST(MeshFormats, ThreeMfWithAForgedSizeIsRefusedWithoutAllocatingIt) {
+    // The model part's uncompressed size, as stated in the zip headers, set to 3.75 GiB in a
+    // file of a few kilobytes. The reader used to allocate and zero that much (3.9 GB peak RSS)
+    // before noticing that the data is not there.
+    const std::string path = temp().file("forged.3mf");
+    write_3mf(path, model_xml("<item objectid=\"1\"/>\n"));
+    std::ifstream in(path, std::ios::binary);
+    std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    in.close();
+    const std::string name = "3D/3dmodel.model";
+    int patched = 0;
+    for (size_t at = bytes.find(name); at != std::string::npos; at = bytes.find(name, at + 1)) {
+        const uint32_t forged = 0xF0000000u;
+        if (at >= 30 && bytes.compare(at - 30, 4, "PK\x03\x04") == 0)
+            std::memcpy(bytes.data() + at - 30 + 22, &forged, 4), ++patched;
+        if (at >= 46 && bytes.compare(at - 46, 4, "PK\x01\x02") == 0)
+            std::memcpy(bytes.data() + at - 46 + 24, &forged, 4), ++patched;
+    }
+    ASSERT_EQ(patched, 2);
+    write_file(path, bytes);
+    rusage before{}, after{};
+    getrusage(RUSAGE_SELF, &before);
+    expect_input_error(path, {"3MF", "damaged"});
+    getrusage(RUSAGE_SELF, &after);
+    EXPECT_LT(after.ru_maxrss - before.ru_maxrss, 512 * 1024) << "kilobytes of peak memory";
 }
 
 TEST(MeshErrors, MissingFile) {

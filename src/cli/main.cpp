@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
+#include <csignal>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
@@ -73,6 +74,9 @@ std::vector<std::string> pre_apply(int argc, char** argv, carve::Settings& setti
 }  // namespace
 
 int main(int argc, char** argv) {
+    // Past a file size limit (ulimit -f) the write fails with EFBIG and the writer cleans up and
+    // says so; the default action of SIGXFSZ would kill the process and leave its temporary file.
+    std::signal(SIGXFSZ, SIG_IGN);
     CLI::App app{"carve: slices a mesh into G-code that prints it hollow, with nested "
                  "self-supporting cavities instead of infill"};
     app.require_subcommand(1);
@@ -202,6 +206,10 @@ int main(int argc, char** argv) {
     slice->add_option("--max-bridge-length", settings.max_bridge_length,
                       "Longest span a bridge may have, mm; longer ones are left out [10]")
         ->check(CLI::Range(1.0, 500.0));
+    slice->add_option("--max-vertices-per-layer", settings.max_vertices_per_layer,
+                      "Give up when one slice has more contour vertices than this; 0 = no limit, "
+                      "vertices [5000000]")
+        ->check(CLI::NonNegativeNumber);
     slice->add_flag("-q,--quiet", quiet, "Print nothing but errors [off]");
 
     std::string info_model;

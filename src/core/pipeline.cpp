@@ -99,6 +99,19 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
     if (layer_count == 0)
         throw InputError(fmt::format("{}: the model is thinner than one layer ({} mm)",
                                      options.model_path, settings.layer_height));
+    if (settings.max_vertices_per_layer > 0) {
+        // Checked as each slice is cut, before covers and carving spend hours on it.
+        slicer.on_slice([&settings, &options](const Slice& slice) {
+            long long vertices = 0;
+            for (const Path& p : slice.region) vertices += static_cast<long long>(p.size());
+            if (vertices > settings.max_vertices_per_layer)
+                throw InputError(fmt::format(
+                    "{}: layer {} (z = {:.2f} mm) has {} contour vertices, more than the limit of "
+                    "{}; simplify the mesh or raise --max-vertices-per-layer (0 = no limit)",
+                    options.model_path, slice.index, slice.z, vertices,
+                    settings.max_vertices_per_layer));
+        });
+    }
     CarvableStream carvable(slicer, settings);
     // Up to three threads, each a stretch of the stream handing layers on through a bounded
     // queue: slicing, covers and the first seeds (a whole-slice medial axis that needs no

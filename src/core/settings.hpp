@@ -36,6 +36,9 @@ struct Settings {
     // slice, as in the report's algorithm. Smaller is better supported and costs material.
     double tear_limit = 0.0;
     double max_bridge_length = 10.0;  // mm; a longer span would sag more than the minimum it holds
+    // Resource guard: a slice with more contour vertices stops the run (0 = no limit). Millions
+    // of vertices per layer would make carving run for hours.
+    long long max_vertices_per_layer = 5'000'000;
 
     // Printer and filament.
     GcodeFlavor flavor = GcodeFlavor::Marlin;

@@ -5,6 +5,7 @@
 // objects with a transform. Units other than millimetres are scaled to millimetres.
 #include <zip.h>
 
+#include <algorithm>
 #include <charconv>
 #include <memory>
 #include <stdexcept>
@@ -194,10 +195,18 @@ std::string read_entry(zip_t* zip, zip_int64_t index, const std::string& path,
         !(st.valid & ZIP_STAT_SIZE) ||
         !(file = zip_fopen_index(zip, static_cast<zip_uint64_t>(index), 0)))
         fail(path, "cannot read " + name + " inside the 3MF archive: " + zip_strerror(zip));
-    std::string text(static_cast<size_t>(st.size), '\0');
-    zip_int64_t got = zip_fread(file, text.data(), text.size());
+    // Read in chunks as the data comes rather than trusting the stated size: a forged size in a
+    // 600-byte archive would otherwise make us allocate (and zero) gigabytes.
+    std::string text;
+    zip_int64_t got = 0;
+    do {
+        const size_t at = text.size();
+        text.resize(at + (1 << 20));
+        got = zip_fread(file, text.data() + at, 1 << 20);
+        text.resize(at + static_cast<size_t>(std::max<zip_int64_t>(got, 0)));
+    } while (got > 0 && text.size() <= st.size);
     zip_fclose(file);
-    if (got < 0 || static_cast<zip_uint64_t>(got) != st.size)
+    if (got < 0 || text.size() != st.size)
         fail(path, "cannot read " + name + " inside the 3MF archive: it is damaged");
     return text;
 }

@@ -333,6 +333,7 @@ struct TopDownSlicer::Impl {
     size_t next_in_order = 0;
     std::vector<ActiveTriangle> active;
     PlaneSlicer plane;
+    std::function<void(const Slice&)> on_slice;
 };
 
 TopDownSlicer::TopDownSlicer(const Mesh& mesh, double layer_height)
@@ -398,7 +399,12 @@ std::optional<Slice> TopDownSlicer::next() {
         if (m.plane.add_triangle(m.active[i], z)) m.active[kept++] = m.active[i];
     m.active.resize(kept);
     slice.region = m.plane.finish();
+    if (m.on_slice) m.on_slice(slice);
     return slice;
+}
+
+void TopDownSlicer::on_slice(std::function<void(const Slice&)> check) {
+    impl_->on_slice = std::move(check);
 }
 
 Paths slice_at(const Mesh& mesh, double z) {

@@ -6,6 +6,7 @@
 // edges (vertex indices); loops are united with non-zero fill so that overlapping shells merge.
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <optional>
 
@@ -30,6 +31,9 @@ public:
     int layer_count() const;
     // The next slice going down, or nothing after layer 0.
     std::optional<Slice> next();
+    // Called with every slice before next() returns it; may throw to stop the run (the pipeline
+    // uses it for the --max-vertices-per-layer guard).
+    void on_slice(std::function<void(const Slice&)> check);
 
 private:
     struct Impl;

@@ -79,9 +79,11 @@ double horizontal_lines(const Paths& need, const Paths& span, Coord spacing, Pat
         if (holes.empty()) continue;
         const double y = first + k * double(spacing);
         for (const auto& [x0, x1] : spans_at[k]) {
-            const bool over = std::any_of(holes.begin(), holes.end(), [&](const auto& h) {
-                return h.second > x0 && h.first < x1;
-            });
+            // Bounds copied for the lambda: clang 14 cannot capture structured bindings.
+            const bool over = std::any_of(holes.begin(), holes.end(),
+                                          [lo = x0, hi = x1](const auto& h) {
+                                              return h.second > lo && h.first < hi;
+                                          });
             if (!over) continue;
             total += x1 - x0;
             if (lines) {

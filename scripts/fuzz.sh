@@ -1,0 +1,52 @@
+#!/usr/bin/env bash
+# Builds the libFuzzer targets of fuzz/ with clang-14 (build-fuzz/) and runs each for SECONDS
+# (default 60), two at a time. Seeds are made from ../shared/models at run time; new inputs the
+# fuzzer finds stay in build-fuzz/corpus/, crash reproducers go to build-fuzz/crashes/.
+# Exits non-zero if any target finds a crash, leak, timeout or out-of-memory.
+# Usage: scripts/fuzz.sh [SECONDS] [TARGET...]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+seconds=${1:-60}
+shift || true
+targets=("$@")
+[ ${#targets[@]} -gt 0 ] || targets=(stl_binary_fuzz stl_ascii_fuzz obj_fuzz threemf_fuzz slicer_fuzz)
+models=${CARVE_MODELS_DIR:-$(cd .. && pwd)/shared/models}
+
+CC=clang-14 CXX=clang++-14 cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+    -DCARVE_FUZZ=ON -DCARVE_BUILD_TESTS=OFF -DCARVE_BUILD_BENCH=OFF >/dev/null
+cmake --build build-fuzz -j "$(nproc)" --target "${targets[@]}"
+
+rm -rf build-fuzz/seeds
+/usr/bin/python3 fuzz/make_seeds.py "$models" build-fuzz/seeds
+mkdir -p build-fuzz/crashes build-fuzz/logs
+
+run_one() {
+    local t=$1
+    mkdir -p "build-fuzz/corpus/$t"
+    # -rss_limit_mb: one input may not take more than 2 GiB; -timeout: nor more than 20 s.
+    if build-fuzz/"$t" "build-fuzz/corpus/$t" "build-fuzz/seeds/$t" \
+        -max_total_time="$seconds" -max_len=65536 -timeout=20 -rss_limit_mb=2048 \
+        -print_final_stats=1 -artifact_prefix="build-fuzz/crashes/$t-" \
+        >"build-fuzz/logs/$t.log" 2>&1; then
+        echo "fuzz $t: $(grep -m1 -o 'stat::number_of_executed_units: *[0-9]*' \
+            "build-fuzz/logs/$t.log" | grep -o '[0-9]*$') executions, no crash"
+    else
+        echo "fuzz $t: FAILED, see build-fuzz/logs/$t.log"
+        tail -n 40 "build-fuzz/logs/$t.log"
+        return 1
+    fi
+}
+
+status=0
+pids=()
+jobs=$(nproc)
+for t in "${targets[@]}"; do
+    run_one "$t" &
+    pids+=($!)
+    if [ ${#pids[@]} -ge "$jobs" ]; then
+        wait "${pids[0]}" || status=1
+        pids=("${pids[@]:1}")
+    fi
+done
+for p in "${pids[@]}"; do wait "$p" || status=1; done
+exit $status
