@@ -21,51 +21,15 @@
 #include "report/gcode_analysis.hpp"
 #include "slice/slicer.hpp"
 
+#include "carve_run.hpp"
+
 namespace fs = std::filesystem;
 using namespace carve;
+using namespace carve::test;
 
 namespace {
 
-struct CarveRun {
-    int status = -1;
-    std::string out, err;
-};
-
-fs::path scratch() {
-    static fs::path dir = [] {
-        fs::path d = fs::temp_directory_path() / ("carve_cli_test_" + std::to_string(getpid()));
-        fs::create_directories(d);
-        return d;
-    }();
-    return dir;
-}
-
-std::string read(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-}
-
-CarveRun run_carve(const std::string& args) {
-    const fs::path out = scratch() / "stdout.txt", err = scratch() / "stderr.txt";
-    const std::string cmd = std::string(CARVE_BINARY) + " " + args + " >" + out.string() + " 2>" +
-                            err.string() + " </dev/null";
-    CarveRun r;
-    const int raw = std::system(cmd.c_str());
-    r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : 128 + WTERMSIG(raw);
-    r.out = read(out);
-    r.err = read(err);
-    return r;
-}
-
 std::string model(const std::string& name) { return std::string(CARVE_MODELS_DIR) + "/" + name; }
-
-int lines(const std::string& s) {
-    int n = 0;
-    for (char c : s) n += c == '\n';
-    return n;
-}
 
 }  // namespace
 

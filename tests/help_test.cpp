@@ -14,6 +14,10 @@
 #include <string>
 #include <vector>
 
+#include "carve_run.hpp"
+
+using carve::test::read;
+
 namespace fs = std::filesystem;
 
 namespace {
@@ -34,13 +38,6 @@ std::string output_of(const std::string& cmd, int* status = nullptr) {
     const int raw = pclose(p);
     if (status) *status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
     return out;
-}
-
-std::string read(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
 }
 
 // CLI11's layout: "  NAMES TYPE   description", the description in a column of its own, on the
@@ -132,7 +129,7 @@ std::vector<std::string> man_blocks() {
 
 TEST(Help, EveryOptionStatesItsDefaultAndItsUnit) {
     static const std::regex unit(
-        R"((^|[ ,(])(mm|mm/s|mm/s\^2|C|degrees|ratio|g/cm\^3|layers|lines|threads)([ ;,)\[]|$))");
+        R"((^|[ ,(])(mm|mm/s|mm/s\^2|C|degrees|ratio|g/cm\^3|layers|lines|threads|vertices)([ ;,)\[]|$))");
     int checked = 0;
     for (const std::string& sub : kSubcommands) {
         const std::vector<HelpEntry> entries = help_of(sub);

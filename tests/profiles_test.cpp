@@ -18,29 +18,15 @@
 #include "core/placeholders.hpp"
 #include "core/settings.hpp"
 
+#include "carve_run.hpp"
+
 namespace fs = std::filesystem;
 using namespace carve;
+using namespace carve::test;
 
 namespace {
 
 const std::string kMk3s = std::string(CARVE_SOURCE_DIR) + "/tests/data/prusa_mk3s.ini";
-
-fs::path scratch() {
-    static fs::path dir = [] {
-        fs::path d =
-            fs::temp_directory_path() / ("carve_profiles_test_" + std::to_string(getpid()));
-        fs::create_directories(d);
-        return d;
-    }();
-    return dir;
-}
-
-std::string read(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-}
 
 fs::path write_ini(const std::string& name, const std::string& text) {
     const fs::path p = scratch() / name;

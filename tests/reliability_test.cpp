@@ -22,29 +22,15 @@
 #include "mesh/mesh.hpp"
 #include "slice/slicer.hpp"
 
+#include "carve_run.hpp"
+
 namespace fs = std::filesystem;
 using namespace carve;
+using namespace carve::test;
 
 namespace {
 
 using Triangle = std::array<Vec3, 3>;
-
-fs::path scratch() {
-    static fs::path dir = [] {
-        fs::path d =
-            fs::temp_directory_path() / ("carve_reliability_test_" + std::to_string(getpid()));
-        fs::create_directories(d);
-        return d;
-    }();
-    return dir;
-}
-
-std::string read(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-}
 
 // Axis-aligned box [x0,x1]x[y0,y1]x[z0,z1], twelve triangles counter-clockwise from outside.
 std::vector<Triangle> box(double x0, double y0, double z0, double x1, double y1, double z1) {
@@ -82,30 +68,6 @@ fs::path write_stl(const std::string& name, const std::vector<Triangle>& triangl
         out.write(reinterpret_cast<const char*>(&attribute), 2);
     }
     return path;
-}
-
-struct CarveRun {
-    int status = -1;
-    std::string out, err;
-};
-
-// Runs carve through /bin/sh; `prefix` goes before the command (e.g. "ulimit -f 8;").
-CarveRun run_carve(const std::string& args, const std::string& prefix = "") {
-    const fs::path out = scratch() / "stdout.txt", err = scratch() / "stderr.txt";
-    const std::string cmd = prefix + " " + std::string(CARVE_BINARY) + " " + args + " >" +
-                            out.string() + " 2>" + err.string() + " </dev/null";
-    CarveRun r;
-    const int raw = std::system(cmd.c_str());
-    r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : 128 + WTERMSIG(raw);
-    r.out = read(out);
-    r.err = read(err);
-    return r;
-}
-
-int lines(const std::string& s) {
-    int n = 0;
-    for (char c : s) n += c == '\n';
-    return n;
 }
 
 // Files in `dir` whose name starts with `stem` (the output, its .tmp-XXXXXX and .spill-XXXXXX).

@@ -174,31 +174,36 @@ void add_bridges(LayerPartition& layer, const LayerPartition* below, const Bridg
             unsupported_regions(layer.cavities[j], below->cavities[j], layer.carvable, options);
         if (needs.empty()) continue;
         const Paths holes = empty_holes(layer.cavities[j]);
+        Paths bridged;  // the minima given a bridge, merged into C^j at the end
         for (const Paths& need : needs) {
-            // The lines run across the cavity with the minimum filled in, wall to wall.
-            const Paths span = unite(layer.cavities[j], need);
-            // Lines longer than max_length are dropped anyway, so the scan only needs the part
-            // of the cavity around the minimum: large cavities would make every angle costly.
-            BBox2 b0 = bounds(need);
+            // The lines run across the cavity with the minimum filled in, wall to wall. Lines
+            // longer than max_length are dropped anyway, so the scan only needs the part of the
+            // cavity around the minimum: large cavities would make every angle costly.
+            const BBox2 b0 = bounds(need);
             const Coord m = options.max_length;
             const Paths window{{{b0.min_x - m, b0.min_y - m}, {b0.max_x + m, b0.min_y - m},
                                 {b0.max_x + m, b0.max_y + m}, {b0.min_x - m, b0.max_y + m}}};
-            Bridge b = plan_bridge(need, options.prune ? intersect(span, window) : span, options);
+            const Paths span =
+                unite(options.prune ? intersect(layer.cavities[j], window) : layer.cavities[j], need);
+            Bridge b = plan_bridge(need, span, options);
             if (b.lines.empty()) continue;
             // A span longer than a printer bridges sags worse than the small minimum it would
             // hold: the minimum is left to hang on its own (rare, counted by the checker).
             if (options.prune && longest_line(b.lines) > double(options.max_length)) continue;
             b.cavity = static_cast<int>(j) + 1;
-            b.island = !intersect(need, holes).empty() &&
-                       area(subtract(need, holes)) < 0.5 * area(need);
-            // The minimum joins its cavity in this slice: nothing is printed over the void but
-            // the bridge, and the slice above rests on the bridge.
-            layer.cavities[j] = span;
-            for (size_t other = 0; other < layer.cavities.size(); ++other)
-                if (other != j) layer.cavities[other] = subtract(layer.cavities[other], need);
-            layer.remainder = subtract(layer.remainder, need);
+            // An island fills (mostly) an empty hole of C^j; an edge-like minimum does not.
+            b.island = std::abs(area(intersect(need, holes))) > 0.5 * std::abs(area(need));
+            bridged.insert(bridged.end(), need.begin(), need.end());
             layer.bridges.push_back(std::move(b));
         }
+        if (bridged.empty()) continue;
+        // The minima join their cavity in this slice: nothing is printed over the void but the
+        // bridge, and the slice above rests on the bridge. One boolean per cavity for all of
+        // them: big slices hold hundreds of minima.
+        layer.cavities[j] = unite(layer.cavities[j], bridged);
+        for (size_t other = 0; other < layer.cavities.size(); ++other)
+            if (other != j) layer.cavities[other] = subtract(layer.cavities[other], bridged);
+        layer.remainder = subtract(layer.remainder, bridged);
     }
 }
 
