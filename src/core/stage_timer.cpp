@@ -6,9 +6,8 @@
 
 #include <array>
 #include <atomic>
+#include <cstdio>
 #include <cstdlib>
-
-#include <fmt/format.h>
 
 namespace carve {
 
@@ -55,9 +54,14 @@ StageTimer::~StageTimer() {
 std::string profile_table() {
     if (!profiling_enabled()) return {};
     std::string out = "stage          CPU s      calls\n";
-    for (size_t i = 0; i < counters.size(); ++i)
-        out += fmt::format("{:<12} {:>8.3f} {:>10}\n", kNames[i], counters[i].ns.load() * 1e-9,
-                           counters[i].calls.load());
+    // snprintf rather than fmt: the fuzz targets link the slicer, and with it this file, alone.
+    char line[96];
+    for (size_t i = 0; i < counters.size(); ++i) {
+        std::snprintf(line, sizeof line, "%-12s %8.3f %10lld\n", kNames[i],
+                      double(counters[i].ns.load()) * 1e-9,
+                      static_cast<long long>(counters[i].calls.load()));
+        out += line;
+    }
     return out;
 }
 
