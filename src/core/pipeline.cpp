@@ -118,9 +118,12 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
     // carving state); the sweep, which must run in slice order; bridges, toolpaths and G-code.
     // The sweep is the critical path; on fandisk the three take about 0.5, 2.3 and 2.2 s of CPU.
     SeedAhead seeded(carvable, settings);
-    std::unique_ptr<ThreadedSource> ahead, behind;
+    // Each queue is declared after the stage its thread pulls from, so that when an error
+    // unwinds this frame the thread is joined before that stage is destroyed.
+    std::unique_ptr<ThreadedSource> ahead;
     if (settings.threads >= 2) ahead = std::make_unique<ThreadedSource>(seeded);
     CarvingSweep sweep(ahead ? static_cast<LayerSource&>(*ahead) : seeded, settings);
+    std::unique_ptr<ThreadedSource> behind;
     if (settings.threads >= 3) behind = std::make_unique<ThreadedSource>(sweep);
     BridgeStage supports(behind ? static_cast<LayerSource&>(*behind) : sweep, settings);
     GcodeWriter writer(options.gcode_path, settings, offset_x, offset_y, layer_count);
