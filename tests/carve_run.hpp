@@ -21,8 +21,8 @@ struct CarveRun {
 // A folder of this test program's own (its process id in the name), made on first use.
 inline std::filesystem::path scratch() {
     static const std::filesystem::path dir = [] {
-        const auto d = std::filesystem::temp_directory_path() /
-                       ("carve_test_" + std::to_string(getpid()));
+        const auto d =
+            std::filesystem::temp_directory_path() / ("carve_test_" + std::to_string(getpid()));
         std::filesystem::create_directories(d);
         return d;
     }();

@@ -1,10 +1,9 @@
 // The iterative carving sweep: k cavities advance together, top down, one slice at a time.
 #include "carving/carving.hpp"
 
-#include "core/stage_timer.hpp"
-
 #include <cmath>
 
+#include "core/stage_timer.hpp"
 #include "geometry/morphology.hpp"
 #include "geometry/polygon.hpp"
 #include "skeleton/skeleton.hpp"

@@ -1,26 +1,23 @@
 // Runs the stages in order and gathers the figures of the run.
 #include "core/pipeline.hpp"
 
-#include "core/stage_timer.hpp"
-
+#include <fmt/format.h>
 #include <sys/resource.h>
 #include <unistd.h>
 
 #include <chrono>
 #include <cstdio>
 
-#include <fmt/format.h>
-
 #include "carving/carving.hpp"
 #include "core/error.hpp"
 #include "core/layer_queue.hpp"
+#include "core/stage_timer.hpp"
 #include "geometry/polygon.hpp"
-
-#include "slice/slicer.hpp"
 #include "report/html_report.hpp"
 #include "report/raster.hpp"
 #include "report/stats.hpp"
 #include "report/svg.hpp"
+#include "slice/slicer.hpp"
 #include "supports/bridges.hpp"
 #include "toolpath/toolpath.hpp"
 
@@ -130,9 +127,9 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
     std::unique_ptr<SvgLayerWriter> svg;
     if (!options.svg_dir.empty())
         svg = std::make_unique<SvgLayerWriter>(
-            options.svg_every > 0 ? SvgLayerWriter::every(options.svg_dir, options.svg_every)
-                                  : SvgLayerWriter(options.svg_dir,
-                                                   SvgLayerWriter::spread(layer_count, 8)));
+            options.svg_every > 0
+                ? SvgLayerWriter::every(options.svg_dir, options.svg_every)
+                : SvgLayerWriter(options.svg_dir, SvgLayerWriter::spread(layer_count, 8)));
     std::unique_ptr<HtmlReportWriter> html;
     if (!options.report_path.empty())
         html = std::make_unique<HtmlReportWriter>(options.report_path, settings);

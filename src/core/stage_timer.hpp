@@ -27,13 +27,13 @@ enum class Stage {
 bool profiling_enabled();
 
 class StageTimer {
-public:
+  public:
     explicit StageTimer(Stage stage);
     ~StageTimer();
     StageTimer(const StageTimer&) = delete;
     StageTimer& operator=(const StageTimer&) = delete;
 
-private:
+  private:
     Stage stage_;
     int64_t start_ns_ = -1;
 };

@@ -1,9 +1,9 @@
 // Clipper-backed booleans. Kept in one place so that fill rules and orientation are chosen once.
 #include "geometry/polygon.hpp"
 
-#include "core/stage_timer.hpp"
-
 #include <algorithm>
+
+#include "core/stage_timer.hpp"
 
 namespace carve {
 
@@ -49,7 +49,9 @@ void collect_components(const PolyNode& node, std::vector<Paths>& out) {
 
 }  // namespace
 
-double area(const Path& path) { return Area(path); }
+double area(const Path& path) {
+    return Area(path);
+}
 
 double area(const Paths& region) {
     double a = 0;
@@ -57,8 +59,12 @@ double area(const Paths& region) {
     return a;
 }
 
-Paths unite(const Paths& a) { return run(ctUnion, a, nullptr, pftNonZero); }
-Paths unite(const Paths& a, const Paths& b) { return run(ctUnion, a, &b, pftNonZero); }
+Paths unite(const Paths& a) {
+    return run(ctUnion, a, nullptr, pftNonZero);
+}
+Paths unite(const Paths& a, const Paths& b) {
+    return run(ctUnion, a, &b, pftNonZero);
+}
 // Most calls in the sweep and the bridge search meet pieces far apart; a bounding-box test is
 // a few hundred comparisons where Clipper would build and sweep both inputs.
 Paths intersect(const Paths& a, const Paths& b) {
@@ -73,7 +79,9 @@ Paths subtract(const Paths& a, const Paths& b) {
 Paths symmetric_difference(const Paths& a, const Paths& b) {
     return run(ctXor, a, &b, pftNonZero);
 }
-Paths unite_positive(const Paths& a) { return run(ctUnion, a, nullptr, pftPositive); }
+Paths unite_positive(const Paths& a) {
+    return run(ctUnion, a, nullptr, pftPositive);
+}
 
 Paths drop_small(const Paths& region, double min_area) {
     PolyTree tree;
@@ -142,8 +150,8 @@ BBox2 bounds(const Paths& region) {
 }
 
 bool overlap(const BBox2& a, const BBox2& b) {
-    return !a.empty && !b.empty && a.min_x <= b.max_x && b.min_x <= a.max_x &&
-           a.min_y <= b.max_y && b.min_y <= a.max_y;
+    return !a.empty && !b.empty && a.min_x <= b.max_x && b.min_x <= a.max_x && a.min_y <= b.max_y &&
+           b.min_y <= a.max_y;
 }
 
 double length(const Paths& paths, bool closed) {

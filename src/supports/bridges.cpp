@@ -1,12 +1,11 @@
 // Bridge detection and line planning for local minima.
 #include "supports/bridges.hpp"
 
-#include "core/stage_timer.hpp"
-
 #include <algorithm>
 #include <cmath>
 #include <numbers>
 
+#include "core/stage_timer.hpp"
 #include "geometry/morphology.hpp"
 #include "geometry/polygon.hpp"
 
@@ -40,7 +39,7 @@ Paths rotated(const Paths& region, const Rotation& rot, bool undo) {
 // the cost is edges plus crossings rather than lines times edges: the bridge search asks this
 // for 36 angles per minimum. The lines are off integer heights, so no vertex lies on one.
 std::vector<std::vector<std::pair<double, double>>> scan_lines(const Paths& region, double first,
-                                                              double spacing, int count) {
+                                                               double spacing, int count) {
     std::vector<std::vector<double>> xs(count);
     for (const Path& p : region)
         for (size_t i = 0, n = p.size(); i < n; ++i) {
@@ -50,7 +49,8 @@ std::vector<std::vector<std::pair<double, double>>> scan_lines(const Paths& regi
             const double lo = double(std::min(a.Y, b.Y)), hi = double(std::max(a.Y, b.Y));
             // Lines with lo <= y < hi cross the edge.
             const int k0 = std::max(0, static_cast<int>(std::ceil((lo - first) / spacing)));
-            const int k1 = std::min(count - 1, static_cast<int>(std::floor((hi - first) / spacing)));
+            const int k1 =
+                std::min(count - 1, static_cast<int>(std::floor((hi - first) / spacing)));
             for (int k = k0; k <= k1; ++k) {
                 const double y = first + k * spacing;
                 if (y < lo || y >= hi) continue;
@@ -60,7 +60,8 @@ std::vector<std::vector<std::pair<double, double>>> scan_lines(const Paths& regi
     std::vector<std::vector<std::pair<double, double>>> out(count);
     for (int k = 0; k < count; ++k) {
         std::sort(xs[k].begin(), xs[k].end());
-        for (size_t i = 0; i + 1 < xs[k].size(); i += 2) out[k].emplace_back(xs[k][i], xs[k][i + 1]);
+        for (size_t i = 0; i + 1 < xs[k].size(); i += 2)
+            out[k].emplace_back(xs[k][i], xs[k][i + 1]);
     }
     return out;
 }
@@ -70,7 +71,8 @@ double horizontal_lines(const Paths& need, const Paths& span, Coord spacing, Pat
     const BBox2 b = bounds(need);
     if (b.empty) return 0;
     double total = 0;
-    const int count = std::max<int>(1, static_cast<int>(std::ceil(double(b.max_y - b.min_y) / spacing)));
+    const int count =
+        std::max<int>(1, static_cast<int>(std::ceil(double(b.max_y - b.min_y) / spacing)));
     const double first = (b.min_y + b.max_y) / 2.0 - (count - 1) * spacing / 2.0 + 0.5;
     const auto holes_at = scan_lines(need, first, double(spacing), count);
     const auto spans_at = scan_lines(span, first, double(spacing), count);
@@ -80,10 +82,9 @@ double horizontal_lines(const Paths& need, const Paths& span, Coord spacing, Pat
         const double y = first + k * double(spacing);
         for (const auto& [x0, x1] : spans_at[k]) {
             // Bounds copied for the lambda: clang 14 cannot capture structured bindings.
-            const bool over = std::any_of(holes.begin(), holes.end(),
-                                          [lo = x0, hi = x1](const auto& h) {
-                                              return h.second > lo && h.first < hi;
-                                          });
+            const bool over = std::any_of(
+                holes.begin(), holes.end(),
+                [lo = x0, hi = x1](const auto& h) { return h.second > lo && h.first < hi; });
             if (!over) continue;
             total += x1 - x0;
             if (lines) {
@@ -161,7 +162,8 @@ Bridge plan_bridge(const Paths& need, const Paths& span, const BridgeOptions& op
     if (best_length < 0) return best;
     const Rotation rot(-best.angle_deg);
     Paths lines;
-    horizontal_lines(rotated(need, rot, false), rotated(span, rot, false), options.line_width, &lines);
+    horizontal_lines(rotated(need, rot, false), rotated(span, rot, false), options.line_width,
+                     &lines);
     best.lines = rotated(lines, rot, true);
     return best;
 }
@@ -181,10 +183,12 @@ void add_bridges(LayerPartition& layer, const LayerPartition* below, const Bridg
             // cavity around the minimum: large cavities would make every angle costly.
             const BBox2 b0 = bounds(need);
             const Coord m = options.max_length;
-            const Paths window{{{b0.min_x - m, b0.min_y - m}, {b0.max_x + m, b0.min_y - m},
-                                {b0.max_x + m, b0.max_y + m}, {b0.min_x - m, b0.max_y + m}}};
-            const Paths span =
-                unite(options.prune ? intersect(layer.cavities[j], window) : layer.cavities[j], need);
+            const Paths window{{{b0.min_x - m, b0.min_y - m},
+                                {b0.max_x + m, b0.min_y - m},
+                                {b0.max_x + m, b0.max_y + m},
+                                {b0.min_x - m, b0.max_y + m}}};
+            const Paths span = unite(
+                options.prune ? intersect(layer.cavities[j], window) : layer.cavities[j], need);
             Bridge b = plan_bridge(need, span, options);
             if (b.lines.empty()) continue;
             // A span longer than a printer bridges sags worse than the small minimum it would

@@ -6,12 +6,11 @@
 // the solid cover lines need an inset (to sit beside the innermost wall, not on it).
 #include "toolpath/toolpath.hpp"
 
-#include "core/stage_timer.hpp"
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
+#include "core/stage_timer.hpp"
 #include "geometry/morphology.hpp"
 #include "geometry/polygon.hpp"
 #include "toolpath/fill.hpp"
