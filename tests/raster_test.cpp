@@ -81,6 +81,23 @@ std::filesystem::path fresh_dir(const std::string& name) {
     return dir;
 }
 
+// The 40 mm sphere through every stage up to bridges, layer by layer (members in stage order:
+// each holds a reference to the one before).
+struct SphereLayers {
+    explicit SphereLayers(const Settings& st)
+        : mesh(load_mesh(std::string(CARVE_MODELS_DIR) + "/synthetic/sphere_40mm.stl", report)),
+          slicer(mesh, st.layer_height),
+          covers(slicer, st),
+          sweep(covers, st),
+          bridges(sweep, st) {}
+    MeshReport report;
+    Mesh mesh;
+    TopDownSlicer slicer;
+    CarvableStream covers;
+    CarvingSweep sweep;
+    BridgeStage bridges;
+};
+
 }  // namespace
 
 TEST(Rasterize, SquareCoversExactPixels) {
@@ -248,13 +265,8 @@ TEST(RasterWriter, ThickerMinimalWall) {
 // cures it) and at corners, so single layers wander; over the whole object they agree.
 TEST(RasterWriter, WallPixelsMatchPrintPathLengths) {
     Settings st;
-    MeshReport report;
-    const Mesh mesh =
-        load_mesh(std::string(CARVE_MODELS_DIR) + "/synthetic/sphere_40mm.stl", report);
-    TopDownSlicer slicer(mesh, st.layer_height);
-    CarvableStream covers(slicer, st);
-    CarvingSweep sweep(covers, st);
-    BridgeStage bridges(sweep, st);
+    SphereLayers sphere(st);
+    BridgeStage& bridges = sphere.bridges;
     const double pixel = 50;
     const double pixel_mm2 = (pixel / kMm) * (pixel / kMm);
     double total_pixels_mm2 = 0, total_paths_mm2 = 0;
@@ -357,13 +369,8 @@ TEST(RasterWriter, WallPixelsFollowWallLengthTimesThickness) {
 // line width as in WallPixelsMatchPrintPathLengths.
 TEST(RasterWriter, WallAreaOfARealModelDoesNotDependOnPixelSize) {
     Settings st;
-    MeshReport report;
-    const Mesh mesh =
-        load_mesh(std::string(CARVE_MODELS_DIR) + "/synthetic/sphere_40mm.stl", report);
-    TopDownSlicer slicer(mesh, st.layer_height);
-    CarvableStream covers(slicer, st);
-    CarvingSweep sweep(covers, st);
-    BridgeStage bridges(sweep, st);
+    SphereLayers sphere(st);
+    BridgeStage& bridges = sphere.bridges;
     const std::vector<double> pixels_um = {25, 50, 100};
     std::vector<double> total_mm2(pixels_um.size(), 0.0);
     double paths_mm2 = 0;
