@@ -25,6 +25,8 @@
 #include "mesh/mesh.hpp"
 #include "slice/slicer.hpp"
 
+#include "test_rng.hpp"
+
 using namespace carve;
 
 namespace {
@@ -35,14 +37,7 @@ const double kCos = std::cos(kPi / 24);  // inradius / circumradius of the 24-go
 // ---------------------------------------------------------------------------------------------
 // Shapes. A small portable generator (not std distributions) so shapes are the same everywhere.
 
-struct Rng {
-    std::mt19937_64 engine;
-    explicit Rng(uint64_t seed) : engine(seed) {}
-    double uniform(double lo, double hi) {
-        return lo + (hi - lo) * double(engine() >> 11) * (1.0 / 9007199254740992.0);
-    }
-    int integer(int lo, int hi) { return lo + int(engine() % uint64_t(hi - lo + 1)); }
-};
+using carve::test::Rng;
 
 Point at(double x, double y) {
     return Point(Coord(std::llround(x)), Coord(std::llround(y)));

@@ -31,20 +31,15 @@
 #include "skeleton/axis_graph.hpp"
 #include "skeleton/skeleton_detail.hpp"
 
+#include "test_rng.hpp"
+
 using namespace carve;
 
 namespace {
 
 constexpr double kPi = std::numbers::pi;
 
-struct Rng {
-    std::mt19937_64 engine;
-    explicit Rng(uint64_t seed) : engine(seed) {}
-    double uniform(double lo, double hi) {
-        return lo + (hi - lo) * double(engine() >> 11) * (1.0 / 9007199254740992.0);
-    }
-    int integer(int lo, int hi) { return lo + int(engine() % uint64_t(hi - lo + 1)); }
-};
+using carve::test::Rng;
 
 Path rect(Coord x0, Coord y0, Coord x1, Coord y1) {
     return {Point(x0, y0), Point(x1, y0), Point(x1, y1), Point(x0, y1)};
