@@ -59,6 +59,25 @@ Paths start_of_tear(const Paths& lines, Coord step) {
     return piece.empty() ? Paths{Path{mid, mid}} : piece;
 }
 
+// The components of V that V \ G meets, as one region. Each piece of V \ G lies in one
+// component of V, so a vertex of its outer contour (on that component's closure) tells which;
+// a vertex where two components touch marks both, which only adds a seed.
+Paths components_not_covered(const std::vector<Paths>& comps, const Paths& uncovered) {
+    std::vector<std::pair<BBox2, Point>> pieces;
+    for (const Path& c : uncovered)
+        if (area(c) > 0) pieces.emplace_back(bounds(Paths{c}), c.front());
+    Paths out;
+    for (const Paths& comp : comps) {
+        const BBox2 box = bounds(Paths{comp.front()});
+        for (const auto& [piece_box, vertex] : pieces)
+            if (overlap(box, piece_box) && point_in_region(vertex, comp)) {
+                out.insert(out.end(), comp.begin(), comp.end());
+                break;
+            }
+    }
+    return out;
+}
+
 // S = SKEL(V) restricted to the components of V that the propagated cavity G does not already
 // cover: where G covers a component, (G ∪ S) ∩ V = V whatever S is, so its axis is not needed.
 // `axis` is the medial axis of V when it was computed ahead (first iteration).
@@ -69,23 +88,32 @@ Paths start_of_tear(const Paths& lines, Coord step) {
 // along the axis, so the thin solid strips a long tear leaves beside G (minima needing
 // bridges) are fewer.
 // `uncovered` is V \ G, non-empty.
+//
+// Late in the sweep V is often dozens of small components; the seeds of all of them are made
+// with one clip or one axis, one thickening and one intersection (a seed thickened past its
+// component only meets V in a component that gets a seed anyway or that G covers).
 Paths seeds(const Paths& remainder, const Paths& propagated, const Paths& uncovered,
             const SkeletonOptions& options, const Paths* axis, Coord tear_limit) {
-    Paths reach;
-    if (tear_limit > 0 && !propagated.empty()) reach = dilate(propagated, tear_limit);
+    const std::vector<Paths> comps = components(remainder);
+    if (tear_limit <= 0) {
+        const Paths open = components_not_covered(comps, uncovered);
+        if (open.empty()) return {};
+        const Paths lines = axis ? clip_lines(*axis, open) : medial_axis(open, options);
+        if (lines.empty()) return {};
+        return intersect(dilate_lines(lines, options.thickness), open);
+    }
+    const Paths reach = propagated.empty() ? Paths{} : dilate(propagated, tear_limit);
     const BBox2 open_box = bounds(uncovered);
     const BBox2 cavity_box = bounds(propagated);
     Paths out;
-    for (const Paths& comp : components(remainder)) {
+    for (const Paths& comp : comps) {
         const BBox2 box = bounds(comp);
         if (!overlap(box, open_box) || intersect(comp, uncovered).empty()) continue;
         Paths lines = axis ? clip_lines(*axis, comp) : medial_axis(comp, options);
         if (lines.empty()) continue;
-        if (tear_limit > 0) {
-            const bool reached = overlap(box, cavity_box) && !intersect(comp, propagated).empty();
-            lines = reached ? clip_lines(lines, reach) : start_of_tear(lines, tear_limit);
-            if (lines.empty()) continue;
-        }
+        const bool reached = overlap(box, cavity_box) && !intersect(comp, propagated).empty();
+        lines = reached ? clip_lines(lines, reach) : start_of_tear(lines, tear_limit);
+        if (lines.empty()) continue;
         const Paths s = intersect(dilate_lines(lines, options.thickness), comp);
         out.insert(out.end(), s.begin(), s.end());
     }
