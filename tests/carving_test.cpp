@@ -36,7 +36,7 @@ SweepFigures sweep(const std::string& path, Settings settings) {
     CarvingSweep carving(carvable, settings);
     SweepFigures f;
     f.model_mm3 = report.volume_mm3;
-    f.cavity_mm3.assign(carving.iterations(), 0);
+    f.cavity_mm3.assign(sweep_iterations(settings), 0);
     const Coord r = settings.dilation_per_layer();
     std::optional<LayerPartition> above;
     while (auto layer = carving.next()) {

@@ -80,8 +80,6 @@ Paths components_not_covered(const std::vector<Paths>& comps, const Paths& uncov
 
 // S = SKEL(V) restricted to the components of V that the propagated cavity G does not already
 // cover: where G covers a component, (G ∪ S) ∩ V = V whatever S is, so its axis is not needed.
-// `axis` is the medial axis of V when it was computed ahead (first iteration).
-//
 // With a tear limit (> 0) the axis is not torn open in one slice: in a component the cavity
 // already reaches it extends at most `tear_limit` beyond G, and elsewhere a new tear starts
 // from a piece that long. The cavity's front then moves at most r + tear_limit per slice
@@ -93,12 +91,12 @@ Paths components_not_covered(const std::vector<Paths>& comps, const Paths& uncov
 // with one clip or one axis, one thickening and one intersection (a seed thickened past its
 // component only meets V in a component that gets a seed anyway or that G covers).
 Paths seeds(const Paths& remainder, const Paths& propagated, const Paths& uncovered,
-            const SkeletonOptions& options, const Paths* axis, Coord tear_limit) {
+            const SkeletonOptions& options, Coord tear_limit) {
     const std::vector<Paths> comps = components(remainder);
     if (tear_limit <= 0) {
         const Paths open = components_not_covered(comps, uncovered);
         if (open.empty()) return {};
-        const Paths lines = axis ? clip_lines(*axis, open) : medial_axis(open, options);
+        const Paths lines = medial_axis(open, options);
         if (lines.empty()) return {};
         return intersect(dilate_lines(lines, options.thickness), open);
     }
@@ -109,7 +107,7 @@ Paths seeds(const Paths& remainder, const Paths& propagated, const Paths& uncove
     for (const Paths& comp : comps) {
         const BBox2 box = bounds(comp);
         if (!overlap(box, open_box) || intersect(comp, uncovered).empty()) continue;
-        Paths lines = axis ? clip_lines(*axis, comp) : medial_axis(comp, options);
+        Paths lines = medial_axis(comp, options);
         if (lines.empty()) continue;
         const bool reached = overlap(box, cavity_box) && !intersect(comp, propagated).empty();
         lines = reached ? clip_lines(lines, reach) : start_of_tear(lines, tear_limit);
@@ -122,10 +120,15 @@ Paths seeds(const Paths& remainder, const Paths& propagated, const Paths& uncove
 
 }  // namespace
 
-CarvingSweep::CarvingSweep(LayerSource& input, const Settings& settings)
-    : input_(input),
-      settings_(settings),
-      previous_(settings.cavities_auto ? kAutoMaxCavities : std::max(0, settings.cavities)) {}
+int sweep_iterations(const Settings& settings) {
+    return settings.cavities_auto ? kAutoMaxCavities : std::max(0, settings.cavities);
+}
+
+CarvingSweep::CarvingSweep(LayerSource& input, const Settings& settings, int first, int count)
+    : input_(input), settings_(settings), first_(std::min(first, sweep_iterations(settings))) {
+    const int k = sweep_iterations(settings);
+    previous_.resize(count < 0 ? k - first_ : std::min(count, k - first_));
+}
 
 std::optional<LayerPartition> CarvingSweep::next() {
     auto layer = input_.next();
@@ -137,10 +140,9 @@ std::optional<LayerPartition> CarvingSweep::next() {
     const SkeletonOptions options = seed_options(settings_);
     const Coord tear = settings_.tear_limit > 0 ? to_units(settings_.tear_limit) : 0;
 
-    Paths remainder = layer->carvable;  // V^{j-1}_i
-    layer->cavities.reserve(previous_.size());
-    for (size_t j = 0; j < previous_.size(); ++j) {
-        Paths& above = previous_[j];  // C^j_{i+1}, replaced by C^j_i
+    Paths remainder = first_ == 0 ? layer->carvable : std::move(layer->remainder);  // V^{j-1}_i
+    layer->cavities.reserve(layer->cavities.size() + previous_.size());
+    for (Paths& above : previous_) {  // C^j_{i+1}, replaced by C^j_i
         Paths cavity;
         if (!remainder.empty()) {
             const Paths propagated = above.empty() ? Paths{} : dilate(above, r);  // G
@@ -153,9 +155,7 @@ std::optional<LayerPartition> CarvingSweep::next() {
             } else {
                 const bool seed = !settings_.cavities_auto || !erode(remainder, w).empty();
                 Paths s;
-                if (seed)
-                    s = seeds(remainder, propagated, uncovered, options,
-                              j == 0 && layer->first_seed ? &*layer->first_seed : nullptr, tear);
+                if (seed) s = seeds(remainder, propagated, uncovered, options, tear);
                 if (s.empty()) {
                     cavity = intersect(propagated, remainder);
                     remainder = std::move(uncovered);
@@ -169,19 +169,6 @@ std::optional<LayerPartition> CarvingSweep::next() {
         above = std::move(cavity);
     }
     layer->remainder = std::move(remainder);
-    layer->first_seed.reset();
-    return layer;
-}
-
-SeedAhead::SeedAhead(LayerSource& input, const Settings& settings)
-    : input_(input), settings_(settings) {}
-
-std::optional<LayerPartition> SeedAhead::next() {
-    auto layer = input_.next();
-    StageTimer timer(Stage::kFirstSeed);
-    if (layer && settings_.cavities != 0 && !layer->carvable.empty() &&
-        (!settings_.cavities_auto || !erode(layer->carvable, settings_.line_width()).empty()))
-        layer->first_seed = medial_axis(layer->carvable, seed_options(settings_));
     return layer;
 }
 

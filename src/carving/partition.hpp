@@ -33,10 +33,6 @@ struct LayerPartition {
     std::vector<Paths> cavities;       // C^1_i .. C^k_i, pairwise disjoint, inside carvable
     Paths remainder;                   // V^k_i
     std::vector<Bridge> bridges;       // filled in by the supports stage
-    // The medial axis of V^0_i (before thickening into SKEL): depends on nothing but this
-    // slice, so it may be computed ahead on another thread (SeedAhead); the sweep uses it for
-    // its first iteration when present.
-    std::optional<Paths> first_seed;
 };
 
 // A stage that hands out layers one at a time, top down (the sweep, a queue between threads).

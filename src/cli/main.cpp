@@ -199,10 +199,10 @@ int main(int argc, char** argv) {
                       "Scale the model uniformly by this factor, ratio [1]")
         ->check(CLI::Range(0.01, 100.0));
     slice->add_option("--threads", settings.threads,
-                      "Pipeline threads: 1 runs every stage in turn, 2 slices ahead of the "
-                      "carving sweep, 3 also plans bridges, toolpaths and G-code behind it, "
-                      "threads [3]")
-        ->check(CLI::Range(1, 3));
+                      "Pipeline threads: 1 runs every stage in turn, 2 plans bridges, toolpaths "
+                      "and G-code behind the carving sweep, 3 also splits the sweep after the "
+                      "first cavity, 4 also slices ahead of it, threads [4]")
+        ->check(CLI::Range(1, 4));
     slice->add_option("--max-bridge-length", settings.max_bridge_length,
                       "Longest span a bridge may have, mm; longer ones are left out [10]")
         ->check(CLI::Range(1.0, 500.0));

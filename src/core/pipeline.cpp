@@ -110,19 +110,26 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
         });
     }
     CarvableStream carvable(slicer, settings);
-    // Up to three threads, each a stretch of the stream handing layers on through a bounded
-    // queue: slicing, covers and the first seeds (a whole-slice medial axis that needs no
-    // carving state); the sweep, which must run in slice order; bridges, toolpaths and G-code.
-    // The sweep is the critical path; on fandisk the three take about 0.5, 2.3 and 2.2 s of CPU.
-    SeedAhead seeded(carvable, settings);
+    // Up to four threads, each a stretch of the stream handing layers on through a bounded
+    // queue: slicing and covers; the first carving iteration (C^1); the others (C^2..C^k); then
+    // bridges, toolpaths and G-code. Each sweep stage must run in slice order, but C^1 of a
+    // slice only needs C^1 of the slice above, so the two sweep stages overlap like a wavefront.
+    // Fewer threads merge neighbouring stretches (2: slicing and the whole sweep | the rest).
     // Each queue is declared after the stage its thread pulls from, so that when an error
     // unwinds this frame the thread is joined before that stage is destroyed.
-    std::unique_ptr<ThreadedSource> ahead;
-    if (settings.threads >= 2) ahead = std::make_unique<ThreadedSource>(seeded);
-    CarvingSweep sweep(ahead ? static_cast<LayerSource&>(*ahead) : seeded, settings);
-    std::unique_ptr<ThreadedSource> behind;
-    if (settings.threads >= 3) behind = std::make_unique<ThreadedSource>(sweep);
-    BridgeStage supports(behind ? static_cast<LayerSource&>(*behind) : sweep, settings);
+    auto queue_after = [&settings](LayerSource& stage, int min_threads) {
+        return settings.threads >= min_threads ? std::make_unique<ThreadedSource>(stage)
+                                               : std::unique_ptr<ThreadedSource>{};
+    };
+    auto from = [](std::unique_ptr<ThreadedSource>& queue, LayerSource& stage) -> LayerSource& {
+        return queue ? static_cast<LayerSource&>(*queue) : stage;
+    };
+    auto sliced = queue_after(carvable, 4);
+    CarvingSweep first_cavity(from(sliced, carvable), settings, 0, 1);
+    auto first_carved = queue_after(first_cavity, 3);
+    CarvingSweep other_cavities(from(first_carved, first_cavity), settings, 1);
+    auto carved = queue_after(other_cavities, 2);
+    BridgeStage supports(from(carved, other_cavities), settings);
     GcodeWriter writer(options.gcode_path, settings, offset_x, offset_y, layer_count);
     std::unique_ptr<SvgLayerWriter> svg;
     if (!options.svg_dir.empty())
@@ -144,7 +151,7 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
     }
 
     result.layers = layer_count;
-    result.cavity_volume_mm3.assign(sweep.iterations(), 0.0);
+    result.cavity_volume_mm3.assign(sweep_iterations(settings), 0.0);
     result.layer_material_mm3.assign(layer_count, 0.0);
     const double h = settings.layer_height;
     int done = 0;

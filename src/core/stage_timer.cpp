@@ -21,7 +21,7 @@ struct Counter {
 std::array<Counter, size_t(Stage::kCount)> counters;
 
 constexpr std::array<const char*, size_t(Stage::kCount)> kNames{
-    "slice",   "covers",    "first seed", "sweep",      "skeleton", "voronoi",
+    "slice", "covers", "sweep", "skeleton", "voronoi",
     "bridges", "toolpaths", "gcode",      "morphology", "boolean"};
 
 int64_t thread_ns() {

@@ -12,7 +12,6 @@ namespace carve {
 enum class Stage {
     kSlice,
     kCovers,
-    kFirstSeed,
     kSweep,
     kSkeleton,
     kVoronoi,
