@@ -19,6 +19,10 @@ struct SweepFigures {
     double carvable_mm3 = 0, remainder_mm3 = 0, model_mm3 = 0;
     std::vector<double> cavity_mm3;
     double worst_partition_error = 0;  // relative area error of the partition, worst layer
+    // Area of (C^j_{i+1} grown by r) \ C^j_i once opened by 3 um: Clipper rounds every
+    // intersection to the micrometre, so the sweep's V^j and the test's own V^j differ by
+    // slivers under a micrometre wide along whole contours (0.01 mm^2 on the sphere); a real
+    // overhang is as wide as r.
     double worst_support_violation_mm2 = 0;
     double worst_cover_overlap_mm2 = 0;
     // Tear front: area of cavity pieces that reach beyond dilate(C^j_{i+1}, r + tear + s) in a
@@ -66,8 +70,9 @@ SweepFigures sweep(const std::string& path, Settings settings) {
             Paths remainder = layer->carvable;
             for (size_t j = 0; j < layer->cavities.size(); ++j) {
                 Paths grown = intersect(dilate(above->cavities[j], r), remainder);
-                f.worst_support_violation_mm2 = std::max(
-                    f.worst_support_violation_mm2, area_mm2(subtract(grown, layer->cavities[j])));
+                f.worst_support_violation_mm2 =
+                    std::max(f.worst_support_violation_mm2,
+                             area_mm2(open(subtract(grown, layer->cavities[j]), 3)));
                 remainder = subtract(remainder, layer->cavities[j]);
             }
         }
@@ -105,7 +110,7 @@ TEST(Carving, FigureThreeCubeTwoIterations) {
     EXPECT_GT(f.cavity_mm3[0], 0.3 * f.carvable_mm3);  // C^1 takes most of the volume
     EXPECT_GT(f.cavity_mm3[1], 0.0);                   // C^2 is seeded in what C^1 left
     EXPECT_LT(f.worst_partition_error, 1e-4);
-    EXPECT_LT(f.worst_support_violation_mm2, 0.01);
+    EXPECT_LT(f.worst_support_violation_mm2, 0.001);
     EXPECT_LT(f.worst_cover_overlap_mm2, 0.005);  // integer rounding slivers of ~1 um width
 }
 
@@ -121,7 +126,7 @@ TEST(Carving, SphereSixIterationsLeavesLittle) {
                 100 * f.remainder_mm3 / f.model_mm3, 100 * f.carvable_mm3 / f.model_mm3);
     EXPECT_LT(f.remainder_mm3, 0.05 * f.model_mm3);
     EXPECT_LT(f.worst_partition_error, 1e-4);
-    EXPECT_LT(f.worst_support_violation_mm2, 0.01);
+    EXPECT_LT(f.worst_support_violation_mm2, 0.001);
 }
 
 TEST(Carving, FandiskEveryLayerIsAnExactSelfSupportingPartition) {
@@ -130,7 +135,7 @@ TEST(Carving, FandiskEveryLayerIsAnExactSelfSupportingPartition) {
     std::printf("fandisk: V^6 = %.2f %% of the model volume\n", 100 * f.remainder_mm3 / f.model_mm3);
     EXPECT_EQ(f.layers, 400);
     EXPECT_LT(f.worst_partition_error, 1e-4);
-    EXPECT_LT(f.worst_support_violation_mm2, 0.01);
+    EXPECT_LT(f.worst_support_violation_mm2, 0.001);
     EXPECT_LT(f.worst_cover_overlap_mm2, 0.005);  // integer rounding slivers of ~1 um width
     EXPECT_LT(f.remainder_mm3, 0.05 * f.model_mm3);
 }
@@ -179,7 +184,7 @@ TEST(Carving, TearLimitBoundsHowFastCavitiesOpen) {
     EXPECT_LT(f.worst_tear_excess_mm2, 0.01);
     EXPECT_LE(f.widest_new_tear_mm, 2 * (0.1 + 0.2) + 0.1);
     EXPECT_LT(f.worst_partition_error, 1e-4);
-    EXPECT_LT(f.worst_support_violation_mm2, 0.01);
+    EXPECT_LT(f.worst_support_violation_mm2, 0.001);
     // Opening slower carves less: the uncarved remainder is what the limit costs.
     EXPECT_GT(f.remainder_mm3, free.remainder_mm3);
 }

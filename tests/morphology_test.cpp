@@ -1,10 +1,11 @@
-// Property tests of the 24-gon morphology (report Appendix A, section 5.1) on many shapes.
+// Property tests of the polygonal-disk morphology (report Appendix A, section 5.1) on many
+// shapes; n = kDiskSides.
 //
-// Exact answers exist only for a few shapes (squares, the 24-gon itself, segments), so most
+// Exact answers exist only for a few shapes (squares, the n-gon itself, segments), so most
 // checks are properties that hold for any region: inclusion, the semigroup law of dilation,
 // duality with the complement, opening and closing. Clipper's ClipperOffset serves as an
-// independent oracle: the 24-gon is inscribed in its circle, so for every region
-//   offset(S, r cos 7.5deg) <= S (+) D24(r) <= offset(S, r).
+// independent oracle: the n-gon is inscribed in its circle, so for every region
+//   offset(S, r cos(pi / n)) <= S (+) Dn(r) <= offset(S, r).
 // Distances are compared with a sampled Hausdorff distance between boundaries.
 #include "geometry/morphology.hpp"
 
@@ -32,7 +33,7 @@ using namespace carve;
 namespace {
 
 constexpr double kPi = std::numbers::pi;
-const double kCos = std::cos(kPi / 24);  // inradius / circumradius of the 24-gon
+const double kCos = std::cos(kPi / kDiskSides);  // inradius / circumradius of the element
 
 // ---------------------------------------------------------------------------------------------
 // Shapes. A small portable generator (not std distributions) so shapes are the same everywhere.
@@ -315,14 +316,15 @@ TEST(MorphologyHelpers, ZooShapesAreValid) {
 TEST(Morphology, DiskIsAConvexCentrallySymmetricIntegerPolygon) {
     for (Coord r : {1, 3, 10, 200, 1000, 123457}) {
         const Path d = disk(r);
-        ASSERT_EQ(d.size(), 24u);
+        constexpr size_t n = kDiskSides;
+        ASSERT_EQ(d.size(), n);
         EXPECT_GT(area(d), 0);  // counter-clockwise
-        for (size_t m = 0; m < 24; ++m) {
-            EXPECT_EQ(d[m].X, -d[(m + 12) % 24].X);
-            EXPECT_EQ(d[m].Y, -d[(m + 12) % 24].Y);
+        for (size_t m = 0; m < n; ++m) {
+            EXPECT_EQ(d[m].X, -d[(m + n / 2) % n].X);
+            EXPECT_EQ(d[m].Y, -d[(m + n / 2) % n].Y);
             const Point& a = d[m];
-            const Point& b = d[(m + 1) % 24];
-            const Point& c = d[(m + 2) % 24];
+            const Point& b = d[(m + 1) % n];
+            const Point& c = d[(m + 2) % n];
             const double cross =
                 double(b.X - a.X) * double(c.Y - b.Y) - double(b.Y - a.Y) * double(c.X - b.X);
             if (r >= 100) {
@@ -331,7 +333,7 @@ TEST(Morphology, DiskIsAConvexCentrallySymmetricIntegerPolygon) {
             EXPECT_LE(std::abs(std::hypot(double(a.X), double(a.Y)) - r), 0.71);
         }
         EXPECT_EQ(d[0], Point(r, 0));
-        EXPECT_EQ(d[6], Point(0, r));
+        EXPECT_EQ(d[n / 4], Point(0, r));  // on both axes: erode() relies on it
     }
 }
 
@@ -373,17 +375,17 @@ TEST(Morphology, DilatedCircleFollowsSteinerFormula) {
     const int n = 4000;
     for (int i = 0; i < n; ++i)
         circle.push_back(at(R * std::cos(2 * kPi * i / n), R * std::sin(2 * kPi * i / n)));
-    const Path d24 = disk(r);
-    const double expected = area(circle) + R * length(Paths{d24}, true) + area(d24);
+    const Path element = disk(r);
+    const double expected = area(circle) + R * length(Paths{element}, true) + area(element);
     const double got = area(dilate(Paths{circle}, r));
     EXPECT_NEAR(got, expected, 1e-4 * expected);
-    // Erosion lies between the disks of radius R - r and R - r cos(7.5 deg).
+    // Erosion lies between the disks of radius R - r and R - r cos(pi / n).
     const double eroded = area(erode(Paths{circle}, r));
     EXPECT_GT(eroded, kPi * (R - r) * (R - r) * 0.999);
     EXPECT_LT(eroded, kPi * (R - r * kCos) * (R - r * kCos) * 1.001);
 }
 
-// Width of the 24-gon across direction (dx, dy): a segment sweeps width * length.
+// Width of the element across direction (dx, dy): a segment sweeps width * length.
 double element_width(Coord r, double dx, double dy) {
     const double len = std::hypot(dx, dy);
     const double nx = -dy / len, ny = dx / len;
@@ -397,7 +399,7 @@ double element_width(Coord r, double dx, double dy) {
 
 TEST(Morphology, DilatedSegmentIsAStadium) {
     const Coord r = 200;
-    const double d24 = area(disk(r));
+    const double element = area(disk(r));
     for (double angle : {0.0, 7.5, 20.0, 45.0, 91.0, 200.0}) {
         const double L = 10000;
         const double t = angle * kPi / 180;
@@ -407,7 +409,7 @@ TEST(Morphology, DilatedSegmentIsAStadium) {
         const Paths d = dilate_lines(Paths{seg}, r);
         SCOPED_TRACE(angle);
         ASSERT_EQ(d.size(), 1u);
-        EXPECT_NEAR(area(d), w * len + d24, 1e-5 * (w * len + d24) + 2);
+        EXPECT_NEAR(area(d), w * len + element, 1e-5 * (w * len + element) + 2);
         EXPECT_NEAR(w, 2 * r, 2 * r * (1 - kCos) + 1);
     }
 }
@@ -475,7 +477,7 @@ double element_mismatch(std::initializer_list<Coord> parts) {
     for (Coord c : parts) total += c;
     const Path whole = disk(total);
     double worst = 0;
-    for (size_t m = 0; m < 24; ++m) {
+    for (size_t m = 0; m < size_t(kDiskSides); ++m) {
         double x = -double(whole[m].X), y = -double(whole[m].Y);
         for (Coord c : parts) {
             x += double(disk(c)[m].X);
@@ -508,8 +510,9 @@ double sharpest_corner(const Paths& region, bool convex) {
 }
 
 TEST(MorphologyProperties, DilationIsASemigroup) {
-    // Measured on this zoo: at most 3 um for dilations, and for erosions 3 um except at the
-    // sharpest star tips (5.8 um at a 2 x 1.4 um support error amplified by a thin corner).
+    // Measured on this zoo: at most 3.2 um for dilations (one vertex of the 16-gon rounded
+    // (1, 3) off), and for erosions 3 um except at the sharpest star tips (5.8 um at a
+    // 2 x 1.4 um support error amplified by a thin corner).
     for (const Shape& s : zoo())
         for (auto [a, b] : {std::pair<Coord, Coord>{200, 200}, {130, 900}, {1000, 50}}) {
             SCOPED_TRACE(s.name + " a=" + std::to_string(a) + " b=" + std::to_string(b));
@@ -520,7 +523,7 @@ TEST(MorphologyProperties, DilationIsASemigroup) {
                       std::min(tol_d, 8.0));
             EXPECT_LE(hausdorff(erode(erode(s.region, a), b), erode(s.region, a + b)),
                       std::min(tol_e, 8.0));
-            EXPECT_LE(hausdorff(dilate(dilate(s.region, a), b), dilate(s.region, a + b)), 3.0);
+            EXPECT_LE(hausdorff(dilate(dilate(s.region, a), b), dilate(s.region, a + b)), 3.5);
         }
 }
 

@@ -871,7 +871,7 @@ TEST(MedialAxis, RealSliceWithTouchingContours) {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Random regions like the carving produces: unions and differences of 24-gon disks (many
+// Random regions like the carving produces: unions and differences of polygonal disks (many
 // co-circular vertices), with holes and several components.
 
 Paths random_blobs(Rng& rng, int n) {

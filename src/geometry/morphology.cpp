@@ -1,4 +1,4 @@
-// Minkowski sums by contour convolution with a regular 24-gon (report Appendix A).
+// Minkowski sums by contour convolution with a regular polygon (report Appendix A).
 //
 // For each contour vertex the convolution walks the structuring element's vertices between the
 // supporting vertices of the incoming and outgoing edges. The report walks forwards on a left
@@ -25,7 +25,7 @@ namespace carve {
 
 namespace {
 
-constexpr int kSides = 24;
+constexpr int kSides = kDiskSides;
 constexpr double kStep = 2.0 * std::numbers::pi / kSides;
 static_assert(kSides % 4 == 0, "without_vanishing() needs vertices on both axes");
 

@@ -1,6 +1,6 @@
-// Exact morphology by a fixed disk: Minkowski sums with a regular 24-gon (report Appendix A).
+// Exact morphology by a fixed disk: Minkowski sums with a regular polygon (report Appendix A).
 //
-// Dilation convolves each contour with the 24-gon and unites the result with positive winding;
+// Dilation convolves each contour with the element and unites the result with positive winding;
 // erosion reverses the contours, convolves, reverses back and unites. Because the structuring
 // element is always the same polygon, dilate(dilate(S, a), b) equals dilate(S, a + b) up to
 // rounding and the vertex count does not grow with repeated use, which is what the top-down
@@ -11,7 +11,16 @@
 
 namespace carve {
 
-// The structuring element of radius r: 24 integer vertices, counter-clockwise, centred on 0.
+// Sides of the structuring element. It is inscribed in the disk of radius r, so it reaches r at
+// its vertices and r cos(pi / n) at the middle of its sides: with 16 sides it falls short of
+// the disk by at most 1.9 % (3.8 um for the 0.2 mm per-layer dilation), far below what a
+// 0.4 mm nozzle prints. Cavities then grow a little less than r per layer, on the safe side of
+// the overhang limit. 24 sides cost 12 % more instructions on fandisk (callgrind) for the same
+// material within 0.1 %.
+constexpr int kDiskSides = 16;
+
+// The structuring element of radius r: kDiskSides integer vertices, counter-clockwise, centred
+// on 0.
 Path disk(Coord radius);
 
 // `region` must be normalised as every function of polygon.hpp returns it: outers

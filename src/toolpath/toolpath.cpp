@@ -24,7 +24,7 @@ namespace {
 // Cover lines overlap the innermost wall by this fraction of a line width, for adhesion.
 constexpr double kCoverOverlap = 0.15;
 // Vertices closer than this to the line through their neighbours are dropped (micrometres):
-// far below the printer's resolution, and it keeps the G-code from carrying 24-gon noise.
+// far below the printer's resolution, and it keeps the G-code from carrying the element's facets.
 constexpr double kSimplify = 5.0;
 
 void add_loops(const Paths& region, Feature feature, int cavity, double min_length,
