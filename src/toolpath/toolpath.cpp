@@ -126,10 +126,11 @@ LayerToolpaths plan_layer(const LayerPartition& layer, const Settings& settings)
     std::vector<Extrusion> cover_edges, cover_lines;
     if (!layer.covers.empty()) {
         const Coord overlap = static_cast<Coord>(std::llround(kCoverOverlap * double(w)));
-        Paths fill = intersect(layer.covers, erode(inner, w - overlap));
+        const Coord keep_off = w - overlap;
+        Paths fill;
         if (!layer.carvable.empty()) {
-            const Paths edge =
-                settings.walls == WallMode::Single ? layer.carvable : dilate(layer.carvable, s);
+            const bool single = settings.walls == WallMode::Single;
+            const Paths edge = single ? layer.carvable : dilate(layer.carvable, s);
             for (WallPiece& piece : restrict_loops(
                      clean(edge, kSimplify), erode(inner, settings.restriction()), 0, min_length)) {
                 Extrusion e;
@@ -138,7 +139,17 @@ LayerToolpaths plan_layer(const LayerPartition& layer, const Settings& settings)
                 e.closed = piece.closed;
                 cover_edges.push_back(std::move(e));
             }
-            fill = subtract(fill, dilate(edge, w - overlap));
+            // Lines at least keep_off from the innermost wall and from the edge. With single
+            // walls the edge is the carvable part's boundary and covers = inner \ carvable, so
+            // that is erode(inner) ∩ covers \ dilate(carvable) = erode(covers): erosion
+            // distributes over intersection and the element is symmetric. One erosion of the
+            // cover band instead of three operations on the whole slice; on organic models
+            // most layers have only a thin band along sloping walls, which erodes away.
+            fill = single ? erode(layer.covers, keep_off)
+                          : subtract(intersect(layer.covers, erode(inner, keep_off)),
+                                     dilate(edge, keep_off));
+        } else {
+            fill = intersect(layer.covers, erode(inner, keep_off));
         }
         const double angle = (layer.index % 2 == 0) ? 45.0 : -45.0;
         cover_lines = fill_solid(fill, angle, w, Feature::Cover);
