@@ -16,51 +16,54 @@ std::optional<LayerPartition> CarvableStream::next() {
     const int i = next_index_--;
     const int c = std::max(0, settings_.covers);
 
+    const Coord s = settings_.nozzle_radius();
+    const Coord w = settings_.line_width();
     // Pull slices down to i - c (the window's lowest); slices above i + c fall out.
-    while (!exhausted_ && (window_.empty() || window_.back().index > i - c)) {
-        auto s = slicer_.next();
-        if (!s) {
+    while (!exhausted_ && (window_.empty() || window_.back().slice.index > i - c)) {
+        auto slice = slicer_.next();
+        if (!slice) {
             exhausted_ = true;
             break;
         }
-        window_.push_back(std::move(*s));
+        StageTimer timer(Stage::kCovers);
+        Entry e{std::move(*slice), {}, {}};
+        // The outer wall's centreline runs at s inside the model's outline, so that the printed
+        // wall fills the outline exactly; each extra shell sits one line width further in.
+        e.wall_region = erode(e.slice.region, s);
+        e.shell_paths_region =
+            settings_.shells > 0 ? erode(e.wall_region, w * settings_.shells) : e.wall_region;
+        window_.push_back(std::move(e));
     }
-    while (!window_.empty() && window_.front().index > i + c) window_.pop_front();
+    while (!window_.empty() && window_.front().slice.index > i + c) window_.pop_front();
 
     StageTimer timer(Stage::kCovers);
     LayerPartition layer;
-    const Slice* own = nullptr;
+    const Entry* own = nullptr;
     int in_range = 0;
-    for (const Slice& s : window_) {
-        if (s.index < i - c || s.index > i + c) continue;
+    for (const Entry& e : window_) {
+        if (e.slice.index < i - c || e.slice.index > i + c) continue;
         ++in_range;
-        if (s.index == i) own = &s;
+        if (e.slice.index == i) own = &e;
     }
     layer.index = i;
     if (!own) return layer;  // an empty layer (a gap in the model): nothing to print
-    layer.z = own->z;
-    layer.outline = own->region;
-
-    const Coord s = settings_.nozzle_radius();
-    const Coord w = settings_.line_width();
-    // The outer wall's centreline runs at s inside the model's outline, so that the printed
-    // wall fills the outline exactly; each extra shell sits one line width further in.
-    layer.wall_region = erode(layer.outline, s);
-    layer.shell_paths_region = settings_.shells > 0 ? erode(layer.wall_region, w * settings_.shells)
-                                                    : layer.wall_region;
+    layer.z = own->slice.z;
+    layer.outline = own->slice.region;
+    layer.wall_region = own->wall_region;
+    layer.shell_paths_region = own->shell_paths_region;
 
     // Carvable: inside the innermost shell centreline of every slice of the window. A slice
     // missing from the window (above the top or below the bottom) means a surface within
-    // `covers` layers, so nothing is carvable. Erosion commutes with intersection, so one
-    // erosion of the window's common outline does for all.
+    // `covers` layers, so nothing is carvable. Erosion distributes over intersection, so the
+    // intersection of the slices' own eroded regions (made once per slice) is the erosion of
+    // the window's common outline.
     if (in_range == 2 * c + 1) {
-        Paths common = layer.outline;
-        for (const Slice& other : window_) {
-            if (other.index == i || other.index < i - c || other.index > i + c) continue;
-            if (common.empty()) break;
-            common = intersect(common, other.region);
+        layer.carvable = own->shell_paths_region;
+        for (const Entry& other : window_) {
+            if (&other == own || other.slice.index < i - c || other.slice.index > i + c) continue;
+            if (layer.carvable.empty()) break;
+            layer.carvable = intersect(layer.carvable, other.shell_paths_region);
         }
-        layer.carvable = c == 0 ? layer.shell_paths_region : erode(common, s + w * settings_.shells);
     }
     layer.covers = subtract(layer.shell_paths_region, layer.carvable);
     return layer;

@@ -24,7 +24,14 @@ public:
 private:
     TopDownSlicer& slicer_;
     const Settings& settings_;
-    std::deque<Slice> window_;  // slices i + covers (front) .. i - covers (back), top-down
+    // A slice of the window with its own erosions, made once when it enters: every layer of the
+    // window needs them.
+    struct Entry {
+        Slice slice;
+        Paths wall_region;         // O_k eroded by s
+        Paths shell_paths_region;  // ... and by the extra shells
+    };
+    std::deque<Entry> window_;  // slices i + covers (front) .. i - covers (back), top-down
     int next_index_ = 0;        // index of the next layer to emit
     bool exhausted_ = false;
 };
