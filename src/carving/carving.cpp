@@ -143,6 +143,7 @@ std::optional<LayerPartition> CarvingSweep::next() {
     Paths remainder = first_ == 0 ? layer->carvable : std::move(layer->remainder);  // V^{j-1}_i
     layer->cavities.reserve(layer->cavities.size() + previous_.size());
     for (Paths& above : previous_) {  // C^j_{i+1}, replaced by C^j_i
+        layer->uncarved.push_back(remainder);
         Paths cavity;
         if (!remainder.empty()) {
             const Paths propagated = above.empty() ? Paths{} : dilate(above, r);  // G

@@ -2,7 +2,6 @@
 #include "carving/covers.hpp"
 
 #include "core/stage_timer.hpp"
-
 #include "geometry/morphology.hpp"
 #include "geometry/polygon.hpp"
 

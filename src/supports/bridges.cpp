@@ -201,6 +201,7 @@ void add_bridges(LayerPartition& layer, const LayerPartition* below, const Bridg
             layer.bridges.push_back(std::move(b));
         }
         if (bridged.empty()) continue;
+        layer.uncarved.clear();  // no longer the sweep's V^{j-1}
         // The minima join their cavity in this slice: nothing is printed over the void but the
         // bridge, and the slice above rests on the bridge. One boolean per cavity for all of
         // them: big slices hold hundreds of minima.

@@ -158,6 +158,7 @@ LayerToolpaths plan_layer(const LayerPartition& layer, const Settings& settings)
     // 3. Cavity walls, C^1 .. C^k in the order they were modelled (4.2).
     std::vector<std::vector<Extrusion>> cavity_walls(layer.cavities.size());
     Paths remaining = layer.carvable;  // V^{j-1}
+    const bool swept = layer.uncarved.size() == layer.cavities.size();
     for (size_t j = 0; j < layer.cavities.size(); ++j) {
         const Paths& cavity = layer.cavities[j];
         if (cavity.empty()) continue;
@@ -168,7 +169,8 @@ LayerToolpaths plan_layer(const LayerPartition& layer, const Settings& settings)
             continue;
         }
         const Paths smoothed = clean(open(cavity, settings.opening()), kSimplify);
-        const Paths restriction = erode(remaining, settings.restriction());
+        const Paths restriction =
+            erode(swept ? layer.uncarved[j] : remaining, settings.restriction());
         for (WallPiece& piece :
              restrict_loops(smoothed, restriction, to_units(settings.wall_extension), min_length)) {
             Extrusion e;
@@ -178,7 +180,7 @@ LayerToolpaths plan_layer(const LayerPartition& layer, const Settings& settings)
             e.cavity = index;
             cavity_walls[j].push_back(std::move(e));
         }
-        if (j + 1 < layer.cavities.size()) remaining = subtract(remaining, cavity);
+        if (!swept && j + 1 < layer.cavities.size()) remaining = subtract(remaining, cavity);
     }
 
     // What the k iterations left uncarved (V^k) is solid model: its boundary is the last
