@@ -117,10 +117,10 @@ TEST(Cli, InfoDescribesTheMesh) {
     EXPECT_NEAR(j["model_volume_mm3"].get<double>(), 71900, 100);
 }
 
-TEST(Cli, SameInputSameBytesWithOneToFourThreads) {
+TEST(Cli, SameInputSameBytesWithOneToFiveThreads) {
     const std::string base = "slice " + model("synthetic/sphere_40mm.stl") + " -q";
     std::string one;
-    for (int threads = 1; threads <= 4; ++threads) {
+    for (int threads = 1; threads <= 5; ++threads) {
         const fs::path out = scratch() / fmt::format("t{}.gcode", threads);
         ASSERT_EQ(run_carve(fmt::format("{} -o {} --threads {}", base, out.string(), threads))
                       .status,

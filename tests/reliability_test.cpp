@@ -197,7 +197,7 @@ TEST(ResourceGuard, TooManyVerticesInASliceStopsTheRun) {
         t.push_back({rim(i, 0), rim(i + 1, 10), rim(i, 10)});
     }
     const fs::path stl = write_stl("prism.stl", t);
-    for (const char* threads : {"1", "2", "4"}) {
+    for (const char* threads : {"1", "2", "5"}) {
         const fs::path gcode = scratch() / "prism.gcode";
         expect_refused(run_carve("slice " + stl.string() + " -o " + gcode.string() +
                                  " --max-vertices-per-layer 30 --threads " + threads),

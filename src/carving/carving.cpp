@@ -80,6 +80,7 @@ Paths components_not_covered(const std::vector<Paths>& comps, const Paths& uncov
 
 // S = SKEL(V) restricted to the components of V that the propagated cavity G does not already
 // cover: where G covers a component, (G ∪ S) ∩ V = V whatever S is, so its axis is not needed.
+// Returns a region whose intersection with V is S up to parts inside G.
 // With a tear limit (> 0) the axis is not torn open in one slice: in a component the cavity
 // already reaches it extends at most `tear_limit` beyond G, and elsewhere a new tear starts
 // from a piece that long. The cavity's front then moves at most r + tear_limit per slice
@@ -88,8 +89,8 @@ Paths components_not_covered(const std::vector<Paths>& comps, const Paths& uncov
 // `uncovered` is V \ G, non-empty.
 //
 // Late in the sweep V is often dozens of small components; the seeds of all of them are made
-// with one clip or one axis, one thickening and one intersection (a seed thickened past its
-// component only meets V in a component that gets a seed anyway or that G covers).
+// with one axis and one thickening (a seed thickened past its component only meets V in a
+// component that gets a seed anyway or that G covers).
 Paths seeds(const Paths& remainder, const Paths& propagated, const Paths& uncovered,
             const SkeletonOptions& options, Coord tear_limit) {
     const std::vector<Paths> comps = components(remainder);
@@ -98,7 +99,9 @@ Paths seeds(const Paths& remainder, const Paths& propagated, const Paths& uncove
         if (open.empty()) return {};
         const Paths lines = medial_axis(open, options);
         if (lines.empty()) return {};
-        return intersect(dilate_lines(lines, options.thickness), open);
+        // Not clipped to V: the caller only ever takes V \ G minus it, and outside `open` any
+        // part of V it meets lies in G already.
+        return dilate_lines(lines, options.thickness);
     }
     const Paths reach = propagated.empty() ? Paths{} : dilate(propagated, tear_limit);
     const BBox2 open_box = bounds(uncovered);
@@ -133,7 +136,7 @@ CarvingSweep::CarvingSweep(LayerSource& input, const Settings& settings, int fir
 std::optional<LayerPartition> CarvingSweep::next() {
     auto layer = input_.next();
     if (!layer) return std::nullopt;
-    StageTimer timer(Stage::kSweep);
+    StageTimer timer(first_ == 0 ? Stage::kSweep : Stage::kSweepLater);
 
     const Coord r = settings_.dilation_per_layer();
     const Coord w = settings_.line_width();
@@ -157,13 +160,16 @@ std::optional<LayerPartition> CarvingSweep::next() {
                 const bool seed = !settings_.cavities_auto || !erode(remainder, w).empty();
                 Paths s;
                 if (seed) s = seeds(remainder, propagated, uncovered, options, tear);
-                if (s.empty()) {
-                    cavity = intersect(propagated, remainder);
-                    remainder = std::move(uncovered);
-                } else {
-                    cavity = intersect(unite(propagated, s), remainder);
-                    remainder = subtract(uncovered, s);
-                }
+                // C = (G ∪ S) ∩ V in one pass: G and S are normalised regions, each winding +1
+                // where it covers, so their contours together under non-zero fill are G ∪ S.
+                // (V minus V^j would be one pass too, but where V^j runs along V's boundary
+                // Clipper's rounding leaves sub-micrometre slivers in C, which the next slice
+                // dilates into grooves 2r wide: 0.8-1.5 % less material on cat and elephant,
+                // but more filament within r of nothing below.)
+                Paths grown = propagated;
+                grown.insert(grown.end(), s.begin(), s.end());
+                cavity = intersect(remainder, grown);
+                remainder = s.empty() ? std::move(uncovered) : subtract(uncovered, s);
             }
         }
         layer->cavities.push_back(cavity);

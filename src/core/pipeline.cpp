@@ -110,11 +110,13 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
         });
     }
     CarvableStream carvable(slicer, settings);
-    // Up to four threads, each a stretch of the stream handing layers on through a bounded
-    // queue: slicing and covers; the first carving iteration (C^1); the others (C^2..C^k); then
-    // bridges, toolpaths and G-code. Each sweep stage must run in slice order, but C^1 of a
-    // slice only needs C^1 of the slice above, so the two sweep stages overlap like a wavefront.
-    // Fewer threads merge neighbouring stretches (2: slicing and the whole sweep | the rest).
+    // Up to five threads, each a stretch of the stream handing layers on through a bounded
+    // queue: slicing and covers; the first carving iteration (C^1); the others (C^2..C^k);
+    // bridges; toolpaths and G-code. Each sweep stage must run in slice order, but C^1 of a
+    // slice only needs C^1 of the slice above, so the two sweep stages overlap like a
+    // wavefront. Fewer threads merge neighbouring stretches, cutting first where the work is
+    // most even (2: slicing and the sweep | the rest; 3: also after C^1; 4: also after the
+    // covers). On two cores the threads mostly just keep both busy; the total CPU is the limit.
     // Each queue is declared after the stage its thread pulls from, so that when an error
     // unwinds this frame the thread is joined before that stage is destroyed.
     auto queue_after = [&settings](LayerSource& stage, int min_threads) {
@@ -129,7 +131,9 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
     auto first_carved = queue_after(first_cavity, 3);
     CarvingSweep other_cavities(from(first_carved, first_cavity), settings, 1);
     auto carved = queue_after(other_cavities, 2);
-    BridgeStage supports(from(carved, other_cavities), settings);
+    BridgeStage bridged(from(carved, other_cavities), settings);
+    auto supported = queue_after(bridged, 5);
+    LayerSource& supports = from(supported, bridged);
     GcodeWriter writer(options.gcode_path, settings, offset_x, offset_y, layer_count);
     std::unique_ptr<SvgLayerWriter> svg;
     if (!options.svg_dir.empty())

@@ -12,7 +12,8 @@ namespace carve {
 enum class Stage {
     kSlice,
     kCovers,
-    kSweep,
+    kSweep,       // the first carving iteration (C^1)
+    kSweepLater,  // the others (C^2..C^k)
     kSkeleton,
     kVoronoi,
     kBridges,
