@@ -4,14 +4,15 @@ scalability study (section 6.1, figure 6).
 
     bench/carve_bench.sh                      # build carve, then everything below
     /usr/bin/python3 bench/carve_bench.py --carve build-x/carve [--quick] [--all]
-        [--models cat,fandisk] [--scales 1,2,4,8] [--no-models] [--no-scaling]
+        [--models cat,fandisk] [--scales 1,2,4,8] [--no-models] [--no-scaling] [--repeat 3]
 
 1. Models: each shared model (skull_x4_400k only with --all) is sliced by carve with its defaults
    (2 covers, 0 shells, 6 cavities, 0.2 mm layers, 0.4 mm nozzle) under /usr/bin/time -v, and
    its G-code is judged by `carve check --json`. The machine is shared and its load changes by
    the minute, so the earlier baseline timings cannot be compared with a carve run made now:
    PrusaSlicer grid 15 % is re-timed right before carve and CuraEngine grid 15 % right after it,
-   with the exact command lines of bench/baselines.py (imported). Material and far-unsupported of
+   with the exact command lines of bench/baselines.py (imported), --repeat rounds in turn
+   (default 3), keeping the median of each. Material and far-unsupported of
    the baselines come from bench/results/baselines.csv (the G-code does not change from run to
    run); estimated print times of the re-timed runs come from Prusa's G-code footer and Cura's -v
    log. Writes bench/results/carve_models.{csv,md}.
@@ -28,6 +29,7 @@ import json
 import os
 import shutil
 import subprocess
+import statistics
 import sys
 
 import numpy as np
@@ -120,24 +122,38 @@ def run_models(args, carve, models):
         path = os.path.join(MODELS_DIR, model + '.stl')
         row = {'model': model, 'model_volume_mm3': round(bl.stl_volume_mm3(path), 1),
                'load_before': round(os.getloadavg()[0], 1)}
+        # --repeat rounds, each PrusaSlicer, carve, CuraEngine in turn; the medians are kept,
+        # since one run on a shared machine can be off by a third.
+        runs = {'prusa': [], 'carve': [], 'cura': []}
+        for rep in range(args.repeat):
+            if have_prusa:
+                log(f'{model}: PrusaSlicer grid 15 % ({rep + 1}/{args.repeat}) ...')
+                runs['prusa'].append(prusa_grid(path, model, args.work))
+            log(f'{model}: carve ({rep + 1}/{args.repeat}) ...')
+            gcode, stats, wall, cpu, rss = carve_slice(carve, path, model + '_carve', args.work)
+            runs['carve'].append(dict(wall=wall, cpu=cpu, rss=rss))
+            if have_cura:
+                log(f'{model}: CuraEngine grid 15 % ({rep + 1}/{args.repeat}) ...')
+                runs['cura'].append(cura_grid(path, model, args.work, cura_settings))
+
+        def median(slicer, key):
+            return statistics.median(r[key] for r in runs[slicer])
+
         if have_prusa:
-            log(f'{model}: PrusaSlicer grid 15 % ...')
-            p = prusa_grid(path, model, args.work)
-            row.update(prusa_grid_wall_s=round(p['wall'], 2), prusa_grid_cpu_s=round(p['cpu'], 2),
-                       prusa_grid_peak_rss_mb=round(p['rss'], 1),
-                       prusa_grid_est_time_s=p.get('slicer_time_s'))
-        log(f'{model}: carve ...')
-        gcode, stats, wall, cpu, rss = carve_slice(carve, path, model + '_carve', args.work)
-        row.update(carve_wall_s=round(wall, 2), carve_cpu_s=round(cpu, 2),
-                   carve_peak_rss_mb=round(rss, 1), carve_layers=stats['layers'],
+            row.update(prusa_grid_wall_s=round(median('prusa', 'wall'), 2),
+                       prusa_grid_cpu_s=round(median('prusa', 'cpu'), 2),
+                       prusa_grid_peak_rss_mb=round(median('prusa', 'rss'), 1),
+                       prusa_grid_est_time_s=runs['prusa'][-1].get('slicer_time_s'))
+        row.update(carve_wall_s=round(median('carve', 'wall'), 2),
+                   carve_cpu_s=round(median('carve', 'cpu'), 2),
+                   carve_peak_rss_mb=round(median('carve', 'rss'), 1), carve_layers=stats['layers'],
                    carve_bridges=stats.get('bridges'),
                    carve_est_time_s=round(stats['estimated_print_time_s']))
         if have_cura:
-            log(f'{model}: CuraEngine grid 15 % ...')
-            c = cura_grid(path, model, args.work, cura_settings)
-            row.update(cura_grid_wall_s=round(c['wall'], 2), cura_grid_cpu_s=round(c['cpu'], 2),
-                       cura_grid_peak_rss_mb=round(c['rss'], 1),
-                       cura_grid_est_time_s=c.get('slicer_time_s'))
+            row.update(cura_grid_wall_s=round(median('cura', 'wall'), 2),
+                       cura_grid_cpu_s=round(median('cura', 'cpu'), 2),
+                       cura_grid_peak_rss_mb=round(median('cura', 'rss'), 1),
+                       cura_grid_est_time_s=runs['cura'][-1].get('slicer_time_s'))
         log(f'{model}: carve check ...')
         check = carve_check(carve, gcode, args.work, model + '_carve')
         volume = row['model_volume_mm3']
@@ -241,9 +257,10 @@ def write_models_md(args, rows, baselines):
 
     lines += ['', '## Slicing time (re-timed in this run: Prusa grid, then carve, then Cura grid)',
               '',
-              'Wall and CPU (user+sys) seconds and peak RSS from /usr/bin/time -v. The machine '
+              f'Wall and CPU (user+sys) seconds and peak RSS from /usr/bin/time -v, the median of '
+              f'{args.repeat} rounds of the three slicers in turn. The machine '
               'has 2 cores shared with other jobs, so wall times swing with the load; the ratios '
-              'compare runs made minutes apart, and CPU seconds are the steadier figure. Wall '
+              'compare runs made seconds apart, and CPU seconds are the steadier figure. Wall '
               'times of the hollow/lightning configurations (earlier run, other load) are in '
               'baselines.md.', '',
               '| model | load | carve wall / CPU s | Prusa grid wall / CPU s | Cura grid wall / CPU s '
@@ -432,6 +449,8 @@ def main():
     ap.add_argument('--no-models', action='store_true')
     ap.add_argument('--no-scaling', action='store_true')
     ap.add_argument('--keep-gcode', action='store_true')
+    ap.add_argument('--repeat', type=int, default=3,
+                    help='rounds of PrusaSlicer, carve, CuraEngine per model; medians kept')
     ap.add_argument('--work', default='/tmp/carve_bench')
     ap.add_argument('--results', default=RESULTS)
     args = ap.parse_args()
