@@ -13,50 +13,91 @@ namespace carve {
 
 namespace {
 
+// Rounds half away from zero exactly like std::llround, without the library call: the bridge
+// search rounds every vertex of the span for each of 36 angles. x - trunc(x) is exact in
+// doubles, so the comparison with 0.5 is too.
+Coord round_half_away(double x) {
+    Coord t = static_cast<Coord>(x);  // truncates toward zero
+    const double f = x - static_cast<double>(t);
+    if (f >= 0.5) ++t;
+    if (f <= -0.5) --t;
+    return t;
+}
+
 struct Rotation {
     double c, s;
     explicit Rotation(double deg)
         : c(std::cos(deg * std::numbers::pi / 180)), s(std::sin(deg * std::numbers::pi / 180)) {}
-    Point apply(const Point& p) const {  // rotate by the angle
-        return Point(static_cast<Coord>(std::llround(c * p.X - s * p.Y)),
-                     static_cast<Coord>(std::llround(s * p.X + c * p.Y)));
-    }
+    // The two coordinates are rounded separately, so a scan can rotate y alone first.
+    Coord x(const Point& p) const { return round_half_away(c * p.X - s * p.Y); }
+    Coord y(const Point& p) const { return round_half_away(s * p.X + c * p.Y); }
     Point undo(const Point& p) const {
-        return Point(static_cast<Coord>(std::llround(c * p.X + s * p.Y)),
-                     static_cast<Coord>(std::llround(-s * p.X + c * p.Y)));
+        return Point(round_half_away(c * p.X + s * p.Y), round_half_away(-s * p.X + c * p.Y));
     }
 };
 
-Paths rotated(const Paths& region, const Rotation& rot, bool undo) {
+Paths rotated_back(const Paths& region, const Rotation& rot) {
     Paths out = region;
     for (Path& p : out)
-        for (Point& q : p) q = undo ? rot.undo(q) : rot.apply(q);
+        for (Point& q : p) q = rot.undo(q);
     return out;
 }
 
+// Heights of a region's vertices in the rotated frame, path by path: all a scan needs to know
+// which edges cross its lines. The other coordinate is only rotated for edges that cross one.
+struct RotatedHeights {
+    std::vector<std::vector<Coord>> ys;
+    Coord min_y = 0, max_y = 0;
+    bool empty = true;
+};
+
+RotatedHeights rotated_heights(const Paths& region, const Rotation& rot) {
+    RotatedHeights h;
+    h.ys.resize(region.size());
+    for (size_t i = 0; i < region.size(); ++i) {
+        h.ys[i].reserve(region[i].size());
+        for (const Point& q : region[i]) {
+            const Coord y = rot.y(q);
+            h.ys[i].push_back(y);
+            h.min_y = h.empty ? y : std::min(h.min_y, y);
+            h.max_y = h.empty ? y : std::max(h.max_y, y);
+            h.empty = false;
+        }
+    }
+    return h;
+}
+
 // For each of `count` horizontal lines y_k = first + k * spacing, the intervals [x0, x1] where
-// the line is inside a normalised region. Each edge goes straight to the lines it crosses, so
-// the cost is edges plus crossings rather than lines times edges: the bridge search asks this
-// for 36 angles per minimum. The lines are off integer heights, so no vertex lies on one.
-std::vector<std::vector<std::pair<double, double>>> scan_lines(const Paths& region, double first,
+// the line is inside a normalised region, once rotated by `rot`. Each edge goes straight to the
+// lines it crosses, so the cost is edges plus crossings rather than lines times edges: the
+// bridge search asks this for 36 angles per minimum. The lines are off integer heights, so no
+// vertex lies on one.
+std::vector<std::vector<std::pair<double, double>>> scan_lines(const Paths& region,
+                                                               const RotatedHeights& heights,
+                                                               const Rotation& rot, double first,
                                                                double spacing, int count) {
     std::vector<std::vector<double>> xs(count);
-    for (const Path& p : region)
+    for (size_t pi = 0; pi < region.size(); ++pi) {
+        const Path& p = region[pi];
+        const std::vector<Coord>& ys = heights.ys[pi];
         for (size_t i = 0, n = p.size(); i < n; ++i) {
-            const Point& a = p[i];
-            const Point& b = p[(i + 1) % n];
-            if (a.Y == b.Y) continue;
-            const double lo = double(std::min(a.Y, b.Y)), hi = double(std::max(a.Y, b.Y));
+            const size_t j = (i + 1) % n;
+            const Coord ay = ys[i], by = ys[j];
+            if (ay == by) continue;
+            const double lo = double(std::min(ay, by)), hi = double(std::max(ay, by));
             // Lines with lo <= y < hi cross the edge.
             const int k0 = std::max(0, static_cast<int>(std::ceil((lo - first) / spacing)));
             const int k1 =
                 std::min(count - 1, static_cast<int>(std::floor((hi - first) / spacing)));
+            if (k0 > k1) continue;
+            const Coord ax = rot.x(p[i]), bx = rot.x(p[j]);
             for (int k = k0; k <= k1; ++k) {
                 const double y = first + k * spacing;
                 if (y < lo || y >= hi) continue;
-                xs[k].push_back(a.X + (y - a.Y) * double(b.X - a.X) / double(b.Y - a.Y));
+                xs[k].push_back(ax + (y - ay) * double(bx - ax) / double(by - ay));
             }
         }
+    }
     std::vector<std::vector<std::pair<double, double>>> out(count);
     for (int k = 0; k < count; ++k) {
         std::sort(xs[k].begin(), xs[k].end());
@@ -66,16 +107,19 @@ std::vector<std::vector<std::pair<double, double>>> scan_lines(const Paths& regi
     return out;
 }
 
-// Lines over `need` in the frame where they are horizontal; returns their total length.
-double horizontal_lines(const Paths& need, const Paths& span, Coord spacing, Paths* lines) {
-    const BBox2 b = bounds(need);
+// Lines over `need` in the frame turned by `rot`, where they are horizontal; returns their
+// total length. The lines are in the turned frame.
+double horizontal_lines(const Paths& need, const Paths& span, const Rotation& rot, Coord spacing,
+                        Paths* lines) {
+    const RotatedHeights b = rotated_heights(need, rot);
     if (b.empty) return 0;
     double total = 0;
     const int count =
         std::max<int>(1, static_cast<int>(std::ceil(double(b.max_y - b.min_y) / spacing)));
     const double first = (b.min_y + b.max_y) / 2.0 - (count - 1) * spacing / 2.0 + 0.5;
-    const auto holes_at = scan_lines(need, first, double(spacing), count);
-    const auto spans_at = scan_lines(span, first, double(spacing), count);
+    const auto holes_at = scan_lines(need, b, rot, first, double(spacing), count);
+    const auto spans_at =
+        scan_lines(span, rotated_heights(span, rot), rot, first, double(spacing), count);
     for (int k = 0; k < count; ++k) {
         const auto& holes = holes_at[k];
         if (holes.empty()) continue;
@@ -151,8 +195,7 @@ Bridge plan_bridge(const Paths& need, const Paths& span, const BridgeOptions& op
     const double step = options.angle_step_deg > 0 ? options.angle_step_deg : 5;
     for (double angle = 0; angle < 180 - 1e-9; angle += step) {
         const Rotation rot(-angle);  // bring lines at `angle` to horizontal
-        const double len = horizontal_lines(rotated(need, rot, false), rotated(span, rot, false),
-                                            options.line_width, nullptr);
+        const double len = horizontal_lines(need, span, rot, options.line_width, nullptr);
         if (len > 0 && (best_length < 0 || len < best_length)) {
             best_length = len;
             best.angle_deg = angle;
@@ -162,9 +205,8 @@ Bridge plan_bridge(const Paths& need, const Paths& span, const BridgeOptions& op
     if (best_length < 0) return best;
     const Rotation rot(-best.angle_deg);
     Paths lines;
-    horizontal_lines(rotated(need, rot, false), rotated(span, rot, false), options.line_width,
-                     &lines);
-    best.lines = rotated(lines, rot, true);
+    horizontal_lines(need, span, rot, options.line_width, &lines);
+    best.lines = rotated_back(lines, rot);
     return best;
 }
 
