@@ -43,48 +43,55 @@ Paths rotated_back(const Paths& region, const Rotation& rot) {
     return out;
 }
 
-// Heights of a region's vertices in the rotated frame, path by path: all a scan needs to know
-// which edges cross its lines. The other coordinate is only rotated for edges that cross one.
+// Heights of a region's vertices in the rotated frame, all paths end to end: all a scan needs to
+// know which edges cross its lines. The other coordinate is only rotated for edges that cross
+// one.
 struct RotatedHeights {
-    std::vector<std::vector<Coord>> ys;
+    std::vector<Coord> ys;
     Coord min_y = 0, max_y = 0;
     bool empty = true;
 };
 
 RotatedHeights rotated_heights(const Paths& region, const Rotation& rot) {
     RotatedHeights h;
-    h.ys.resize(region.size());
-    for (size_t i = 0; i < region.size(); ++i) {
-        h.ys[i].reserve(region[i].size());
-        for (const Point& q : region[i]) {
+    for (const Path& p : region)
+        for (const Point& q : p) {
             const Coord y = rot.y(q);
-            h.ys[i].push_back(y);
+            h.ys.push_back(y);
             h.min_y = h.empty ? y : std::min(h.min_y, y);
             h.max_y = h.empty ? y : std::max(h.max_y, y);
             h.empty = false;
         }
-    }
     return h;
 }
 
-// For each of `count` horizontal lines y_k = first + k * spacing, the intervals [x0, x1] where
-// the line is inside a normalised region, once rotated by `rot`. Each edge goes straight to the
-// lines it crosses, so the cost is edges plus crossings rather than lines times edges: the
-// bridge search asks this for 36 angles per minimum. The lines are off integer heights, so no
-// vertex lies on one.
-std::vector<std::vector<std::pair<double, double>>> scan_lines(const Paths& region,
-                                                               const RotatedHeights& heights,
-                                                               const Rotation& rot, double first,
-                                                               double spacing, int count) {
-    std::vector<std::vector<double>> xs(count);
-    for (size_t pi = 0; pi < region.size(); ++pi) {
-        const Path& p = region[pi];
-        const std::vector<Coord>& ys = heights.ys[pi];
-        for (size_t i = 0, n = p.size(); i < n; ++i) {
+// The intervals [x0, x1] where each scan line is inside a region, row after row.
+struct ScanRows {
+    std::vector<std::pair<double, double>> intervals;
+    std::vector<size_t> begin;  // row k holds intervals[begin[k] .. begin[k + 1])
+    bool empty(int k) const { return begin[k] == begin[k + 1]; }
+};
+
+// For each of `count` horizontal lines y_k = first + k * spacing, the intervals where the line
+// is inside a normalised region, once rotated by `rot`; only rows that `wanted` has intervals
+// on, if given. Each edge goes straight to the lines it crosses, so the cost is edges plus
+// crossings rather than lines times edges: the bridge search asks this for 36 angles per
+// minimum. The lines are off integer heights, so no vertex lies on one.
+ScanRows scan_lines(const Paths& region, const RotatedHeights& heights, const Rotation& rot,
+                    double first, double spacing, int count, const ScanRows* wanted = nullptr) {
+    std::vector<std::pair<int, double>> crossings;  // (row, x), sorted below row by row
+    // Most edges of a span miss the band of lines over the minimum: two comparisons set them
+    // aside before the divisions.
+    const double last = first + (count - 1) * spacing;
+    size_t base = 0;
+    for (const Path& p : region) {
+        const size_t n = p.size();
+        for (size_t i = 0; i < n; ++i) {
             const size_t j = (i + 1) % n;
-            const Coord ay = ys[i], by = ys[j];
+            const Coord ay = heights.ys[base + i], by = heights.ys[base + j];
             if (ay == by) continue;
             const double lo = double(std::min(ay, by)), hi = double(std::max(ay, by));
+            if (hi <= first || lo > last) continue;
             // Lines with lo <= y < hi cross the edge.
             const int k0 = std::max(0, static_cast<int>(std::ceil((lo - first) / spacing)));
             const int k1 =
@@ -92,18 +99,27 @@ std::vector<std::vector<std::pair<double, double>>> scan_lines(const Paths& regi
             if (k0 > k1) continue;
             const Coord ax = rot.x(p[i]), bx = rot.x(p[j]);
             for (int k = k0; k <= k1; ++k) {
+                if (wanted && wanted->empty(k)) continue;
                 const double y = first + k * spacing;
                 if (y < lo || y >= hi) continue;
-                xs[k].push_back(ax + (y - ay) * double(bx - ax) / double(by - ay));
+                crossings.emplace_back(k, ax + (y - ay) * double(bx - ax) / double(by - ay));
             }
         }
+        base += n;
     }
-    std::vector<std::vector<std::pair<double, double>>> out(count);
-    for (int k = 0; k < count; ++k) {
-        std::sort(xs[k].begin(), xs[k].end());
-        for (size_t i = 0; i + 1 < xs[k].size(); i += 2)
-            out[k].emplace_back(xs[k][i], xs[k][i + 1]);
+    std::sort(crossings.begin(), crossings.end());
+    ScanRows out;
+    out.begin.assign(count + 1, 0);
+    for (size_t c = 0; c < crossings.size();) {
+        const int k = crossings[c].first;
+        size_t e = c;
+        while (e < crossings.size() && crossings[e].first == k) ++e;
+        for (size_t i = c; i + 1 < e; i += 2)
+            out.intervals.emplace_back(crossings[i].second, crossings[i + 1].second);
+        out.begin[k + 1] = out.intervals.size();
+        c = e;
     }
+    for (int k = 0; k < count; ++k) out.begin[k + 1] = std::max(out.begin[k + 1], out.begin[k]);
     return out;
 }
 
@@ -117,18 +133,20 @@ double horizontal_lines(const Paths& need, const Paths& span, const Rotation& ro
     const int count =
         std::max<int>(1, static_cast<int>(std::ceil(double(b.max_y - b.min_y) / spacing)));
     const double first = (b.min_y + b.max_y) / 2.0 - (count - 1) * spacing / 2.0 + 0.5;
-    const auto holes_at = scan_lines(need, b, rot, first, double(spacing), count);
-    const auto spans_at =
-        scan_lines(span, rotated_heights(span, rot), rot, first, double(spacing), count);
+    const ScanRows holes = scan_lines(need, b, rot, first, double(spacing), count);
+    const ScanRows spans =
+        scan_lines(span, rotated_heights(span, rot), rot, first, double(spacing), count, &holes);
     for (int k = 0; k < count; ++k) {
-        const auto& holes = holes_at[k];
-        if (holes.empty()) continue;
+        if (holes.empty(k)) continue;
+        const auto h0 = holes.intervals.begin() + holes.begin[k];
+        const auto h1 = holes.intervals.begin() + holes.begin[k + 1];
         const double y = first + k * double(spacing);
-        for (const auto& [x0, x1] : spans_at[k]) {
+        for (size_t s = spans.begin[k]; s < spans.begin[k + 1]; ++s) {
+            const auto [x0, x1] = spans.intervals[s];
             // Bounds copied for the lambda: clang 14 cannot capture structured bindings.
-            const bool over = std::any_of(
-                holes.begin(), holes.end(),
-                [lo = x0, hi = x1](const auto& h) { return h.second > lo && h.first < hi; });
+            const bool over = std::any_of(h0, h1, [lo = x0, hi = x1](const auto& h) {
+                return h.second > lo && h.first < hi;
+            });
             if (!over) continue;
             total += x1 - x0;
             if (lines) {
@@ -140,6 +158,23 @@ double horizontal_lines(const Paths& need, const Paths& span, const Rotation& ro
         }
     }
     return total;
+}
+
+// The paths of `region` whose boxes meet `box`. A path wholly outside the box, outer or hole,
+// changes no winding inside it, so a boolean whose result lies within the box may leave it out:
+// Clipper's cost grows with every path it is given, and a cavity has dozens of pieces.
+Paths paths_meeting(const Paths& region, const std::vector<BBox2>& boxes, const BBox2& box) {
+    Paths out;
+    for (size_t i = 0; i < region.size(); ++i)
+        if (overlap(boxes[i], box)) out.push_back(region[i]);
+    return out;
+}
+
+std::vector<BBox2> path_bounds(const Paths& region) {
+    std::vector<BBox2> boxes;
+    boxes.reserve(region.size());
+    for (const Path& p : region) boxes.push_back(bounds(Paths{p}));
+    return boxes;
 }
 
 double longest_line(const Paths& lines) {
@@ -218,19 +253,23 @@ void add_bridges(LayerPartition& layer, const LayerPartition* below, const Bridg
             unsupported_regions(layer.cavities[j], below->cavities[j], layer.carvable, options);
         if (needs.empty()) continue;
         const Paths holes = empty_holes(layer.cavities[j]);
-        Paths bridged;  // the minima given a bridge, merged into C^j at the end
+        const std::vector<BBox2> piece_boxes = path_bounds(layer.cavities[j]);
+        Paths bridged;                     // the minima given a bridge, merged into C^j at the end
+        std::vector<BBox2> bridged_boxes;  // one per minimum in `bridged`
+        std::vector<size_t> bridged_ends;  // where each minimum's paths end in `bridged`
         for (const Paths& need : needs) {
             // The lines run across the cavity with the minimum filled in, wall to wall. Lines
             // longer than max_length are dropped anyway, so the scan only needs the part of the
             // cavity around the minimum: large cavities would make every angle costly.
             const BBox2 b0 = bounds(need);
             const Coord m = options.max_length;
-            const Paths window{{{b0.min_x - m, b0.min_y - m},
-                                {b0.max_x + m, b0.min_y - m},
-                                {b0.max_x + m, b0.max_y + m},
-                                {b0.min_x - m, b0.max_y + m}}};
+            const BBox2 w{b0.min_x - m, b0.min_y - m, b0.max_x + m, b0.max_y + m, false};
+            const Paths window{
+                {{w.min_x, w.min_y}, {w.max_x, w.min_y}, {w.max_x, w.max_y}, {w.min_x, w.max_y}}};
             const Paths span = unite(
-                options.prune ? intersect(layer.cavities[j], window) : layer.cavities[j], need);
+                options.prune ? intersect(paths_meeting(layer.cavities[j], piece_boxes, w), window)
+                              : layer.cavities[j],
+                need);
             Bridge b = plan_bridge(need, span, options);
             if (b.lines.empty()) continue;
             // A span longer than a printer bridges sags worse than the small minimum it would
@@ -240,16 +279,30 @@ void add_bridges(LayerPartition& layer, const LayerPartition* below, const Bridg
             // An island fills (mostly) an empty hole of C^j; an edge-like minimum does not.
             b.island = std::abs(area(intersect(need, holes))) > 0.5 * std::abs(area(need));
             bridged.insert(bridged.end(), need.begin(), need.end());
+            bridged_boxes.push_back(b0);
+            bridged_ends.push_back(bridged.size());
             layer.bridges.push_back(std::move(b));
         }
         if (bridged.empty()) continue;
         // The minima join their cavity in this slice: nothing is printed over the void but the
         // bridge, and the slice above rests on the bridge. One boolean per cavity for all of
-        // them: big slices hold hundreds of minima.
+        // them: big slices hold hundreds of minima. The other cavities and the remainder only
+        // lose the minima that come near them.
+        const auto near = [&](const Paths& region) {
+            const BBox2 box = bounds(region);
+            Paths out;
+            for (size_t n = 0, begin = 0; n < bridged_boxes.size(); begin = bridged_ends[n++])
+                if (overlap(bridged_boxes[n], box))
+                    out.insert(out.end(), bridged.begin() + begin,
+                               bridged.begin() + bridged_ends[n]);
+            return out;
+        };
         layer.cavities[j] = unite(layer.cavities[j], bridged);
         for (size_t other = 0; other < layer.cavities.size(); ++other)
-            if (other != j) layer.cavities[other] = subtract(layer.cavities[other], bridged);
-        layer.remainder = subtract(layer.remainder, bridged);
+            if (other != j)
+                layer.cavities[other] =
+                    subtract(layer.cavities[other], near(layer.cavities[other]));
+        layer.remainder = subtract(layer.remainder, near(layer.remainder));
     }
 }
 
