@@ -43,27 +43,60 @@ Paths rotated_back(const Paths& region, const Rotation& rot) {
     return out;
 }
 
-// Heights of a region's vertices in the rotated frame, all paths end to end: all a scan needs to
-// know which edges cross its lines. The other coordinate is only rotated for edges that cross
-// one.
-struct RotatedHeights {
-    std::vector<Coord> ys;
+// The range of a region's vertex heights in the rotated frame; empty if it has no vertex.
+struct HeightRange {
     Coord min_y = 0, max_y = 0;
     bool empty = true;
 };
 
-RotatedHeights rotated_heights(const Paths& region, const Rotation& rot) {
-    RotatedHeights h;
+HeightRange height_range(const Paths& region, const Rotation& rot) {
+    HeightRange h;
     for (const Path& p : region)
         for (const Point& q : p) {
             const Coord y = rot.y(q);
-            h.ys.push_back(y);
             h.min_y = h.empty ? y : std::min(h.min_y, y);
             h.max_y = h.empty ? y : std::max(h.max_y, y);
             h.empty = false;
         }
     return h;
 }
+
+// A run of consecutive edges of one path with the box of their ends. The runs are built once
+// per minimum; at each angle a run whose box misses the band of scan lines is set aside in a
+// few operations, and most of a span is far from the minimum.
+struct EdgeRun {
+    size_t path, begin, end;  // edges p[i] -> p[i + 1] for begin <= i < end, cyclically
+    BBox2 box;
+};
+
+std::vector<EdgeRun> edge_runs(const Paths& region) {
+    constexpr size_t kRun = 16;
+    std::vector<EdgeRun> runs;
+    for (size_t pi = 0; pi < region.size(); ++pi) {
+        const Path& p = region[pi];
+        const size_t n = p.size();
+        for (size_t begin = 0; begin < n; begin += kRun) {
+            EdgeRun r{pi, begin, std::min(n, begin + kRun), {}};
+            r.box = {p[begin].X, p[begin].Y, p[begin].X, p[begin].Y, false};
+            for (size_t i = begin + 1; i <= r.end; ++i) {
+                const Point& q = p[i % n];
+                r.box.min_x = std::min(r.box.min_x, q.X);
+                r.box.min_y = std::min(r.box.min_y, q.Y);
+                r.box.max_x = std::max(r.box.max_x, q.X);
+                r.box.max_y = std::max(r.box.max_y, q.Y);
+            }
+            runs.push_back(r);
+        }
+    }
+    return runs;
+}
+
+// A region to scan with its edge runs.
+struct Scanned {
+    const Paths& region;
+    std::vector<EdgeRun> runs;
+    explicit Scanned(const Paths& r) : region(r), runs(edge_runs(r)) {}
+};
 
 // The intervals [x0, x1] where each scan line is inside a region, row after row.
 struct ScanRows {
@@ -77,18 +110,26 @@ struct ScanRows {
 // on, if given. Each edge goes straight to the lines it crosses, so the cost is edges plus
 // crossings rather than lines times edges: the bridge search asks this for 36 angles per
 // minimum. The lines are off integer heights, so no vertex lies on one.
-ScanRows scan_lines(const Paths& region, const RotatedHeights& heights, const Rotation& rot,
-                    double first, double spacing, int count, const ScanRows* wanted = nullptr) {
+ScanRows scan_lines(const Scanned& scanned, const Rotation& rot, double first, double spacing,
+                    int count, const ScanRows* wanted = nullptr) {
     std::vector<std::pair<int, double>> crossings;  // (row, x), sorted below row by row
-    // Most edges of a span miss the band of lines over the minimum: two comparisons set them
-    // aside before the divisions.
     const double last = first + (count - 1) * spacing;
-    size_t base = 0;
-    for (const Path& p : region) {
+    for (const EdgeRun& run : scanned.runs) {
+        // The heights of the run's vertices, before rounding, lie between these; rounding
+        // moves them by half a unit at most, so a margin of one keeps the test exact.
+        const BBox2& b = run.box;
+        const double top = rot.s * double(rot.s >= 0 ? b.max_x : b.min_x) +
+                           rot.c * double(rot.c >= 0 ? b.max_y : b.min_y);
+        const double bottom = rot.s * double(rot.s >= 0 ? b.min_x : b.max_x) +
+                              rot.c * double(rot.c >= 0 ? b.min_y : b.max_y);
+        if (top + 1 <= first || bottom - 1 > last) continue;
+        const Path& p = scanned.region[run.path];
         const size_t n = p.size();
-        for (size_t i = 0; i < n; ++i) {
+        Coord by = rot.y(p[run.begin]);
+        for (size_t i = run.begin; i < run.end; ++i) {
             const size_t j = (i + 1) % n;
-            const Coord ay = heights.ys[base + i], by = heights.ys[base + j];
+            const Coord ay = by;
+            by = rot.y(p[j]);
             if (ay == by) continue;
             const double lo = double(std::min(ay, by)), hi = double(std::max(ay, by));
             if (hi <= first || lo > last) continue;
@@ -105,7 +146,6 @@ ScanRows scan_lines(const Paths& region, const RotatedHeights& heights, const Ro
                 crossings.emplace_back(k, ax + (y - ay) * double(bx - ax) / double(by - ay));
             }
         }
-        base += n;
     }
     std::sort(crossings.begin(), crossings.end());
     ScanRows out;
@@ -125,17 +165,16 @@ ScanRows scan_lines(const Paths& region, const RotatedHeights& heights, const Ro
 
 // Lines over `need` in the frame turned by `rot`, where they are horizontal; returns their
 // total length. The lines are in the turned frame.
-double horizontal_lines(const Paths& need, const Paths& span, const Rotation& rot, Coord spacing,
-                        Paths* lines) {
-    const RotatedHeights b = rotated_heights(need, rot);
+double horizontal_lines(const Scanned& need, const Scanned& span, const Rotation& rot,
+                        Coord spacing, Paths* lines) {
+    const HeightRange b = height_range(need.region, rot);
     if (b.empty) return 0;
     double total = 0;
     const int count =
         std::max<int>(1, static_cast<int>(std::ceil(double(b.max_y - b.min_y) / spacing)));
     const double first = (b.min_y + b.max_y) / 2.0 - (count - 1) * spacing / 2.0 + 0.5;
-    const ScanRows holes = scan_lines(need, b, rot, first, double(spacing), count);
-    const ScanRows spans =
-        scan_lines(span, rotated_heights(span, rot), rot, first, double(spacing), count, &holes);
+    const ScanRows holes = scan_lines(need, rot, first, double(spacing), count);
+    const ScanRows spans = scan_lines(span, rot, first, double(spacing), count, &holes);
     for (int k = 0; k < count; ++k) {
         if (holes.empty(k)) continue;
         const auto h0 = holes.intervals.begin() + holes.begin[k];
@@ -228,9 +267,10 @@ Bridge plan_bridge(const Paths& need, const Paths& span, const BridgeOptions& op
     Bridge best;
     double best_length = -1;
     const double step = options.angle_step_deg > 0 ? options.angle_step_deg : 5;
+    const Scanned need_scan(need), span_scan(span);
     for (double angle = 0; angle < 180 - 1e-9; angle += step) {
         const Rotation rot(-angle);  // bring lines at `angle` to horizontal
-        const double len = horizontal_lines(need, span, rot, options.line_width, nullptr);
+        const double len = horizontal_lines(need_scan, span_scan, rot, options.line_width, nullptr);
         if (len > 0 && (best_length < 0 || len < best_length)) {
             best_length = len;
             best.angle_deg = angle;
@@ -240,7 +280,7 @@ Bridge plan_bridge(const Paths& need, const Paths& span, const BridgeOptions& op
     if (best_length < 0) return best;
     const Rotation rot(-best.angle_deg);
     Paths lines;
-    horizontal_lines(need, span, rot, options.line_width, &lines);
+    horizontal_lines(need_scan, span_scan, rot, options.line_width, &lines);
     best.lines = rotated_back(lines, rot);
     return best;
 }
