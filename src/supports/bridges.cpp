@@ -216,6 +216,47 @@ std::vector<BBox2> path_bounds(const Paths& region) {
     return boxes;
 }
 
+// Splits a normalised region into the paths a boolean with the minima in `boxes` may change
+// and the others: paths whose boxes meet a minimum's box, then, transitively, every path whose
+// box meets one of those. An outer's holes lie in its box and a hole lies in its outer's box,
+// so the second part keeps each piece whole, and nothing of it comes near a minimum: the
+// boolean on the first part plus the second part untouched is the boolean on the region.
+// Clipper's cost grows with all it is given, and cavities have dozens of pieces.
+std::pair<Paths, Paths> split_near(const Paths& region, const std::vector<BBox2>& boxes) {
+    const std::vector<BBox2> own = path_bounds(region);
+    std::vector<char> near(region.size(), 0);
+    std::vector<size_t> todo;
+    for (size_t i = 0; i < region.size(); ++i)
+        if (std::any_of(boxes.begin(), boxes.end(),
+                        [&](const BBox2& b) { return overlap(own[i], b); })) {
+            near[i] = 1;
+            todo.push_back(i);
+        }
+    while (!todo.empty()) {
+        const size_t i = todo.back();
+        todo.pop_back();
+        for (size_t j = 0; j < region.size(); ++j)
+            if (!near[j] && overlap(own[i], own[j])) {
+                near[j] = 1;
+                todo.push_back(j);
+            }
+    }
+    std::pair<Paths, Paths> out;
+    for (size_t i = 0; i < region.size(); ++i)
+        (near[i] ? out.first : out.second).push_back(region[i]);
+    return out;
+}
+
+// `op` applied to the part of `region` near the minima in `boxes`, the rest of it kept as is.
+template <typename Op>
+Paths near_minima(const Paths& region, const std::vector<BBox2>& boxes, Op op) {
+    auto [near, far] = split_near(region, boxes);
+    if (far.empty()) return op(region);
+    Paths out = op(near);
+    out.insert(out.end(), std::make_move_iterator(far.begin()), std::make_move_iterator(far.end()));
+    return out;
+}
+
 double longest_line(const Paths& lines) {
     double best = 0;
     for (const Path& l : lines) best = std::max(best, length(Paths{l}, false));
@@ -337,12 +378,15 @@ void add_bridges(LayerPartition& layer, const LayerPartition* below, const Bridg
                                bridged.begin() + bridged_ends[n]);
             return out;
         };
-        layer.cavities[j] = unite(layer.cavities[j], bridged);
+        const auto take_minima = [&](const Paths& region) {
+            return near_minima(region, bridged_boxes,
+                               [&](const Paths& part) { return subtract(part, near(part)); });
+        };
+        layer.cavities[j] = near_minima(layer.cavities[j], bridged_boxes,
+                                        [&](const Paths& part) { return unite(part, bridged); });
         for (size_t other = 0; other < layer.cavities.size(); ++other)
-            if (other != j)
-                layer.cavities[other] =
-                    subtract(layer.cavities[other], near(layer.cavities[other]));
-        layer.remainder = subtract(layer.remainder, near(layer.remainder));
+            if (other != j) layer.cavities[other] = take_minima(layer.cavities[other]);
+        layer.remainder = take_minima(layer.remainder);
     }
 }
 
