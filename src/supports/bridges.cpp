@@ -112,7 +112,7 @@ struct ScanRows {
 // minimum. The lines are off integer heights, so no vertex lies on one.
 ScanRows scan_lines(const Scanned& scanned, const Rotation& rot, double first, double spacing,
                     int count, const ScanRows* wanted = nullptr) {
-    std::vector<std::pair<int, double>> crossings;  // (row, x), sorted below row by row
+    std::vector<std::pair<int, double>> crossings;  // (row, x)
     const double last = first + (count - 1) * spacing;
     for (const EdgeRun& run : scanned.runs) {
         // The heights of the run's vertices, before rounding, lie between these; rounding
@@ -147,19 +147,24 @@ ScanRows scan_lines(const Scanned& scanned, const Rotation& rot, double first, d
             }
         }
     }
-    std::sort(crossings.begin(), crossings.end());
+    // Crossings go to their rows by counting, then each row, a handful of values, is sorted:
+    // sorting them all as (row, x) pairs took a third of the scan.
+    std::vector<size_t> at(count + 1, 0);
+    for (const auto& c : crossings) ++at[c.first + 1];
+    for (int k = 0; k < count; ++k) at[k + 1] += at[k];
+    std::vector<double> xs(crossings.size());
+    {
+        std::vector<size_t> next(at.begin(), at.end() - 1);
+        for (const auto& [k, x] : crossings) xs[next[k]++] = x;
+    }
     ScanRows out;
     out.begin.assign(count + 1, 0);
-    for (size_t c = 0; c < crossings.size();) {
-        const int k = crossings[c].first;
-        size_t e = c;
-        while (e < crossings.size() && crossings[e].first == k) ++e;
-        for (size_t i = c; i + 1 < e; i += 2)
-            out.intervals.emplace_back(crossings[i].second, crossings[i + 1].second);
+    for (int k = 0; k < count; ++k) {
+        std::sort(xs.begin() + at[k], xs.begin() + at[k + 1]);
+        for (size_t i = at[k]; i + 1 < at[k + 1]; i += 2)
+            out.intervals.emplace_back(xs[i], xs[i + 1]);
         out.begin[k + 1] = out.intervals.size();
-        c = e;
     }
-    for (int k = 0; k < count; ++k) out.begin[k + 1] = std::max(out.begin[k + 1], out.begin[k]);
     return out;
 }
 
