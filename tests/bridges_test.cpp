@@ -1,15 +1,18 @@
 // Local minima and bridges on constructed slices (report 4.4 and figure 2).
+#include "supports/bridges.hpp"
+
 #include <gtest/gtest.h>
 
 #include "geometry/morphology.hpp"
 #include "geometry/polygon.hpp"
-#include "supports/bridges.hpp"
 
 using namespace carve;
 
 namespace {
 
-Path rect(Coord x0, Coord y0, Coord x1, Coord y1) { return {{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}}; }
+Path rect(Coord x0, Coord y0, Coord x1, Coord y1) {
+    return {{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}};
+}
 
 double distance_to_boundary(const Point& p, const Paths& region) {
     double best = 1e18;
@@ -92,8 +95,8 @@ TEST(Bridges, NarrowConcavityIsAnEdgeLikeMinimum) {
     upper.carvable = lower.carvable = {rect(-1000, -1000, 21000, 11000)};
     upper.cavities = {cavity};
     lower.cavities = {intersect(dilate(cavity, 200), {rect(0, 0, 20000, 10000)})};
-    const auto needs = unsupported_regions(upper.cavities[0], lower.cavities[0], upper.carvable,
-                                           options());
+    const auto needs =
+        unsupported_regions(upper.cavities[0], lower.cavities[0], upper.carvable, options());
     ASSERT_EQ(needs.size(), 1u);
     EXPECT_GT(area(needs[0]), 0.5 * 300 * 6000);
     add_bridges(upper, &lower, options());
@@ -134,4 +137,38 @@ TEST(Bridges, SpansLongerThanThePrinterBridgesAreLeftOut) {
     auto [small_upper, small_lower] = vanishing_island(6000, 14000);
     add_bridges(small_upper, &small_lower, o);
     EXPECT_EQ(small_upper.bridges.size(), 1u);
+}
+
+TEST(Bridges, MinimaMergeOnlyIntoNearbyPiecesLikeFullBooleans) {
+    // Merging the minima into the cavities gives Clipper only the pieces near them: the result
+    // must be the full booleans' all the same. Cavity 1 is the frame of the vanishing island
+    // plus far pieces (one with a hole); cavity 2 and the remainder each have a piece inside
+    // the island's hole (the minimum takes it) and a far piece (left alone).
+    auto [upper, lower] = vanishing_island(0, 20000);
+    Path far_hole = rect(43000, 3000, 47000, 7000);
+    std::reverse(far_hole.begin(), far_hole.end());
+    const Paths far1{rect(30000, 0, 34000, 4000), rect(40000, 0, 50000, 10000), far_hole};
+    upper.cavities[0].insert(upper.cavities[0].end(), far1.begin(), far1.end());
+    upper.cavities.push_back({rect(9000, 9000, 11000, 11000), rect(60000, 0, 62000, 2000)});
+    upper.remainder = {rect(8200, 8200, 8800, 8800), rect(70000, 0, 72000, 2000)};
+    upper.carvable = lower.carvable = {rect(-5000, -5000, 80000, 25000)};
+    lower.cavities = {dilate(unite({rect(0, 0, 20000, 20000)}, far1), 200),
+                      dilate({rect(60000, 0, 62000, 2000)}, 200)};
+    const LayerPartition original = upper;
+    add_bridges(upper, &lower, options());
+
+    ASSERT_EQ(upper.bridges.size(), 1u);
+    EXPECT_EQ(upper.bridges[0].cavity, 1);
+    const Paths& minimum = upper.bridges[0].region;
+    const auto same = [](const Paths& a, const Paths& b) {
+        return std::abs(area(symmetric_difference(a, b))) < 100.0;  // um^2: rounding only
+    };
+    EXPECT_TRUE(same(upper.cavities[0], unite(original.cavities[0], minimum)));
+    EXPECT_TRUE(same(upper.cavities[1], subtract(original.cavities[1], minimum)));
+    EXPECT_TRUE(same(upper.remainder, subtract(original.remainder, minimum)));
+    // The pieces inside the hole went to cavity 1; the far ones are still there.
+    EXPECT_NEAR(area(upper.cavities[1]), 2000.0 * 2000.0, 100.0);
+    EXPECT_NEAR(area(upper.remainder), 2000.0 * 2000.0, 100.0);
+    EXPECT_NEAR(area(upper.cavities[0]),
+                20000.0 * 20000.0 + 4000.0 * 4000.0 + 10000.0 * 10000.0 - 4000.0 * 4000.0, 1000.0);
 }

@@ -13,78 +13,184 @@ namespace carve {
 
 namespace {
 
+// Rounds half away from zero exactly like std::llround, without the library call: the bridge
+// search rounds every vertex of the span for each of 36 angles. x - trunc(x) is exact in
+// doubles, so the comparison with 0.5 is too.
+Coord round_half_away(double x) {
+    Coord t = static_cast<Coord>(x);  // truncates toward zero
+    const double f = x - static_cast<double>(t);
+    if (f >= 0.5) ++t;
+    if (f <= -0.5) --t;
+    return t;
+}
+
 struct Rotation {
     double c, s;
     explicit Rotation(double deg)
         : c(std::cos(deg * std::numbers::pi / 180)), s(std::sin(deg * std::numbers::pi / 180)) {}
-    Point apply(const Point& p) const {  // rotate by the angle
-        return Point(static_cast<Coord>(std::llround(c * p.X - s * p.Y)),
-                     static_cast<Coord>(std::llround(s * p.X + c * p.Y)));
-    }
+    // The two coordinates are rounded separately, so a scan can rotate y alone first.
+    Coord x(const Point& p) const { return round_half_away(c * p.X - s * p.Y); }
+    Coord y(const Point& p) const { return round_half_away(s * p.X + c * p.Y); }
     Point undo(const Point& p) const {
-        return Point(static_cast<Coord>(std::llround(c * p.X + s * p.Y)),
-                     static_cast<Coord>(std::llround(-s * p.X + c * p.Y)));
+        return Point(round_half_away(c * p.X + s * p.Y), round_half_away(-s * p.X + c * p.Y));
     }
 };
 
-Paths rotated(const Paths& region, const Rotation& rot, bool undo) {
+Paths rotated_back(const Paths& region, const Rotation& rot) {
     Paths out = region;
     for (Path& p : out)
-        for (Point& q : p) q = undo ? rot.undo(q) : rot.apply(q);
+        for (Point& q : p) q = rot.undo(q);
     return out;
 }
 
-// For each of `count` horizontal lines y_k = first + k * spacing, the intervals [x0, x1] where
-// the line is inside a normalised region. Each edge goes straight to the lines it crosses, so
-// the cost is edges plus crossings rather than lines times edges: the bridge search asks this
-// for 36 angles per minimum. The lines are off integer heights, so no vertex lies on one.
-std::vector<std::vector<std::pair<double, double>>> scan_lines(const Paths& region, double first,
-                                                               double spacing, int count) {
-    std::vector<std::vector<double>> xs(count);
+// The range of a region's vertex heights in the rotated frame; empty if it has no vertex.
+struct HeightRange {
+    Coord min_y = 0, max_y = 0;
+    bool empty = true;
+};
+
+HeightRange height_range(const Paths& region, const Rotation& rot) {
+    HeightRange h;
     for (const Path& p : region)
-        for (size_t i = 0, n = p.size(); i < n; ++i) {
-            const Point& a = p[i];
-            const Point& b = p[(i + 1) % n];
-            if (a.Y == b.Y) continue;
-            const double lo = double(std::min(a.Y, b.Y)), hi = double(std::max(a.Y, b.Y));
+        for (const Point& q : p) {
+            const Coord y = rot.y(q);
+            h.min_y = h.empty ? y : std::min(h.min_y, y);
+            h.max_y = h.empty ? y : std::max(h.max_y, y);
+            h.empty = false;
+        }
+    return h;
+}
+
+// A run of consecutive edges of one path with the box of their ends. The runs are built once
+// per minimum; at each angle a run whose box misses the band of scan lines is set aside in a
+// few operations, and most of a span is far from the minimum.
+struct EdgeRun {
+    size_t path, begin, end;  // edges p[i] -> p[i + 1] for begin <= i < end, cyclically
+    BBox2 box;
+};
+
+std::vector<EdgeRun> edge_runs(const Paths& region) {
+    constexpr size_t kRun = 16;
+    std::vector<EdgeRun> runs;
+    for (size_t pi = 0; pi < region.size(); ++pi) {
+        const Path& p = region[pi];
+        const size_t n = p.size();
+        for (size_t begin = 0; begin < n; begin += kRun) {
+            EdgeRun r{pi, begin, std::min(n, begin + kRun), {}};
+            r.box = {p[begin].X, p[begin].Y, p[begin].X, p[begin].Y, false};
+            for (size_t i = begin + 1; i <= r.end; ++i) {
+                const Point& q = p[i % n];
+                r.box.min_x = std::min(r.box.min_x, q.X);
+                r.box.min_y = std::min(r.box.min_y, q.Y);
+                r.box.max_x = std::max(r.box.max_x, q.X);
+                r.box.max_y = std::max(r.box.max_y, q.Y);
+            }
+            runs.push_back(r);
+        }
+    }
+    return runs;
+}
+
+// A region to scan with its edge runs.
+struct Scanned {
+    const Paths& region;
+    std::vector<EdgeRun> runs;
+    explicit Scanned(const Paths& r) : region(r), runs(edge_runs(r)) {}
+};
+
+// The intervals [x0, x1] where each scan line is inside a region, row after row.
+struct ScanRows {
+    std::vector<std::pair<double, double>> intervals;
+    std::vector<size_t> begin;  // row k holds intervals[begin[k] .. begin[k + 1])
+    bool empty(int k) const { return begin[k] == begin[k + 1]; }
+};
+
+// For each of `count` horizontal lines y_k = first + k * spacing, the intervals where the line
+// is inside a normalised region, once rotated by `rot`; only rows that `wanted` has intervals
+// on, if given. Each edge goes straight to the lines it crosses, so the cost is edges plus
+// crossings rather than lines times edges: the bridge search asks this for 36 angles per
+// minimum. The lines are off integer heights, so no vertex lies on one.
+ScanRows scan_lines(const Scanned& scanned, const Rotation& rot, double first, double spacing,
+                    int count, const ScanRows* wanted = nullptr) {
+    std::vector<std::pair<int, double>> crossings;  // (row, x)
+    const double last = first + (count - 1) * spacing;
+    for (const EdgeRun& run : scanned.runs) {
+        // The heights of the run's vertices, before rounding, lie between these; rounding
+        // moves them by half a unit at most, so a margin of one keeps the test exact.
+        const BBox2& b = run.box;
+        const double top = rot.s * double(rot.s >= 0 ? b.max_x : b.min_x) +
+                           rot.c * double(rot.c >= 0 ? b.max_y : b.min_y);
+        const double bottom = rot.s * double(rot.s >= 0 ? b.min_x : b.max_x) +
+                              rot.c * double(rot.c >= 0 ? b.min_y : b.max_y);
+        if (top + 1 <= first || bottom - 1 > last) continue;
+        const Path& p = scanned.region[run.path];
+        const size_t n = p.size();
+        Coord by = rot.y(p[run.begin]);
+        for (size_t i = run.begin; i < run.end; ++i) {
+            const size_t j = (i + 1) % n;
+            const Coord ay = by;
+            by = rot.y(p[j]);
+            if (ay == by) continue;
+            const double lo = double(std::min(ay, by)), hi = double(std::max(ay, by));
+            if (hi <= first || lo > last) continue;
             // Lines with lo <= y < hi cross the edge.
             const int k0 = std::max(0, static_cast<int>(std::ceil((lo - first) / spacing)));
             const int k1 =
                 std::min(count - 1, static_cast<int>(std::floor((hi - first) / spacing)));
+            if (k0 > k1) continue;
+            const Coord ax = rot.x(p[i]), bx = rot.x(p[j]);
             for (int k = k0; k <= k1; ++k) {
+                if (wanted && wanted->empty(k)) continue;
                 const double y = first + k * spacing;
                 if (y < lo || y >= hi) continue;
-                xs[k].push_back(a.X + (y - a.Y) * double(b.X - a.X) / double(b.Y - a.Y));
+                crossings.emplace_back(k, ax + (y - ay) * double(bx - ax) / double(by - ay));
             }
         }
-    std::vector<std::vector<std::pair<double, double>>> out(count);
+    }
+    // Crossings go to their rows by counting, then each row, a handful of values, is sorted:
+    // sorting them all as (row, x) pairs took a third of the scan.
+    std::vector<size_t> at(count + 1, 0);
+    for (const auto& c : crossings) ++at[c.first + 1];
+    for (int k = 0; k < count; ++k) at[k + 1] += at[k];
+    std::vector<double> xs(crossings.size());
+    {
+        std::vector<size_t> next(at.begin(), at.end() - 1);
+        for (const auto& [k, x] : crossings) xs[next[k]++] = x;
+    }
+    ScanRows out;
+    out.begin.assign(count + 1, 0);
     for (int k = 0; k < count; ++k) {
-        std::sort(xs[k].begin(), xs[k].end());
-        for (size_t i = 0; i + 1 < xs[k].size(); i += 2)
-            out[k].emplace_back(xs[k][i], xs[k][i + 1]);
+        std::sort(xs.begin() + at[k], xs.begin() + at[k + 1]);
+        for (size_t i = at[k]; i + 1 < at[k + 1]; i += 2)
+            out.intervals.emplace_back(xs[i], xs[i + 1]);
+        out.begin[k + 1] = out.intervals.size();
     }
     return out;
 }
 
-// Lines over `need` in the frame where they are horizontal; returns their total length.
-double horizontal_lines(const Paths& need, const Paths& span, Coord spacing, Paths* lines) {
-    const BBox2 b = bounds(need);
+// Lines over `need` in the frame turned by `rot`, where they are horizontal; returns their
+// total length. The lines are in the turned frame.
+double horizontal_lines(const Scanned& need, const Scanned& span, const Rotation& rot,
+                        Coord spacing, Paths* lines) {
+    const HeightRange b = height_range(need.region, rot);
     if (b.empty) return 0;
     double total = 0;
     const int count =
         std::max<int>(1, static_cast<int>(std::ceil(double(b.max_y - b.min_y) / spacing)));
     const double first = (b.min_y + b.max_y) / 2.0 - (count - 1) * spacing / 2.0 + 0.5;
-    const auto holes_at = scan_lines(need, first, double(spacing), count);
-    const auto spans_at = scan_lines(span, first, double(spacing), count);
+    const ScanRows holes = scan_lines(need, rot, first, double(spacing), count);
+    const ScanRows spans = scan_lines(span, rot, first, double(spacing), count, &holes);
     for (int k = 0; k < count; ++k) {
-        const auto& holes = holes_at[k];
-        if (holes.empty()) continue;
+        if (holes.empty(k)) continue;
+        const auto h0 = holes.intervals.begin() + holes.begin[k];
+        const auto h1 = holes.intervals.begin() + holes.begin[k + 1];
         const double y = first + k * double(spacing);
-        for (const auto& [x0, x1] : spans_at[k]) {
+        for (size_t s = spans.begin[k]; s < spans.begin[k + 1]; ++s) {
+            const auto [x0, x1] = spans.intervals[s];
             // Bounds copied for the lambda: clang 14 cannot capture structured bindings.
-            const bool over = std::any_of(
-                holes.begin(), holes.end(),
-                [lo = x0, hi = x1](const auto& h) { return h.second > lo && h.first < hi; });
+            const bool over = std::any_of(h0, h1, [lo = x0, hi = x1](const auto& h) {
+                return h.second > lo && h.first < hi;
+            });
             if (!over) continue;
             total += x1 - x0;
             if (lines) {
@@ -96,6 +202,64 @@ double horizontal_lines(const Paths& need, const Paths& span, Coord spacing, Pat
         }
     }
     return total;
+}
+
+// The paths of `region` whose boxes meet `box`. A path wholly outside the box, outer or hole,
+// changes no winding inside it, so a boolean whose result lies within the box may leave it out:
+// Clipper's cost grows with every path it is given, and a cavity has dozens of pieces.
+Paths paths_meeting(const Paths& region, const std::vector<BBox2>& boxes, const BBox2& box) {
+    Paths out;
+    for (size_t i = 0; i < region.size(); ++i)
+        if (overlap(boxes[i], box)) out.push_back(region[i]);
+    return out;
+}
+
+std::vector<BBox2> path_bounds(const Paths& region) {
+    std::vector<BBox2> boxes;
+    boxes.reserve(region.size());
+    for (const Path& p : region) boxes.push_back(bounds(Paths{p}));
+    return boxes;
+}
+
+// Splits a normalised region into the paths a boolean with the minima in `boxes` may change
+// and the others: paths whose boxes meet a minimum's box, then, transitively, every path whose
+// box meets one of those. An outer's holes lie in its box and a hole lies in its outer's box,
+// so the second part keeps each piece whole, and nothing of it comes near a minimum: the
+// boolean on the first part plus the second part untouched is the boolean on the region.
+// Clipper's cost grows with all it is given, and cavities have dozens of pieces.
+std::pair<Paths, Paths> split_near(const Paths& region, const std::vector<BBox2>& boxes) {
+    const std::vector<BBox2> own = path_bounds(region);
+    std::vector<char> near(region.size(), 0);
+    std::vector<size_t> todo;
+    for (size_t i = 0; i < region.size(); ++i)
+        if (std::any_of(boxes.begin(), boxes.end(),
+                        [&](const BBox2& b) { return overlap(own[i], b); })) {
+            near[i] = 1;
+            todo.push_back(i);
+        }
+    while (!todo.empty()) {
+        const size_t i = todo.back();
+        todo.pop_back();
+        for (size_t j = 0; j < region.size(); ++j)
+            if (!near[j] && overlap(own[i], own[j])) {
+                near[j] = 1;
+                todo.push_back(j);
+            }
+    }
+    std::pair<Paths, Paths> out;
+    for (size_t i = 0; i < region.size(); ++i)
+        (near[i] ? out.first : out.second).push_back(region[i]);
+    return out;
+}
+
+// `op` applied to the part of `region` near the minima in `boxes`, the rest of it kept as is.
+template <typename Op>
+Paths near_minima(const Paths& region, const std::vector<BBox2>& boxes, Op op) {
+    auto [near, far] = split_near(region, boxes);
+    if (far.empty()) return op(region);
+    Paths out = op(near);
+    out.insert(out.end(), std::make_move_iterator(far.begin()), std::make_move_iterator(far.end()));
+    return out;
 }
 
 double longest_line(const Paths& lines) {
@@ -149,10 +313,10 @@ Bridge plan_bridge(const Paths& need, const Paths& span, const BridgeOptions& op
     Bridge best;
     double best_length = -1;
     const double step = options.angle_step_deg > 0 ? options.angle_step_deg : 5;
+    const Scanned need_scan(need), span_scan(span);
     for (double angle = 0; angle < 180 - 1e-9; angle += step) {
         const Rotation rot(-angle);  // bring lines at `angle` to horizontal
-        const double len = horizontal_lines(rotated(need, rot, false), rotated(span, rot, false),
-                                            options.line_width, nullptr);
+        const double len = horizontal_lines(need_scan, span_scan, rot, options.line_width, nullptr);
         if (len > 0 && (best_length < 0 || len < best_length)) {
             best_length = len;
             best.angle_deg = angle;
@@ -162,9 +326,8 @@ Bridge plan_bridge(const Paths& need, const Paths& span, const BridgeOptions& op
     if (best_length < 0) return best;
     const Rotation rot(-best.angle_deg);
     Paths lines;
-    horizontal_lines(rotated(need, rot, false), rotated(span, rot, false), options.line_width,
-                     &lines);
-    best.lines = rotated(lines, rot, true);
+    horizontal_lines(need_scan, span_scan, rot, options.line_width, &lines);
+    best.lines = rotated_back(lines, rot);
     return best;
 }
 
@@ -176,19 +339,23 @@ void add_bridges(LayerPartition& layer, const LayerPartition* below, const Bridg
             unsupported_regions(layer.cavities[j], below->cavities[j], layer.carvable, options);
         if (needs.empty()) continue;
         const Paths holes = empty_holes(layer.cavities[j]);
-        Paths bridged;  // the minima given a bridge, merged into C^j at the end
+        const std::vector<BBox2> piece_boxes = path_bounds(layer.cavities[j]);
+        Paths bridged;                     // the minima given a bridge, merged into C^j at the end
+        std::vector<BBox2> bridged_boxes;  // one per minimum in `bridged`
+        std::vector<size_t> bridged_ends;  // where each minimum's paths end in `bridged`
         for (const Paths& need : needs) {
             // The lines run across the cavity with the minimum filled in, wall to wall. Lines
             // longer than max_length are dropped anyway, so the scan only needs the part of the
             // cavity around the minimum: large cavities would make every angle costly.
             const BBox2 b0 = bounds(need);
             const Coord m = options.max_length;
-            const Paths window{{{b0.min_x - m, b0.min_y - m},
-                                {b0.max_x + m, b0.min_y - m},
-                                {b0.max_x + m, b0.max_y + m},
-                                {b0.min_x - m, b0.max_y + m}}};
+            const BBox2 w{b0.min_x - m, b0.min_y - m, b0.max_x + m, b0.max_y + m, false};
+            const Paths window{
+                {{w.min_x, w.min_y}, {w.max_x, w.min_y}, {w.max_x, w.max_y}, {w.min_x, w.max_y}}};
             const Paths span = unite(
-                options.prune ? intersect(layer.cavities[j], window) : layer.cavities[j], need);
+                options.prune ? intersect(paths_meeting(layer.cavities[j], piece_boxes, w), window)
+                              : layer.cavities[j],
+                need);
             Bridge b = plan_bridge(need, span, options);
             if (b.lines.empty()) continue;
             // A span longer than a printer bridges sags worse than the small minimum it would
@@ -198,17 +365,34 @@ void add_bridges(LayerPartition& layer, const LayerPartition* below, const Bridg
             // An island fills (mostly) an empty hole of C^j; an edge-like minimum does not.
             b.island = std::abs(area(intersect(need, holes))) > 0.5 * std::abs(area(need));
             bridged.insert(bridged.end(), need.begin(), need.end());
+            bridged_boxes.push_back(b0);
+            bridged_ends.push_back(bridged.size());
             layer.bridges.push_back(std::move(b));
         }
         if (bridged.empty()) continue;
         layer.uncarved.clear();  // no longer the sweep's V^{j-1}
         // The minima join their cavity in this slice: nothing is printed over the void but the
         // bridge, and the slice above rests on the bridge. One boolean per cavity for all of
-        // them: big slices hold hundreds of minima.
-        layer.cavities[j] = unite(layer.cavities[j], bridged);
+        // them: big slices hold hundreds of minima. The other cavities and the remainder only
+        // lose the minima that come near them.
+        const auto near = [&](const Paths& region) {
+            const BBox2 box = bounds(region);
+            Paths out;
+            for (size_t n = 0, begin = 0; n < bridged_boxes.size(); begin = bridged_ends[n++])
+                if (overlap(bridged_boxes[n], box))
+                    out.insert(out.end(), bridged.begin() + begin,
+                               bridged.begin() + bridged_ends[n]);
+            return out;
+        };
+        const auto take_minima = [&](const Paths& region) {
+            return near_minima(region, bridged_boxes,
+                               [&](const Paths& part) { return subtract(part, near(part)); });
+        };
+        layer.cavities[j] = near_minima(layer.cavities[j], bridged_boxes,
+                                        [&](const Paths& part) { return unite(part, bridged); });
         for (size_t other = 0; other < layer.cavities.size(); ++other)
-            if (other != j) layer.cavities[other] = subtract(layer.cavities[other], bridged);
-        layer.remainder = subtract(layer.remainder, bridged);
+            if (other != j) layer.cavities[other] = take_minima(layer.cavities[other]);
+        layer.remainder = take_minima(layer.remainder);
     }
 }
 
