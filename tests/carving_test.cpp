@@ -1,9 +1,10 @@
 // Properties of the carving sweep on every layer of real and synthetic models (report section 3).
+#include "carving/carving.hpp"
+
 #include <gtest/gtest.h>
 
 #include <filesystem>
 
-#include "carving/carving.hpp"
 #include "geometry/morphology.hpp"
 #include "geometry/polygon.hpp"
 #include "mesh/mesh.hpp"
@@ -12,7 +13,9 @@ using namespace carve;
 
 namespace {
 
-std::string model(const std::string& name) { return std::string(CARVE_MODELS_DIR) + "/" + name; }
+std::string model(const std::string& name) {
+    return std::string(CARVE_MODELS_DIR) + "/" + name;
+}
 
 struct SweepFigures {
     int layers = 0;
@@ -55,8 +58,8 @@ SweepFigures sweep(const std::string& path, Settings settings) {
             f.cavity_mm3[j] += area_mm2(layer->cavities[j]) * h;
             sum += area(layer->cavities[j]);
             all = unite(all, layer->cavities[j]);
-            f.worst_cover_overlap_mm2 =
-                std::max(f.worst_cover_overlap_mm2, area_mm2(intersect(layer->cavities[j], layer->covers)));
+            f.worst_cover_overlap_mm2 = std::max(
+                f.worst_cover_overlap_mm2, area_mm2(intersect(layer->cavities[j], layer->covers)));
         }
         const double whole = area(layer->carvable);
         if (whole > 1e6) {  // above 1 mm^2: smaller slices only carry rounding noise
@@ -83,8 +86,8 @@ SweepFigures sweep(const std::string& path, Settings settings) {
                 const Paths grown = up.empty() ? Paths{} : dilate(up, reach);
                 for (const Paths& piece : components(layer->cavities[j])) {
                     if (!intersect(piece, up).empty()) {
-                        f.worst_tear_excess_mm2 = std::max(f.worst_tear_excess_mm2,
-                                                           area_mm2(subtract(piece, grown)));
+                        f.worst_tear_excess_mm2 =
+                            std::max(f.worst_tear_excess_mm2, area_mm2(subtract(piece, grown)));
                     } else {
                         const BBox2 b = bounds(piece);
                         f.widest_new_tear_mm =
@@ -121,7 +124,8 @@ TEST(Carving, SphereSixIterationsLeavesLittle) {
     double carved = 0;
     for (double v : f.cavity_mm3) carved += v;
     EXPECT_NEAR(carved + f.remainder_mm3, f.carvable_mm3, 1e-3 * f.carvable_mm3);
-    RecordProperty("remainder_percent_of_volume", std::to_string(100 * f.remainder_mm3 / f.model_mm3));
+    RecordProperty("remainder_percent_of_volume",
+                   std::to_string(100 * f.remainder_mm3 / f.model_mm3));
     std::printf("sphere: V^6 = %.2f %% of the model volume, carvable %.1f %%\n",
                 100 * f.remainder_mm3 / f.model_mm3, 100 * f.carvable_mm3 / f.model_mm3);
     EXPECT_LT(f.remainder_mm3, 0.05 * f.model_mm3);
@@ -132,7 +136,8 @@ TEST(Carving, SphereSixIterationsLeavesLittle) {
 TEST(Carving, FandiskEveryLayerIsAnExactSelfSupportingPartition) {
     Settings s;
     const SweepFigures f = sweep(model("fandisk.stl"), s);
-    std::printf("fandisk: V^6 = %.2f %% of the model volume\n", 100 * f.remainder_mm3 / f.model_mm3);
+    std::printf("fandisk: V^6 = %.2f %% of the model volume\n",
+                100 * f.remainder_mm3 / f.model_mm3);
     EXPECT_EQ(f.layers, 400);
     EXPECT_LT(f.worst_partition_error, 1e-4);
     EXPECT_LT(f.worst_support_violation_mm2, 0.001);

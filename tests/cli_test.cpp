@@ -11,18 +11,17 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <thread>
 
+#include "carve_run.hpp"
 #include "geometry/morphology.hpp"
 #include "geometry/polygon.hpp"
-#include <map>
 #include "mesh/mesh.hpp"
 #include "report/gcode_analysis.hpp"
 #include "slice/slicer.hpp"
-
-#include "carve_run.hpp"
 
 namespace fs = std::filesystem;
 using namespace carve;
@@ -30,14 +29,17 @@ using namespace carve::test;
 
 namespace {
 
-std::string model(const std::string& name) { return std::string(CARVE_MODELS_DIR) + "/" + name; }
+std::string model(const std::string& name) {
+    return std::string(CARVE_MODELS_DIR) + "/" + name;
+}
 
 }  // namespace
 
 TEST(Cli, EveryUnreadableFileGivesOneLineAndExitOneAndNoOutput) {
     for (const char* bad : {"empty.stl", "truncated.stl", "nan_coords.stl"}) {
         const fs::path gcode = scratch() / (std::string(bad) + ".gcode");
-        const CarveRun r = run_carve("slice " + model(std::string("bad/") + bad) + " -o " + gcode.string());
+        const CarveRun r =
+            run_carve("slice " + model(std::string("bad/") + bad) + " -o " + gcode.string());
         EXPECT_EQ(r.status, 1) << bad;
         EXPECT_EQ(lines(r.err), 1) << bad << ": " << r.err;
         EXPECT_NE(r.err.find("carve: "), std::string::npos);
@@ -49,11 +51,12 @@ TEST(Cli, EveryUnreadableFileGivesOneLineAndExitOneAndNoOutput) {
 }
 
 TEST(Cli, RepairableFilesSliceWithAWarning) {
-    for (const char* name : {"flipped_all_inward.stl", "flipped_some.stl", "open_cube_missing_top.stl",
-                             "degenerate_collapsed.stl", "nonmanifold_two_cubes_shared_edge.stl"}) {
+    for (const char* name :
+         {"flipped_all_inward.stl", "flipped_some.stl", "open_cube_missing_top.stl",
+          "degenerate_collapsed.stl", "nonmanifold_two_cubes_shared_edge.stl"}) {
         const fs::path gcode = scratch() / "repair.gcode";
-        const CarveRun r = run_carve("slice " + model(std::string("bad/") + name) + " -o " + gcode.string() +
-                            " --cavities 2");
+        const CarveRun r = run_carve("slice " + model(std::string("bad/") + name) + " -o " +
+                                     gcode.string() + " --cavities 2");
         EXPECT_EQ(r.status, 0) << name << ": " << r.err;
         EXPECT_NE(r.err.find("warning"), std::string::npos) << name;
         EXPECT_TRUE(fs::exists(gcode)) << name;
@@ -63,11 +66,11 @@ TEST(Cli, RepairableFilesSliceWithAWarning) {
 
 TEST(Cli, NonsenseOptionsAreRejectedInOneLine) {
     const fs::path gcode = scratch() / "opt.gcode";
-    for (const char* opts : {"--cavities lots", "--layer-height -1", "--walls triple",
-                             "--preset 9z9s", "--bed 10by10", "--printer nosuch", "--frobnicate",
-                             "--layer-height 0.8 --nozzle 0.4"}) {
+    for (const char* opts :
+         {"--cavities lots", "--layer-height -1", "--walls triple", "--preset 9z9s", "--bed 10by10",
+          "--printer nosuch", "--frobnicate", "--layer-height 0.8 --nozzle 0.4"}) {
         const CarveRun r = run_carve("slice " + model("synthetic/fig3_cube_indent.stl") + " -o " +
-                            gcode.string() + " " + opts);
+                                     gcode.string() + " " + opts);
         EXPECT_EQ(r.status, 1) << opts;
         EXPECT_EQ(lines(r.err), 1) << opts << ": " << r.err;
         EXPECT_FALSE(fs::exists(gcode)) << opts;
@@ -76,7 +79,8 @@ TEST(Cli, NonsenseOptionsAreRejectedInOneLine) {
 
 TEST(Cli, ModelLargerThanTheBedIsRefusedUnlessAsked) {
     const fs::path gcode = scratch() / "bed.gcode";
-    const std::string base = "slice " + model("synthetic/tall_box_30x30x80.stl") + " -o " + gcode.string();
+    const std::string base =
+        "slice " + model("synthetic/tall_box_30x30x80.stl") + " -o " + gcode.string();
     const CarveRun r = run_carve(base + " --bed 20x20");
     EXPECT_EQ(r.status, 1);
     EXPECT_NE(r.err.find("larger than the bed"), std::string::npos);
@@ -86,14 +90,14 @@ TEST(Cli, ModelLargerThanTheBedIsRefusedUnlessAsked) {
 
 TEST(Cli, StatsHaveTheContractFields) {
     const fs::path gcode = scratch() / "fig3.gcode", stats = scratch() / "fig3.json";
-    const CarveRun r = run_carve("slice " + model("synthetic/fig3_cube_indent.stl") + " -o " + gcode.string() +
-                        " --stats " + stats.string());
+    const CarveRun r = run_carve("slice " + model("synthetic/fig3_cube_indent.stl") + " -o " +
+                                 gcode.string() + " --stats " + stats.string());
     ASSERT_EQ(r.status, 0) << r.err;
     const auto j = nlohmann::json::parse(read(stats));
-    for (const char* key : {"model_volume_mm3", "triangles", "layers", "cavities", "bridges",
-                            "extruded_volume_mm3", "filament_length_mm", "filament_weight_g",
-                            "material_percent", "estimated_print_time_s", "processing_time_s",
-                            "peak_memory_mb"})
+    for (const char* key :
+         {"model_volume_mm3", "triangles", "layers", "cavities", "bridges", "extruded_volume_mm3",
+          "filament_length_mm", "filament_weight_g", "material_percent", "estimated_print_time_s",
+          "processing_time_s", "peak_memory_mb"})
         EXPECT_TRUE(j.contains(key)) << key;
     EXPECT_NEAR(j["model_volume_mm3"].get<double>(), 1620.0, 1.0);
     EXPECT_EQ(j["layers"].get<int>(), 60);
@@ -122,9 +126,8 @@ TEST(Cli, SameInputSameBytesWithOneToFiveThreads) {
     std::string one;
     for (int threads = 1; threads <= 5; ++threads) {
         const fs::path out = scratch() / fmt::format("t{}.gcode", threads);
-        ASSERT_EQ(run_carve(fmt::format("{} -o {} --threads {}", base, out.string(), threads))
-                      .status,
-                  0);
+        ASSERT_EQ(
+            run_carve(fmt::format("{} -o {} --threads {}", base, out.string(), threads)).status, 0);
         if (threads == 1) {
             one = read(out);
             EXPECT_GT(one.size(), 10000u);
@@ -160,8 +163,8 @@ TEST(Cli, KilledMidRunLeavesNoOutput) {
 // outside the model's own slice.
 TEST(Cli, FandiskPrintsHollowSupportedAndInsideTheModel) {
     const fs::path gcode = scratch() / "fandisk.gcode", stats = scratch() / "fandisk.json";
-    const CarveRun r = run_carve("slice " + model("fandisk.stl") + " -o " + gcode.string() + " --stats " +
-                        stats.string() + " --bed 200x200");
+    const CarveRun r = run_carve("slice " + model("fandisk.stl") + " -o " + gcode.string() +
+                                 " --stats " + stats.string() + " --bed 200x200");
     ASSERT_EQ(r.status, 0) << r.err;
     const auto j = nlohmann::json::parse(read(stats));
     const double material = j["material_percent"].get<double>();
@@ -181,9 +184,10 @@ TEST(Cli, FandiskPrintsHollowSupportedAndInsideTheModel) {
         return region;
     };
     const GcodeAnalysis a = analyse_gcode(gcode.string(), options);
-    std::printf("fandisk: unsupported %.3f %%, far-unsupported %.3f %%, outside %.3f mm2 (max %.3f mm)\n",
-                100 * a.unsupported_fraction, 100 * a.far_unsupported_fraction, a.outside_area_mm2,
-                a.max_outside_model_mm);
+    std::printf(
+        "fandisk: unsupported %.3f %%, far-unsupported %.3f %%, outside %.3f mm2 (max %.3f mm)\n",
+        100 * a.unsupported_fraction, 100 * a.far_unsupported_fraction, a.outside_area_mm2,
+        a.max_outside_model_mm);
     // PrusaSlicer's hollow shell leaves 0.427 % far-unsupported on this model, its lightning
     // infill 0.113 %; part of what remains is the model's own external overhang.
     EXPECT_LT(a.far_unsupported_fraction, 0.0025);
@@ -217,7 +221,8 @@ TEST(Cli, OuterWallIsCompleteOnEveryLayer) {
             if (word[0] == 'Y') ny = std::stod(word.substr(1));
             if (word[0] == 'E') ne = std::stod(word.substr(1)), has_e = true;
         }
-        if (has_e && ne > e && type == "External perimeter") printed[layer] += std::hypot(nx - x, ny - y);
+        if (has_e && ne > e && type == "External perimeter")
+            printed[layer] += std::hypot(nx - x, ny - y);
         x = nx, y = ny;
         if (has_e) e = ne;
     }

@@ -25,7 +25,6 @@
 #include "geometry/polygon.hpp"
 #include "mesh/mesh.hpp"
 #include "slice/slicer.hpp"
-
 #include "test_rng.hpp"
 
 using namespace carve;

@@ -18,11 +18,10 @@
 #include <string>
 #include <vector>
 
+#include "carve_run.hpp"
 #include "geometry/polygon.hpp"
 #include "mesh/mesh.hpp"
 #include "slice/slicer.hpp"
-
-#include "carve_run.hpp"
 
 namespace fs = std::filesystem;
 using namespace carve;
@@ -34,9 +33,7 @@ using Triangle = std::array<Vec3, 3>;
 
 // Axis-aligned box [x0,x1]x[y0,y1]x[z0,z1], twelve triangles counter-clockwise from outside.
 std::vector<Triangle> box(double x0, double y0, double z0, double x1, double y1, double z1) {
-    auto p = [&](int i) {
-        return Vec3{(i & 1) ? x1 : x0, (i & 2) ? y1 : y0, (i & 4) ? z1 : z0};
-    };
+    auto p = [&](int i) { return Vec3{(i & 1) ? x1 : x0, (i & 2) ? y1 : y0, (i & 4) ? z1 : z0}; };
     // Corner i has bit 0 = x, bit 1 = y, bit 2 = z; each quad is listed counter-clockwise.
     const int quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4},
                              {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
@@ -227,8 +224,8 @@ TEST(DiskFull, FileSizeLimitGivesOneLineAndLeavesNoFile) {
     const fs::path dir = scratch() / "full";
     fs::create_directories(dir);
     const fs::path gcode = dir / "full.gcode";
-    const CarveRun r = run_carve("slice " + stl.string() + " -o " + gcode.string() + " -q",
-                                 "ulimit -f 16;");
+    const CarveRun r =
+        run_carve("slice " + stl.string() + " -o " + gcode.string() + " -q", "ulimit -f 16;");
     expect_refused(r, gcode, "cannot write");
     EXPECT_TRUE(fs::is_empty(dir)) << leftovers(dir, "").size() << " files left";
     // And the previous G-code at that path survives a failed run untouched.
@@ -236,8 +233,8 @@ TEST(DiskFull, FileSizeLimitGivesOneLineAndLeavesNoFile) {
         std::ofstream old(gcode);
         old << "; an older print\n";
     }
-    const CarveRun again = run_carve("slice " + stl.string() + " -o " + gcode.string() + " -q",
-                                     "ulimit -f 16;");
+    const CarveRun again =
+        run_carve("slice " + stl.string() + " -o " + gcode.string() + " -q", "ulimit -f 16;");
     EXPECT_EQ(again.status, 1);
     EXPECT_EQ(read(gcode), "; an older print\n");
     EXPECT_EQ(leftovers(dir, "").size(), 1u);

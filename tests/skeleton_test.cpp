@@ -6,9 +6,7 @@
 // corner, so for a rectangle the four corner branches keep all but their first
 // threshold / (1 - sin 45deg) = 1.366 mm (default threshold 0.4 mm): 5 polylines. Nearly flat
 // vertices (noise) have a ~ 90 deg and their spokes vanish completely.
-#include "mesh/mesh.hpp"
 #include "skeleton/skeleton.hpp"
-#include "slice/slicer.hpp"
 
 #include <gtest/gtest.h>
 
@@ -28,9 +26,10 @@
 
 #include "geometry/morphology.hpp"
 #include "geometry/polygon.hpp"
+#include "mesh/mesh.hpp"
 #include "skeleton/axis_graph.hpp"
 #include "skeleton/skeleton_detail.hpp"
-
+#include "slice/slicer.hpp"
 #include "test_rng.hpp"
 
 using namespace carve;
@@ -461,7 +460,9 @@ carve::Mesh read_model(const std::string& path) {
     return carve::load_mesh(path, report);
 }
 
-Paths cut(const carve::Mesh& mesh, double z) { return carve::slice_at(mesh, z); }
+Paths cut(const carve::Mesh& mesh, double z) {
+    return carve::slice_at(mesh, z);
+}
 
 TEST(MedialAxis, RealSlicesAndTheirRemainders) {
     int calls = 0, retries = 0;

@@ -20,14 +20,14 @@ namespace carve {
 int sweep_iterations(const Settings& settings);
 
 class CarvingSweep : public LayerSource {
-public:
+  public:
     // Runs iterations first+1 .. first+count (all from `first` on when count < 0). A stage with
     // first > 0 continues from the remainder V^first_i its input left in the layer.
     CarvingSweep(LayerSource& input, const Settings& settings, int first = 0, int count = -1);
     // The next layer going down with its cavities appended and its remainder updated.
     std::optional<LayerPartition> next() override;
 
-private:
+  private:
     LayerSource& input_;
     const Settings& settings_;
     int first_;

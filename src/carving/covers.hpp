@@ -15,13 +15,13 @@
 namespace carve {
 
 class CarvableStream : public LayerSource {
-public:
+  public:
     CarvableStream(TopDownSlicer& slicer, const Settings& settings);
     // The next layer going down with outline, wall_region, shell_paths_region, carvable and
     // covers filled in; nothing after layer 0.
     std::optional<LayerPartition> next() override;
 
-private:
+  private:
     TopDownSlicer& slicer_;
     const Settings& settings_;
     // A slice of the window with its own erosions, made once when it enters: every layer of the

@@ -12,36 +12,36 @@ namespace carve {
 // A bridge over a local minimum (report 4.4): parallel lines across `region`, anchored on the
 // cavity boundary at both ends.
 struct Bridge {
-    int cavity = 0;      // j of the cavity C^j whose slice holds the minimum
-    Paths region;        // area that needs support (the filled hole / unsupported strip)
-    Paths lines;         // open polylines, printed in this order
+    int cavity = 0;  // j of the cavity C^j whose slice holds the minimum
+    Paths region;    // area that needs support (the filled hole / unsupported strip)
+    Paths lines;     // open polylines, printed in this order
     double angle_deg = 0;
     bool island = true;  // island minimum (true) or edge-like minimum (false)
 };
 
 struct LayerPartition {
-    int index = 0;   // i, bottom-up
-    double z = 0;    // cut height in mm, model coordinates
-    Paths outline;   // O_i: the model's slice
+    int index = 0;  // i, bottom-up
+    double z = 0;   // cut height in mm, model coordinates
+    Paths outline;  // O_i: the model's slice
     // The region bounded by the outer wall's centreline, O_i eroded by s. Its boundary is the
     // print path of C^0. In single-filament mode cavities are modelled inside it so that every
     // cavity boundary is a print path too.
     Paths wall_region;
-    Paths shell_paths_region;          // inside the extra shells (== wall_region when shells = 0)
-    Paths carvable;                    // O'_i = V^0_i: no cover near, inside the shells
-    Paths covers;                      // shell_paths_region minus carvable: printed solid
-    std::vector<Paths> cavities;       // C^1_i .. C^k_i, pairwise disjoint, inside carvable
-    Paths remainder;                   // V^k_i
+    Paths shell_paths_region;     // inside the extra shells (== wall_region when shells = 0)
+    Paths carvable;               // O'_i = V^0_i: no cover near, inside the shells
+    Paths covers;                 // shell_paths_region minus carvable: printed solid
+    std::vector<Paths> cavities;  // C^1_i .. C^k_i, pairwise disjoint, inside carvable
+    Paths remainder;              // V^k_i
     // V^0_i .. V^{k-1}_i, what was left before each iteration, as the sweep computed them: the
     // toolpath stage restricts the walls of C^j to V^{j-1} and need not redo the differences.
     // Empty when unknown (bridges changed the partition, or a hand-made layer).
     std::vector<Paths> uncarved;
-    std::vector<Bridge> bridges;       // filled in by the supports stage
+    std::vector<Bridge> bridges;  // filled in by the supports stage
 };
 
 // A stage that hands out layers one at a time, top down (the sweep, a queue between threads).
 class LayerSource {
-public:
+  public:
     virtual ~LayerSource() = default;
     virtual std::optional<LayerPartition> next() = 0;
 };

@@ -2,6 +2,7 @@
 //
 // Errors the user can act on (bad file, bad option) come out as one line on stderr and exit 1;
 // no partial output file is ever left behind (the G-code writer renames only when complete).
+#include <fmt/format.h>
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
@@ -10,8 +11,6 @@
 #include <fstream>
 #include <iostream>
 #include <map>
-
-#include <fmt/format.h>
 
 #include "core/error.hpp"
 #include "core/pipeline.hpp"
@@ -77,20 +76,22 @@ int main(int argc, char** argv) {
     // Past a file size limit (ulimit -f) the write fails with EFBIG and the writer cleans up and
     // says so; the default action of SIGXFSZ would kill the process and leave its temporary file.
     std::signal(SIGXFSZ, SIG_IGN);
-    CLI::App app{"carve: slices a mesh into G-code that prints it hollow, with nested "
-                 "self-supporting cavities instead of infill"};
+    CLI::App app{
+        "carve: slices a mesh into G-code that prints it hollow, with nested "
+        "self-supporting cavities instead of infill"};
     app.require_subcommand(1);
     app.set_version_flag("--version", "carve 0.1.0");
 
     carve::Settings settings;
     carve::RunOptions run;
     std::string stats_path, cavities_text = "6", walls_text = "single", preset, profile_path,
-                                        printer_name, flavor_text = "marlin", bed_text;
+                            printer_name, flavor_text = "marlin", bed_text;
     bool quiet = false, no_bed_check = false;
 
     CLI::App* slice = app.add_subcommand("slice", "Slice MODEL into hollow G-code (the main job)");
-    slice->add_option("model", run.model_path,
-                      "Mesh file: STL (binary or ASCII), OBJ or 3MF; millimetres [required]")
+    slice
+        ->add_option("model", run.model_path,
+                     "Mesh file: STL (binary or ASCII), OBJ or 3MF; millimetres [required]")
         ->required();
     slice->add_option("-o,--output", run.gcode_path, "G-code file to write [required]")->required();
     slice->add_option("--stats", stats_path, "Write the run's figures as JSON to this file [none]");
@@ -99,50 +100,62 @@ int main(int argc, char** argv) {
                       "on the command line win) [none]");
     slice->add_option("--printer", printer_name,
                       "Built-in printer preset: " + carve::printer_preset_names() + " [generic]");
-    slice->add_option("--preset", preset, "The report's presets: 2c0s (2 covers, no shell) or "
-                                          "3c1s (3 covers, 1 shell) [none: 2 covers, 0 shells]")
+    slice
+        ->add_option("--preset", preset,
+                     "The report's presets: 2c0s (2 covers, no shell) or "
+                     "3c1s (3 covers, 1 shell) [none: 2 covers, 0 shells]")
         ->check(CLI::IsMember({"2c0s", "3c1s"}));
     slice->add_option("--layer-height", settings.layer_height, "Layer height h, mm [0.2]")
         ->check(CLI::Range(0.01, 2.0));
     slice->add_option("--nozzle", settings.nozzle, "Nozzle diameter = line width w, mm [0.4]")
         ->check(CLI::Range(0.05, 3.0));
-    slice->add_option("--max-overhang", settings.max_overhang,
-                      "Largest overhang from vertical the printer bridges, degrees; the per-layer "
-                      "dilation is r = h * tan(angle) [45]")
+    slice
+        ->add_option("--max-overhang", settings.max_overhang,
+                     "Largest overhang from vertical the printer bridges, degrees; the per-layer "
+                     "dilation is r = h * tan(angle) [45]")
         ->check(CLI::Range(5.0, 75.0));
     slice->add_option("--cavities", cavities_text,
                       "Carving iterations k, or 'auto' (stop when the remainder erodes away at "
                       "the line width); 0 = a plain hollow shell [6]");
     slice->add_option("--covers", settings.covers, "Solid layers at tops and bottoms, layers [2]")
         ->check(CLI::Range(0, 50));
-    slice->add_option("--shells", settings.shells,
-                      "Extra perimeters inside the outer wall, lines [0]")
+    slice
+        ->add_option("--shells", settings.shells,
+                     "Extra perimeters inside the outer wall, lines [0]")
         ->check(CLI::Range(0, 20));
-    slice->add_option("--walls", walls_text,
-                      "Cavity walls: single (one filament, report 4.3) or double (4.1) [single]")
+    slice
+        ->add_option("--walls", walls_text,
+                     "Cavity walls: single (one filament, report 4.3) or double (4.1) [single]")
         ->check(CLI::IsMember({"single", "double"}));
     slice->add_option("--flavor", flavor_text, "G-code flavour: marlin, reprap or klipper [marlin]")
         ->check(CLI::IsMember({"marlin", "reprap", "klipper"}));
     slice->add_flag("--relative-e", settings.relative_e,
                     "Relative extrusion distances (M83) [off: absolute, M82]");
-    slice->add_option("--filament-diameter", settings.filament_diameter, "Filament diameter, mm [1.75]")
+    slice
+        ->add_option("--filament-diameter", settings.filament_diameter,
+                     "Filament diameter, mm [1.75]")
         ->check(CLI::Range(0.5, 5.0));
     slice->add_option("--bed", bed_text, "Bed size WxH, mm; the model is centred on it [250x210]");
     slice->add_flag("--no-bed-check", no_bed_check, "Allow a model larger than the bed [off]");
-    slice->add_option("--temperature", settings.nozzle_temperature,
-                      "Nozzle temperature after the first layer, C [210]")
+    slice
+        ->add_option("--temperature", settings.nozzle_temperature,
+                     "Nozzle temperature after the first layer, C [210]")
         ->check(CLI::Range(0, 450));
-    slice->add_option("--bed-temperature", settings.bed_temperature,
-                      "Bed temperature after the first layer, C [60]")
+    slice
+        ->add_option("--bed-temperature", settings.bed_temperature,
+                     "Bed temperature after the first layer, C [60]")
         ->check(CLI::Range(0, 150));
-    slice->add_option("--first-layer-temperature", settings.first_layer_nozzle_temperature,
-                      "Nozzle temperature on the first layer, C [215]")
+    slice
+        ->add_option("--first-layer-temperature", settings.first_layer_nozzle_temperature,
+                     "Nozzle temperature on the first layer, C [215]")
         ->check(CLI::Range(0, 450));
-    slice->add_option("--first-layer-bed-temperature", settings.first_layer_bed_temperature,
-                      "Bed temperature on the first layer, C [60]")
+    slice
+        ->add_option("--first-layer-bed-temperature", settings.first_layer_bed_temperature,
+                     "Bed temperature on the first layer, C [60]")
         ->check(CLI::Range(0, 150));
-    slice->add_option("--filament-density", settings.filament_density,
-                      "Filament density for the weight estimate, g/cm^3 [1.24]")
+    slice
+        ->add_option("--filament-density", settings.filament_density,
+                     "Filament density for the weight estimate, g/cm^3 [1.24]")
         ->check(CLI::Range(0.1, 20.0));
     slice->add_option("--travel-speed", settings.travel_speed, "Travel speed, mm/s [150]")
         ->check(CLI::Range(1.0, 1000.0));
@@ -154,16 +167,19 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(1.0, 1000.0));
     slice->add_option("--bridge-speed", settings.bridge_speed, "Bridge speed, mm/s [25]")
         ->check(CLI::Range(1.0, 1000.0));
-    slice->add_option("--first-layer-speed", settings.first_layer_speed,
-                      "First layer speed, mm/s [20]")
+    slice
+        ->add_option("--first-layer-speed", settings.first_layer_speed,
+                     "First layer speed, mm/s [20]")
         ->check(CLI::Range(1.0, 1000.0));
     slice->add_option("--acceleration", settings.acceleration, "Print acceleration, mm/s^2 [1000]")
         ->check(CLI::Range(10.0, 100000.0));
-    slice->add_option("--travel-acceleration", settings.travel_acceleration,
-                      "Travel acceleration, mm/s^2 [1500]")
+    slice
+        ->add_option("--travel-acceleration", settings.travel_acceleration,
+                     "Travel acceleration, mm/s^2 [1500]")
         ->check(CLI::Range(10.0, 100000.0));
-    slice->add_option("--max-print-speed", settings.max_print_speed,
-                      "Cap on every printing speed, mm/s [100]")
+    slice
+        ->add_option("--max-print-speed", settings.max_print_speed,
+                     "Cap on every printing speed, mm/s [100]")
         ->check(CLI::Range(1.0, 1000.0));
     slice->add_option("--retract-length", settings.retract_length, "Retraction, mm [0.8]")
         ->check(CLI::Range(0.0, 20.0));
@@ -171,10 +187,11 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(1.0, 500.0));
     slice->add_option("--z-hop", settings.z_hop, "Lift on travel with retraction, mm [0]")
         ->check(CLI::Range(0.0, 10.0));
-    slice->add_option("--tear-limit", settings.tear_limit,
-                      "How far a cavity may tear open along its seed per slice beyond the dilated "
-                      "cavity, mm; smaller leaves less unsupported but uses more material "
-                      "(the report proposes r/2 = 0.1) [0 = no limit]")
+    slice
+        ->add_option("--tear-limit", settings.tear_limit,
+                     "How far a cavity may tear open along its seed per slice beyond the dilated "
+                     "cavity, mm; smaller leaves less unsupported but uses more material "
+                     "(the report proposes r/2 = 0.1) [0 = no limit]")
         ->check(CLI::Range(0.0, 1000.0));
     slice->add_flag("!--keep-all-bridges", settings.prune_bridges,
                     "Keep bridges that the layer below already supports [off]");
@@ -182,34 +199,41 @@ int main(int argc, char** argv) {
                       "Write an HTML report (self-contained) to this file [none]");
     slice->add_option("--svg-layers", run.svg_dir,
                       "Write SVG pictures of some layers into DIR [none]");
-    slice->add_option("--svg-every", run.svg_every,
-                      "With --svg-layers: every N-th layer, layers [0: eight spread over the "
-                      "height]")
+    slice
+        ->add_option("--svg-every", run.svg_every,
+                     "With --svg-layers: every N-th layer, layers [0: eight spread over the "
+                     "height]")
         ->check(CLI::Range(0, 100000));
     slice->add_option("--raster", run.raster_dir,
                       "Write a PNG slice stack for resin printers, and its zip, into DIR [none]");
-    slice->add_option("--raster-pixel", run.raster_pixel_mm,
-                      "With --raster: pixel size (the printer's XY resolution), mm [0.05]")
+    slice
+        ->add_option("--raster-pixel", run.raster_pixel_mm,
+                     "With --raster: pixel size (the printer's XY resolution), mm [0.05]")
         ->check(CLI::Range(0.005, 1.0));
-    slice->add_option("--raster-min-wall", run.raster_min_wall_mm,
-                      "With --raster: thinnest wall the resin printer cures; cavity outlines are "
-                      "thickened to it, mm [0.4]")
+    slice
+        ->add_option("--raster-min-wall", run.raster_min_wall_mm,
+                     "With --raster: thinnest wall the resin printer cures; cavity outlines are "
+                     "thickened to it, mm [0.4]")
         ->check(CLI::Range(0.01, 10.0));
-    slice->add_option("--scale", settings.scale,
-                      "Scale the model uniformly by this factor, ratio [1]")
+    slice
+        ->add_option("--scale", settings.scale,
+                     "Scale the model uniformly by this factor, ratio [1]")
         ->check(CLI::Range(0.01, 100.0));
-    slice->add_option("--threads", settings.threads,
-                      "Pipeline threads: 1 runs every stage in turn, 2 plans bridges, toolpaths "
-                      "and G-code behind the carving sweep, 3 also splits the sweep after the "
-                      "first cavity, 4 also slices ahead of it, 5 also plans toolpaths behind "
-                      "the bridges, threads [5]")
+    slice
+        ->add_option("--threads", settings.threads,
+                     "Pipeline threads: 1 runs every stage in turn, 2 plans bridges, toolpaths "
+                     "and G-code behind the carving sweep, 3 also splits the sweep after the "
+                     "first cavity, 4 also slices ahead of it, 5 also plans toolpaths behind "
+                     "the bridges, threads [5]")
         ->check(CLI::Range(1, 5));
-    slice->add_option("--max-bridge-length", settings.max_bridge_length,
-                      "Longest span a bridge may have, mm; longer ones are left out [10]")
+    slice
+        ->add_option("--max-bridge-length", settings.max_bridge_length,
+                     "Longest span a bridge may have, mm; longer ones are left out [10]")
         ->check(CLI::Range(1.0, 500.0));
-    slice->add_option("--max-vertices-per-layer", settings.max_vertices_per_layer,
-                      "Give up when one slice has more contour vertices than this; 0 = no limit, "
-                      "vertices [5000000]")
+    slice
+        ->add_option("--max-vertices-per-layer", settings.max_vertices_per_layer,
+                     "Give up when one slice has more contour vertices than this; 0 = no limit, "
+                     "vertices [5000000]")
         ->check(CLI::NonNegativeNumber);
     slice->add_flag("-q,--quiet", quiet, "Print nothing but errors [off]");
 
@@ -223,8 +247,9 @@ int main(int argc, char** argv) {
     bool check_json = false;
     carve::GcodeAnalysisOptions check_options;
     CLI::App* check = app.add_subcommand(
-        "check", "Measure material and unsupported extrusion of any G-code file (carve's, "
-                 "PrusaSlicer's, Cura's)");
+        "check",
+        "Measure material and unsupported extrusion of any G-code file (carve's, "
+        "PrusaSlicer's, Cura's)");
     check->add_option("gcode", check_gcode, "G-code file [required]")->required();
     check->add_option("--support-radius", check_options.support_radius_mm,
                       "Overhang allowance r, mm [0.2]");
@@ -287,9 +312,7 @@ int main(int argc, char** argv) {
                                          std::pair{"end_gcode", &settings.end_gcode}})
             for (const std::string& u :
                  carve::expand_custom_gcode(*text, settings, at_end).unresolved)
-                if (!quiet)
-                    std::fprintf(stderr, "carve: note: %s: %s\n",
-                                 name, u.c_str());
+                if (!quiet) std::fprintf(stderr, "carve: note: %s: %s\n", name, u.c_str());
 
         if (cavities_text == "auto") {
             settings.cavities_auto = true;
@@ -300,12 +323,14 @@ int main(int argc, char** argv) {
                 if (used != cavities_text.size() || settings.cavities < 0 || settings.cavities > 64)
                     throw std::invalid_argument("range");
             } catch (const std::exception&) {
-                return fail(fmt::format("--cavities: expected a number from 0 to 64 or 'auto', got '{}'",
-                                        cavities_text));
+                return fail(
+                    fmt::format("--cavities: expected a number from 0 to 64 or 'auto', got '{}'",
+                                cavities_text));
             }
         }
         if (slice->count("--walls"))
-            settings.walls = walls_text == "double" ? carve::WallMode::Double : carve::WallMode::Single;
+            settings.walls =
+                walls_text == "double" ? carve::WallMode::Double : carve::WallMode::Single;
         if (slice->count("--flavor"))
             settings.flavor = flavor_text == "klipper"  ? carve::GcodeFlavor::Klipper
                               : flavor_text == "reprap" ? carve::GcodeFlavor::RepRap
@@ -315,8 +340,8 @@ int main(int argc, char** argv) {
             char x = 0, extra = 0;
             if (std::sscanf(bed_text.c_str(), "%lf%c%lf%c", &bx, &x, &by, &extra) != 3 ||
                 (x != 'x' && x != 'X') || !(bx > 0) || !(by > 0) || bx > 10000 || by > 10000)
-                return fail(fmt::format("--bed: expected WIDTHxDEPTH in mm such as 250x210, got '{}'",
-                                        bed_text));
+                return fail(fmt::format(
+                    "--bed: expected WIDTHxDEPTH in mm such as 250x210, got '{}'", bed_text));
             settings.bed_x = bx, settings.bed_y = by;
         }
         if (no_bed_check) settings.bed_check = false;

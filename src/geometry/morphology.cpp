@@ -14,11 +14,10 @@
 // contours: the region minus the inward swept edges and fans.
 #include "geometry/morphology.hpp"
 
-#include "core/stage_timer.hpp"
-
 #include <array>
 #include <numbers>
 
+#include "core/stage_timer.hpp"
 #include "geometry/polygon.hpp"
 
 namespace carve {
