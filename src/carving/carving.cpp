@@ -65,10 +65,10 @@ Paths start_of_tear(const Paths& lines, Coord step) {
 Paths components_not_covered(const std::vector<Paths>& comps, const Paths& uncovered) {
     std::vector<std::pair<BBox2, Point>> pieces;
     for (const Path& c : uncovered)
-        if (area(c) > 0) pieces.emplace_back(bounds(Paths{c}), c.front());
+        if (area(c) > 0) pieces.emplace_back(bounds(c), c.front());
     Paths out;
     for (const Paths& comp : comps) {
-        const BBox2 box = bounds(Paths{comp.front()});
+        const BBox2 box = bounds(comp.front());
         for (const auto& [piece_box, vertex] : pieces)
             if (overlap(box, piece_box) && point_in_region(vertex, comp)) {
                 out.insert(out.end(), comp.begin(), comp.end());

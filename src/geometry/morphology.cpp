@@ -115,11 +115,13 @@ Paths without_vanishing(const Paths& region, Coord radius) {
     const auto narrow = [radius](const BBox2& b) {
         return b.max_x - b.min_x < 2 * radius || b.max_y - b.min_y < 2 * radius;
     };
+    std::vector<double> areas(region.size());  // signed: outers > 0, holes < 0
     std::vector<size_t> dropped;
     std::vector<BBox2> dropped_box;
     for (size_t i = 0; i < region.size(); ++i) {
-        if (area(region[i]) <= 0) continue;
-        const BBox2 b = bounds(Paths{region[i]});
+        areas[i] = area(region[i]);
+        if (areas[i] <= 0) continue;
+        const BBox2 b = bounds(region[i]);
         if (narrow(b)) dropped.push_back(i), dropped_box.push_back(b);
     }
     if (dropped.empty()) return region;
@@ -133,8 +135,8 @@ Paths without_vanishing(const Paths& region, Coord radius) {
         }
         const Path& c = region[i];
         bool inside_dropped = false;
-        if (area(c) < 0 && !c.empty()) {
-            const BBox2 b = bounds(Paths{c});
+        if (areas[i] < 0 && !c.empty()) {
+            const BBox2 b = bounds(c);
             for (size_t d = 0; d < dropped.size() && !inside_dropped; ++d) {
                 const BBox2& o = dropped_box[d];
                 inside_dropped = b.min_x >= o.min_x && b.max_x <= o.max_x && b.min_y >= o.min_y &&

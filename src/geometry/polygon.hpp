@@ -13,7 +13,9 @@ namespace carve {
 double area(const Path& path);
 // Area of a region in square units: outer areas minus holes.
 double area(const Paths& region);
-inline double area_mm2(const Paths& region) { return area(region) / (kUnitsPerMm * kUnitsPerMm); }
+inline double area_mm2(const Paths& region) {
+    return area(region) / (kUnitsPerMm * kUnitsPerMm);
+}
 
 Paths unite(const Paths& a);  // self-union: resolves overlaps, non-zero fill
 Paths unite(const Paths& a, const Paths& b);
@@ -35,6 +37,7 @@ Paths clip_lines_outside(const Paths& lines, const Paths& region);
 // Removes duplicate and almost-collinear points (distance tolerance in units).
 Paths clean(const Paths& region, double tolerance = 1.415);
 
+BBox2 bounds(const Path& path);
 BBox2 bounds(const Paths& region);
 // Whether two boxes share at least a point (closed boxes; an empty box overlaps nothing).
 bool overlap(const BBox2& a, const BBox2& b);

@@ -5,10 +5,9 @@
 // for any printer, and Boost's Voronoi (int32) still covers +-2 km.
 #pragma once
 
-#include <polyclipping/clipper.hpp>
-
 #include <cmath>
 #include <cstdint>
+#include <polyclipping/clipper.hpp>
 #include <vector>
 
 namespace carve {
@@ -20,8 +19,12 @@ using Paths = ClipperLib::Paths;  // a planar region (contours with holes) or a 
 
 constexpr double kUnitsPerMm = 1000.0;
 
-inline Coord to_units(double mm) { return static_cast<Coord>(std::llround(mm * kUnitsPerMm)); }
-inline double to_mm(Coord units) { return static_cast<double>(units) / kUnitsPerMm; }
+inline Coord to_units(double mm) {
+    return static_cast<Coord>(std::llround(mm * kUnitsPerMm));
+}
+inline double to_mm(Coord units) {
+    return static_cast<double>(units) / kUnitsPerMm;
+}
 
 struct Vec3 {
     double x = 0, y = 0, z = 0;

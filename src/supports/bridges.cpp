@@ -217,7 +217,7 @@ Paths paths_meeting(const Paths& region, const std::vector<BBox2>& boxes, const 
 std::vector<BBox2> path_bounds(const Paths& region) {
     std::vector<BBox2> boxes;
     boxes.reserve(region.size());
-    for (const Path& p : region) boxes.push_back(bounds(Paths{p}));
+    for (const Path& p : region) boxes.push_back(bounds(p));
     return boxes;
 }
 
