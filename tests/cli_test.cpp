@@ -64,6 +64,24 @@ TEST(Cli, RepairableFilesSliceWithAWarning) {
     }
 }
 
+// A cube missing its top has a signed volume of 2/3 of the cube, but it is sliced closed: the
+// model volume (and so the material and carved percentages) must be the sliced one.
+TEST(Cli, OpenMeshVolumeIsTheSlicedVolume) {
+    const fs::path gcode = scratch() / "open.gcode", stats = scratch() / "open.json";
+    const CarveRun r = run_carve("slice " + model("bad/open_cube_missing_top.stl") + " -o " +
+                                 gcode.string() + " --stats " + stats.string());
+    ASSERT_EQ(r.status, 0) << r.err;
+    const auto j = nlohmann::json::parse(read(stats));
+    EXPECT_NEAR(j["model_volume_mm3"].get<double>(), 8000.0, 80.0);
+    const double percent = j["material_percent"].get<double>();
+    EXPECT_NEAR(percent, 100.0 * j["extruded_volume_mm3"].get<double>() / 8000.0, 1.0);
+    const size_t at = r.out.find(" carved ");
+    ASSERT_NE(at, std::string::npos) << r.out;
+    EXPECT_LT(std::stod(r.out.substr(at + 8)), 100.0) << r.out;
+    fs::remove(gcode);
+    fs::remove(stats);
+}
+
 TEST(Cli, NonsenseOptionsAreRejectedInOneLine) {
     const fs::path gcode = scratch() / "opt.gcode";
     for (const char* opts :

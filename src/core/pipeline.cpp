@@ -159,6 +159,7 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
     result.layer_material_mm3.assign(layer_count, 0.0);
     const double h = settings.layer_height;
     int done = 0;
+    double sliced_volume = 0;  // what the slices hold: the model's volume if the mesh is open
     while (auto layer = supports.next()) {
         LayerToolpaths paths = plan_layer(*layer, settings);
         if (svg) svg->add(*layer, &paths);
@@ -166,6 +167,7 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
         if (raster) raster->add_layer(*layer);
         writer.add_layer(paths);
 
+        sliced_volume += area_mm2(layer->outline) * h;
         result.carvable_volume_mm3 += area_mm2(layer->carvable) * h;
         for (size_t j = 0; j < layer->cavities.size(); ++j)
             result.cavity_volume_mm3[j] += area_mm2(layer->cavities[j]) * h;
@@ -191,6 +193,10 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
     }
     for (double v : result.cavity_volume_mm3)
         if (v > 0) ++result.cavities;
+    // An open mesh has no inside of its own: its signed volume depends on where the hole is
+    // (a cube missing its top gives 2/3 of the cube), while the slicer closes each slice with
+    // non-zero fill. What is printed, and what "% of the model" means, is the sliced volume.
+    if (!result.mesh.closed()) result.mesh.volume_mm3 = sliced_volume;
 
     double material = 0;
     for (double v : result.layer_material_mm3) material += v;
