@@ -470,6 +470,31 @@ TEST(MorphologyProperties, MatchesRoundOffsetWithinTheInscribedGap) {
         }
 }
 
+// The convolution against an independent construction of the same sum: the element swept along
+// every contour, united with the region for a dilation, taken from it for an erosion. Only the
+// union's rounding separates the two: the corners where translated edges cross are exact, not cut.
+TEST(MorphologyProperties, EqualsClipperMinkowskiSumOfTheContours) {
+    for (const Shape& s : zoo())
+        for (Coord a : kRadii) {
+            SCOPED_TRACE(s.name + " a=" + std::to_string(a));
+            // Clipper sums the element's boundary with the contour; the element at every vertex
+            // fills what that leaves inside (all of it around contours smaller than the element).
+            // (The overload for several paths would also fill each contour, holes included.)
+            Paths band;
+            for (const Path& contour : s.region) {
+                Paths piece;
+                ClipperLib::MinkowskiSum(disk(a), contour, piece, true);
+                for (const Point& v : contour) {
+                    piece.push_back(disk(a));
+                    for (Point& q : piece.back()) q.X += v.X, q.Y += v.Y;
+                }
+                band = unite(band, piece);
+            }
+            EXPECT_LE(hausdorff(dilate(s.region, a), unite(band, s.region), 10), 1.5);
+            EXPECT_LE(hausdorff(erode(s.region, a), subtract(s.region, band), 10), 1.5);
+        }
+}
+
 // How far D(a) + D(b) is from D(a + b): the element's vertices are rounded to integers.
 double element_mismatch(std::initializer_list<Coord> parts) {
     Coord total = 0;
