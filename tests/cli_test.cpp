@@ -33,6 +33,22 @@ std::string model(const std::string& name) {
     return std::string(CARVE_MODELS_DIR) + "/" + name;
 }
 
+// `carve slice` of a shared model with --stats; the stats are parsed only if it succeeded.
+struct StatsRun {
+    CarveRun run;
+    nlohmann::json stats;
+    fs::path gcode, stats_path;
+};
+StatsRun slice_with_stats(const std::string& name, const std::string& stem) {
+    StatsRun s;
+    s.gcode = scratch() / (stem + ".gcode");
+    s.stats_path = scratch() / (stem + ".json");
+    s.run = run_carve("slice " + model(name) + " -o " + s.gcode.string() + " --stats " +
+                      s.stats_path.string());
+    if (s.run.status == 0) s.stats = nlohmann::json::parse(read(s.stats_path));
+    return s;
+}
+
 }  // namespace
 
 TEST(Cli, EveryUnreadableFileGivesOneLineAndExitOneAndNoOutput) {
@@ -67,11 +83,8 @@ TEST(Cli, RepairableFilesSliceWithAWarning) {
 // A cube missing its top has a signed volume of 2/3 of the cube, but it is sliced closed: the
 // model volume (and so the material and carved percentages) must be the sliced one.
 TEST(Cli, OpenMeshVolumeIsTheSlicedVolume) {
-    const fs::path gcode = scratch() / "open.gcode", stats = scratch() / "open.json";
-    const CarveRun r = run_carve("slice " + model("bad/open_cube_missing_top.stl") + " -o " +
-                                 gcode.string() + " --stats " + stats.string());
+    const auto [r, j, gcode, stats] = slice_with_stats("bad/open_cube_missing_top.stl", "open");
     ASSERT_EQ(r.status, 0) << r.err;
-    const auto j = nlohmann::json::parse(read(stats));
     EXPECT_NEAR(j["model_volume_mm3"].get<double>(), 8000.0, 80.0);
     const double percent = j["material_percent"].get<double>();
     EXPECT_NEAR(percent, 100.0 * j["extruded_volume_mm3"].get<double>() / 8000.0, 1.0);
@@ -107,11 +120,8 @@ TEST(Cli, ModelLargerThanTheBedIsRefusedUnlessAsked) {
 }
 
 TEST(Cli, StatsHaveTheContractFields) {
-    const fs::path gcode = scratch() / "fig3.gcode", stats = scratch() / "fig3.json";
-    const CarveRun r = run_carve("slice " + model("synthetic/fig3_cube_indent.stl") + " -o " +
-                                 gcode.string() + " --stats " + stats.string());
+    const auto [r, j, gcode, stats] = slice_with_stats("synthetic/fig3_cube_indent.stl", "fig3");
     ASSERT_EQ(r.status, 0) << r.err;
-    const auto j = nlohmann::json::parse(read(stats));
     for (const char* key :
          {"model_volume_mm3", "triangles", "layers", "cavities", "bridges", "extruded_volume_mm3",
           "filament_length_mm", "filament_weight_g", "material_percent", "estimated_print_time_s",
