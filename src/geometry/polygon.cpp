@@ -133,35 +133,27 @@ Paths clean(const Paths& region, double tolerance) {
     return out;
 }
 
+void expand(BBox2& box, const BBox2& other) {
+    if (other.empty) return;
+    if (box.empty) {
+        box = other;
+        return;
+    }
+    box.min_x = std::min(box.min_x, other.min_x);
+    box.min_y = std::min(box.min_y, other.min_y);
+    box.max_x = std::max(box.max_x, other.max_x);
+    box.max_y = std::max(box.max_y, other.max_y);
+}
+
 BBox2 bounds(const Path& path) {
     BBox2 b;
-    for (const Point& q : path) {
-        if (b.empty) {
-            b = {q.X, q.Y, q.X, q.Y, false};
-            continue;
-        }
-        b.min_x = std::min(b.min_x, q.X);
-        b.min_y = std::min(b.min_y, q.Y);
-        b.max_x = std::max(b.max_x, q.X);
-        b.max_y = std::max(b.max_y, q.Y);
-    }
+    for (const Point& q : path) expand(b, {q.X, q.Y, q.X, q.Y, false});
     return b;
 }
 
 BBox2 bounds(const Paths& region) {
     BBox2 b;
-    for (const Path& p : region) {
-        const BBox2 c = bounds(p);
-        if (c.empty) continue;
-        if (b.empty) {
-            b = c;
-            continue;
-        }
-        b.min_x = std::min(b.min_x, c.min_x);
-        b.min_y = std::min(b.min_y, c.min_y);
-        b.max_x = std::max(b.max_x, c.max_x);
-        b.max_y = std::max(b.max_y, c.max_y);
-    }
+    for (const Path& p : region) expand(b, bounds(p));
     return b;
 }
 

@@ -39,6 +39,8 @@ Paths clean(const Paths& region, double tolerance = 1.415);
 
 BBox2 bounds(const Path& path);
 BBox2 bounds(const Paths& region);
+// Grows `box` to hold `other` too (an empty box holds nothing).
+void expand(BBox2& box, const BBox2& other);
 // Whether two boxes share at least a point (closed boxes; an empty box overlaps nothing).
 bool overlap(const BBox2& a, const BBox2& b);
 

@@ -1,7 +1,6 @@
 // The HTML report: per-layer reduction on arrival (numbers in memory, drawing spilled to a
 // temporary file), then one pass at the end that writes the page bottom up.
 #include "report/html_report.hpp"
-#include "report/svg.hpp"
 
 #include <fmt/format.h>
 
@@ -18,6 +17,7 @@
 #include "core/error.hpp"
 #include "geometry/polygon.hpp"
 #include "report/stats.hpp"
+#include "report/svg.hpp"
 
 namespace carve {
 
@@ -136,7 +136,6 @@ const char* cavity_color(int j) {
 int cavity_class(int j) {
     return (std::max(j - 1, 0) % int(kCavityColors.size())) + 1;
 }
-
 
 // Rounds to `digits` significant-looking decimals so the JSON stays short.
 double rounded(double v, int decimals) {
@@ -640,17 +639,7 @@ void HtmlReportWriter::add_layer(const LayerPartition& layer, const LayerToolpat
     // this layer has covers, 15 % grid in the rest of the interior.
     r.conventional_mm3 = 2 * r.perimeter_mm * w * h + r.covers_mm2 * h + 0.15 * r.carvable_mm2 * h;
 
-    const BBox2 b = bounds(layer.outline.empty() ? layer.wall_region : layer.outline);
-    if (!b.empty) {
-        if (m.box.empty) {
-            m.box = b;
-        } else {
-            m.box.min_x = std::min(m.box.min_x, b.min_x);
-            m.box.min_y = std::min(m.box.min_y, b.min_y);
-            m.box.max_x = std::max(m.box.max_x, b.max_x);
-            m.box.max_y = std::max(m.box.max_y, b.max_y);
-        }
-    }
+    expand(m.box, bounds(layer.outline.empty() ? layer.wall_region : layer.outline));
 
     // The first layer to arrive is the top one: its index tells how many will follow.
     if (m.expected_layers == 0) m.expected_layers = layer.index + 1;

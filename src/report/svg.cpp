@@ -51,7 +51,6 @@ std::string superscript(int n) {
     return out;
 }
 
-
 // Model micrometres to picture pixels.
 struct Frame {
     double min_x = 0, max_y = 0;      // um
@@ -93,19 +92,6 @@ void fill(std::string& svg, const char* cls, const Paths& region, const std::str
     svg += "\n";
 }
 
-void grow(BBox2& b, const Paths& paths) {
-    const BBox2 p = bounds(paths);
-    if (p.empty) return;
-    if (b.empty) {
-        b = p;
-        return;
-    }
-    b.min_x = std::min(b.min_x, p.min_x);
-    b.min_y = std::min(b.min_y, p.min_y);
-    b.max_x = std::max(b.max_x, p.max_x);
-    b.max_y = std::max(b.max_y, p.max_y);
-}
-
 // A readable scale bar length (1, 2, 5 x 10^k mm) near a fifth of the drawing's width.
 double scale_bar_mm(double width_mm) {
     const double target = std::max(width_mm / 5, 1e-3);
@@ -142,10 +128,10 @@ std::string layer_svg(const LayerPartition& layer, const LayerToolpaths* paths,
                       const SvgOptions& options) {
     if (!options.toolpaths) paths = nullptr;
     BBox2 box;
-    grow(box, layer.outline);
-    grow(box, layer.wall_region);
+    expand(box, bounds(layer.outline));
+    expand(box, bounds(layer.wall_region));
     if (paths)
-        for (const Extrusion& e : paths->extrusions) grow(box, Paths{e.points});
+        for (const Extrusion& e : paths->extrusions) expand(box, bounds(e.points));
     if (box.empty) box = {0, 0, 10000, 10000, false};  // an empty layer still gets a frame
 
     Frame f;
