@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "test_rng.hpp"
+
 using namespace carve;
 
 namespace {
@@ -171,4 +173,48 @@ TEST(Polygon, PointInRegionRespectsHolesAndIslands) {
     EXPECT_FALSE(point_in_region({-1, 5000}, r));    // outside
     EXPECT_TRUE(point_in_region({0, 5000}, r));      // on the boundary counts as inside
     EXPECT_FALSE(point_in_region({0, 0}, Paths{}));
+}
+
+// The wrappers clip groups of contours whose boxes do not overlap one by one; the result must be
+// what one Clipper pass over everything gives, for scattered, touching, overlapping and nested
+// pieces, with holes, under every operation.
+TEST(Polygon, GroupedBooleansEqualOneClipperPass) {
+    using namespace ClipperLib;
+    carve::test::Rng rng(7);
+    auto scatter = [&rng](int count) {
+        Paths out;
+        for (int i = 0; i < count; ++i) {
+            const Coord x = rng.integer(0, 40) * 500, y = rng.integer(0, 8) * 500;
+            const Coord side = rng.integer(1, 6) * 500;  // touching and overlapping neighbours
+            out.push_back(square(x, y, side));
+            if (side >= 2000 && rng.integer(0, 1))  // a hole, sometimes with an island
+                out.push_back(reversed(square(x + 500, y + 500, side - 1000)));
+        }
+        return unite(out);
+    };
+    auto one_pass = [](ClipType op, const Paths& a, const Paths* b) {
+        Clipper c;
+        c.AddPaths(a, ptSubject, true);
+        if (b) c.AddPaths(*b, ptClip, true);
+        Paths out;
+        c.Execute(op, out, pftNonZero, pftNonZero);
+        return out;
+    };
+    auto same = [](const Paths& got, const Paths& want) {
+        return std::abs(area(symmetric_difference(got, want))) == 0 &&
+               std::abs(area(got) - area(want)) == 0 && got.size() == want.size();
+    };
+    int grouped = 0;
+    for (int round = 0; round < 60; ++round) {
+        const Paths a = scatter(rng.integer(1, 12)), b = scatter(rng.integer(1, 12));
+        Paths both = a;
+        both.insert(both.end(), b.begin(), b.end());
+        grouped += components(a).size() > 1;
+        EXPECT_TRUE(same(intersect(a, b), one_pass(ctIntersection, a, &b))) << round;
+        EXPECT_TRUE(same(subtract(a, b), one_pass(ctDifference, a, &b))) << round;
+        EXPECT_TRUE(same(unite(a, b), one_pass(ctUnion, a, &b))) << round;
+        EXPECT_TRUE(same(unite(both), one_pass(ctUnion, both, nullptr))) << round;
+        EXPECT_TRUE(same(symmetric_difference(a, b), one_pass(ctXor, a, &b))) << round;
+    }
+    EXPECT_GT(grouped, 30);  // most rounds have pieces apart, which the grouping splits
 }

@@ -2,6 +2,7 @@
 #include "geometry/polygon.hpp"
 
 #include <algorithm>
+#include <iterator>
 
 #include "core/stage_timer.hpp"
 
@@ -11,13 +12,75 @@ using namespace ClipperLib;
 
 namespace {
 
-Paths run(ClipType op, const Paths& subject, const Paths* clip, PolyFillType fill) {
-    StageTimer timer(Stage::kBoolean);
+Paths run_clipper(ClipType op, const Paths& subject, const Paths* clip, PolyFillType fill) {
     Clipper c;
     c.AddPaths(subject, ptSubject, true);
     if (clip) c.AddPaths(*clip, ptClip, true);
     Paths out;
     c.Execute(op, out, fill, fill);
+    return out;
+}
+
+// Clipper's sweep costs about (scanbeams) x (edges active on a scanline), so pieces side by
+// side make each other's scanbeams dearer. The winding number at a point only depends on the
+// contours whose boxes hold it, so groups of contours whose boxes do not overlap any other
+// group's are independent: each is clipped alone and the results are concatenated, exactly.
+// Late in the sweep a slice's cavities and remainder are dozens of pieces across the slice.
+Paths run(ClipType op, const Paths& subject, const Paths* clip, PolyFillType fill) {
+    StageTimer timer(Stage::kBoolean);
+    const size_t ns = subject.size(), n = ns + (clip ? clip->size() : 0);
+    if (n < 3) return run_clipper(op, subject, clip, fill);
+    struct Group {
+        BBox2 box;
+        std::vector<size_t> members;  // indices: subject first, then clip
+        bool merged = false;
+    };
+    std::vector<Group> groups;
+    std::vector<size_t> hits;
+    for (size_t i = 0; i < n; ++i) {
+        const Path& p = i < ns ? subject[i] : (*clip)[i - ns];
+        if (p.empty()) continue;
+        const BBox2 b = bounds(p);
+        hits.clear();
+        for (size_t g = 0; g < groups.size(); ++g)
+            if (!groups[g].merged && overlap(groups[g].box, b)) hits.push_back(g);
+        if (hits.empty()) {
+            groups.push_back({b, {i}});
+            continue;
+        }
+        Group& into = groups[hits.front()];
+        expand(into.box, b);
+        into.members.push_back(i);
+        for (size_t h = 1; h < hits.size(); ++h) {
+            Group& from = groups[hits[h]];
+            expand(into.box, from.box);
+            into.members.insert(into.members.end(), from.members.begin(), from.members.end());
+            from.merged = true;
+            from.members.clear();
+        }
+    }
+    size_t live = 0;
+    for (const Group& g : groups) live += !g.merged;
+    if (live <= 1) return run_clipper(op, subject, clip, fill);
+    Paths out;
+    for (const Group& g : groups) {
+        if (g.merged) continue;
+        size_t subjects = 0;
+        for (size_t i : g.members) subjects += i < ns;
+        const size_t clips = g.members.size() - subjects;
+        if (subjects == 0 && op != ctUnion && op != ctXor) continue;
+        if (clips == 0 && op == ctIntersection) continue;
+        Clipper c;
+        for (size_t i : g.members) {
+            if (i < ns)
+                c.AddPath(subject[i], ptSubject, true);
+            else
+                c.AddPath((*clip)[i - ns], ptClip, true);
+        }
+        Paths part;
+        c.Execute(op, part, fill, fill);
+        std::move(part.begin(), part.end(), std::back_inserter(out));
+    }
     return out;
 }
 
