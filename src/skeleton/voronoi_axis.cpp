@@ -19,9 +19,11 @@
 #include <algorithm>
 #include <boost/polygon/voronoi.hpp>
 #include <cmath>
+#include <limits>
 #include <optional>
 
 #include "core/stage_timer.hpp"
+#include "skeleton/circle_events.hpp"
 
 namespace carve::skel {
 
@@ -124,85 +126,6 @@ class GuardedDiagram : public bp::voronoi_diagram<double> {
 struct VertexKey {
     Coord x, y;
     int seg;
-};
-
-// Circle events computed in a frame local to their three sites.
-//
-// Boost's fast (lazy) circle formulas work in absolute coordinates: the terms are products of
-// the sites' coordinates, and the centre comes out of their difference. Its error estimate then
-// grows with the distance from the origin over the circle's size, and on our contours (arcs of
-// the element's dilations, small against the slice) most PSS and SSS events failed it and were
-// redone in Boost's exact big-integer arithmetic: two thirds of the Voronoi time on cat. The
-// same formulas on sites translated next to the origin (an exact integer shift) pass the
-// estimate far more often; an event that still fails it is redone exactly, as before. Moved
-// back, the centre and the event's x keep the accuracy Boost's estimate asks for.
-template <typename Site, typename Circle>
-class LocalCircles {
-  public:
-    using Lazy =
-        typename bp::detail::voronoi_predicates<bp::detail::voronoi_ctype_traits<int32_t>>::
-            template lazy_circle_formation_functor<Site, Circle>;
-
-    void ppp(const Site& a, const Site& b, const Site& c, Circle& circle) {
-        lazy_.ppp(a, b, c, circle);
-    }
-    void pps(const Site& a, const Site& b, const Site& c, int index, Circle& circle) {
-        lazy_.pps(a, b, c, index, circle);
-    }
-    void pss(const Site& a, const Site& b, const Site& c, int index, Circle& circle) {
-        Shift shift;
-        if (!shift.fit({&a, &b, &c})) return lazy_.pss(a, b, c, index, circle);
-        lazy_.pss(shift(a), shift(b), shift(c), index, circle);
-        shift.back(circle);
-    }
-    void sss(const Site& a, const Site& b, const Site& c, Circle& circle) {
-        Shift shift;
-        if (!shift.fit({&a, &b, &c})) return lazy_.sss(a, b, c, circle);
-        lazy_.sss(shift(a), shift(b), shift(c), circle);
-        shift.back(circle);
-    }
-
-  private:
-    // Puts the sites' box at [span, 2 span] on both axes: near the origin, but with the centres
-    // of the circles they make (near the sites) well away from the axes x = 0 and y = 0, where
-    // the relative error of a centre coordinate would blow up.
-    struct Shift {
-        int64_t ox = 0, oy = 0;
-        bool fit(std::initializer_list<const Site*> sites) {
-            int64_t min_x = INT64_MAX, min_y = INT64_MAX, max_x = INT64_MIN, max_y = INT64_MIN;
-            for (const Site* s : sites)
-                for (const auto& p : {s->point0(), s->point1()}) {
-                    min_x = std::min<int64_t>(min_x, p.x()),
-                    max_x = std::max<int64_t>(max_x, p.x());
-                    min_y = std::min<int64_t>(min_y, p.y()),
-                    max_y = std::max<int64_t>(max_y, p.y());
-                }
-            const int64_t span = std::max(max_x - min_x, max_y - min_y) + 1;
-            if (span > (int64_t(1) << 28)) return false;  // keep 2 span within int32
-            ox = min_x - span, oy = min_y - span;
-            return true;
-        }
-        Site operator()(const Site& s) const {
-            return Site(int32_t(s.x0() - ox), int32_t(s.y0() - oy), int32_t(s.x1() - ox),
-                        int32_t(s.y1() - oy));
-        }
-        void back(Circle& c) const {
-            c.x(c.x() + double(ox));
-            c.y(c.y() + double(oy));
-            c.lower_x(c.lower_x() + double(ox));
-        }
-    };
-    Lazy lazy_;
-};
-
-using BoostPredicates = bp::detail::voronoi_predicates<bp::detail::voronoi_ctype_traits<int32_t>>;
-
-// Boost's predicates with LocalCircles for the circle events.
-struct LocalPredicates : BoostPredicates {
-    template <typename Site, typename Circle>
-    using circle_formation_predicate = BoostPredicates::circle_formation_predicate<
-        Site, Circle, BoostPredicates::circle_existence_predicate<Site>,
-        LocalCircles<Site, Circle>>;
 };
 
 }  // namespace
