@@ -518,11 +518,65 @@ TEST(Toolpath, UncarvedRemainderIsFilledSolid) {
         if (!clip_lines(Paths{e.points}, solid).empty()) inside += len;
     }
     // Lines at spacing w over the remainder: about its area / w of length.
-    EXPECT_NEAR(total / kMm, area_mm2(l.remainder) / st.nozzle, 0.15 * area_mm2(l.remainder) / st.nozzle);
+    EXPECT_NEAR(total / kMm, area_mm2(l.remainder) / st.nozzle,
+                0.15 * area_mm2(l.remainder) / st.nozzle);
     EXPECT_NEAR(inside, total, 1e-6 * total);
 
     l.remainder.clear();  // fully carved: nothing solid inside
     const LayerToolpaths empty = plan_layer(l, st);
     EXPECT_TRUE(std::none_of(empty.extrusions.begin(), empty.extrusions.end(),
                              [](const Extrusion& e) { return e.feature == Feature::Cover; }));
+}
+
+// plan_layer opens only the cavity's pieces near V^j and erodes only V^{j-1}'s pieces around
+// them (a wall point is within s' of V^j). On slices of scattered pieces, some carved whole and
+// some in part, with and without the sweep's V^{j-1}, the walls must be those of the whole
+// cavity: boundary of the opened cavity where it lies t inside V^{j-1}.
+TEST(Toolpath, CavityWallsOnlyNearWhatTheCavityLeavesAreAllTheWalls) {
+    Settings st;
+    std::mt19937 rng(5);
+    std::uniform_int_distribution<int> pos(-9, 7), size(1, 3), coin(0, 2);
+    for (int round = 0; round < 20; ++round) {
+        LayerPartition l = square_layer(st);
+        Paths pieces;
+        for (int k = 0; k < 10; ++k) {
+            const Coord x = pos(rng) * kMm, y = pos(rng) * kMm, a = size(rng) * kMm;
+            pieces = unite(pieces, rect(x, y, x + a, y + a));
+        }
+        l.carvable = intersect(l.carvable, pieces);
+        // C^1 takes some pieces whole and cuts others; C^2 takes part of what is left.
+        Paths c1;
+        for (const Paths& comp : components(l.carvable)) {
+            const int c = coin(rng);
+            const BBox2 b = bounds(comp);
+            if (c == 0) c1.insert(c1.end(), comp.begin(), comp.end());
+            if (c == 1)
+                c1 = unite(
+                    c1, intersect(comp, rect(b.min_x, b.min_y, (b.min_x + b.max_x) / 2, b.max_y)));
+        }
+        const Paths v1 = subtract(l.carvable, c1);
+        const Paths c2 = intersect(v1, rect(-10 * kMm, -10 * kMm, 10 * kMm, 2 * kMm));
+        l.cavities = {c1, c2};
+        l.remainder = subtract(v1, c2);
+        const bool swept = round % 2 == 0;
+        if (swept) l.uncarved = {l.carvable, v1};
+        const LayerToolpaths t = plan_layer(l, st);
+        const Paths* uncarved[2] = {&l.carvable, &v1};
+        for (int j = 0; j < 2; ++j) {
+            double want = 0;
+            for (const WallPiece& w :
+                 restrict_loops(clean(open(l.cavities[j], st.opening()), 5.0),
+                                erode(*uncarved[j], st.restriction()), to_units(st.wall_extension),
+                                2.0 * double(st.line_width())))
+                want += length(Paths{w.points}, w.closed);
+            double got = 0;
+            for (const Extrusion& e : t.extrusions)
+                if (e.feature == Feature::CavityWall && e.cavity == j + 1)
+                    got += length(Paths{e.points}, e.closed);
+            EXPECT_NEAR(got, want, 1e-6 * want + 1) << "round " << round << " cavity " << j + 1;
+            if (j == 0) {
+                EXPECT_GT(want, 0) << round;
+            }
+        }
+    }
 }

@@ -12,33 +12,19 @@ using namespace ClipperLib;
 
 namespace {
 
-Paths run_clipper(ClipType op, const Paths& subject, const Paths* clip, PolyFillType fill) {
-    Clipper c;
-    c.AddPaths(subject, ptSubject, true);
-    if (clip) c.AddPaths(*clip, ptClip, true);
-    Paths out;
-    c.Execute(op, out, fill, fill);
-    return out;
-}
-
-// Clipper's sweep costs about (scanbeams) x (edges active on a scanline), so pieces side by
-// side make each other's scanbeams dearer. The winding number at a point only depends on the
-// contours whose boxes hold it, so groups of contours whose boxes do not overlap any other
-// group's are independent: each is clipped alone and the results are concatenated, exactly.
-// Late in the sweep a slice's cavities and remainder are dozens of pieces across the slice.
-Paths run(ClipType op, const Paths& subject, const Paths* clip, PolyFillType fill) {
-    StageTimer timer(Stage::kBoolean);
-    const size_t ns = subject.size(), n = ns + (clip ? clip->size() : 0);
-    if (n < 3) return run_clipper(op, subject, clip, fill);
+// The transitive closure of "boxes overlap" over n non-empty contours (empty ones are left
+// out): lists of indices, in first-seen order.
+template <typename PathAt>
+std::vector<std::vector<size_t>> box_groups(size_t n, PathAt path_at) {
     struct Group {
         BBox2 box;
-        std::vector<size_t> members;  // indices: subject first, then clip
+        std::vector<size_t> members;
         bool merged = false;
     };
     std::vector<Group> groups;
     std::vector<size_t> hits;
     for (size_t i = 0; i < n; ++i) {
-        const Path& p = i < ns ? subject[i] : (*clip)[i - ns];
+        const Path& p = path_at(i);
         if (p.empty()) continue;
         const BBox2 b = bounds(p);
         hits.clear();
@@ -59,19 +45,43 @@ Paths run(ClipType op, const Paths& subject, const Paths* clip, PolyFillType fil
             from.members.clear();
         }
     }
-    size_t live = 0;
-    for (const Group& g : groups) live += !g.merged;
-    if (live <= 1) return run_clipper(op, subject, clip, fill);
+    std::vector<std::vector<size_t>> out;
+    for (Group& g : groups)
+        if (!g.merged) out.push_back(std::move(g.members));
+    return out;
+}
+
+Paths run_clipper(ClipType op, const Paths& subject, const Paths* clip, PolyFillType fill) {
+    Clipper c;
+    c.AddPaths(subject, ptSubject, true);
+    if (clip) c.AddPaths(*clip, ptClip, true);
     Paths out;
-    for (const Group& g : groups) {
-        if (g.merged) continue;
+    c.Execute(op, out, fill, fill);
+    return out;
+}
+
+// Clipper's sweep costs about (scanbeams) x (edges active on a scanline), so pieces side by
+// side make each other's scanbeams dearer. The winding number at a point only depends on the
+// contours whose boxes hold it, so groups of contours whose boxes do not overlap any other
+// group's (box_groups) are independent: each is clipped alone and the results are
+// concatenated, exactly. Late in the sweep a slice's cavities and remainder are dozens of
+// pieces across the slice.
+Paths run(ClipType op, const Paths& subject, const Paths* clip, PolyFillType fill) {
+    StageTimer timer(Stage::kBoolean);
+    const size_t ns = subject.size(), n = ns + (clip ? clip->size() : 0);
+    if (n < 3) return run_clipper(op, subject, clip, fill);
+    const std::vector<std::vector<size_t>> groups = box_groups(
+        n, [&](size_t i) -> const Path& { return i < ns ? subject[i] : (*clip)[i - ns]; });
+    if (groups.size() <= 1) return run_clipper(op, subject, clip, fill);
+    Paths out;
+    for (const std::vector<size_t>& members : groups) {
         size_t subjects = 0;
-        for (size_t i : g.members) subjects += i < ns;
-        const size_t clips = g.members.size() - subjects;
+        for (size_t i : members) subjects += i < ns;
+        const size_t clips = members.size() - subjects;
         if (subjects == 0 && op != ctUnion && op != ctXor) continue;
         if (clips == 0 && op == ctIntersection) continue;
         Clipper c;
-        for (size_t i : g.members) {
+        for (size_t i : members) {
             if (i < ns)
                 c.AddPath(subject[i], ptSubject, true);
             else
@@ -235,6 +245,17 @@ double length(const Paths& paths, bool closed) {
             len += std::hypot(double(p.front().X - p.back().X), double(p.front().Y - p.back().Y));
     }
     return len;
+}
+
+std::vector<Paths> clusters(const Paths& region) {
+    std::vector<Paths> out;
+    for (const std::vector<size_t>& members :
+         box_groups(region.size(), [&](size_t i) -> const Path& { return region[i]; })) {
+        Paths& cluster = out.emplace_back();
+        cluster.reserve(members.size());
+        for (size_t i : members) cluster.push_back(region[i]);
+    }
+    return out;
 }
 
 std::vector<Paths> components(const Paths& region) {

@@ -49,6 +49,10 @@ double length(const Paths& paths, bool closed);
 
 // The outer contours with their holes, one region per connected component.
 std::vector<Paths> components(const Paths& region);
+// The region split where no contour's box overlaps another part's: each cluster is a union of
+// whole components (a hole's box lies in its outer's), found without a boolean. Operations
+// local to components (morphology, booleans) can run cluster by cluster.
+std::vector<Paths> clusters(const Paths& region);
 
 // Holes of a region that contain nothing else of the region (no island inside), as
 // counter-clockwise contours. Used for island local minima.

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <limits>
 
 #include "core/stage_timer.hpp"
@@ -36,6 +37,23 @@ void add_loops(const Paths& region, Feature feature, int cavity, double min_leng
         e.points = loop;
         e.closed = true;
         e.cavity = cavity;
+        out.push_back(std::move(e));
+    }
+}
+
+// The single wall of a cavity (report 4.1): the boundary of the cavity opened by s', where it
+// lies at least t inside V^{j-1} (`uncarved`).
+void add_cavity_walls(const Paths& cavity, const Paths& uncarved, const Settings& settings,
+                      int index, double min_length, std::vector<Extrusion>& out) {
+    const Paths smoothed = clean(open(cavity, settings.opening()), kSimplify);
+    const Paths restriction = erode(uncarved, settings.restriction());
+    for (WallPiece& piece :
+         restrict_loops(smoothed, restriction, to_units(settings.wall_extension), min_length)) {
+        Extrusion e;
+        e.feature = Feature::CavityWall;
+        e.points = std::move(piece.points);
+        e.closed = piece.closed;
+        e.cavity = index;
         out.push_back(std::move(e));
     }
 }
@@ -157,7 +175,8 @@ LayerToolpaths plan_layer(const LayerPartition& layer, const Settings& settings)
 
     // 3. Cavity walls, C^1 .. C^k in the order they were modelled (4.2).
     std::vector<std::vector<Extrusion>> cavity_walls(layer.cavities.size());
-    Paths remaining = layer.carvable;  // V^{j-1}
+    Paths remaining = layer.carvable;  // V^{j-1} when the bridges changed the partition
+    Paths next;                        // and then V^j
     const bool swept = layer.uncarved.size() == layer.cavities.size();
     for (size_t j = 0; j < layer.cavities.size(); ++j) {
         const Paths& cavity = layer.cavities[j];
@@ -168,26 +187,51 @@ LayerToolpaths plan_layer(const LayerPartition& layer, const Settings& settings)
                       min_length, cavity_walls[j]);
             continue;
         }
-        // Where the cavity took all of V^{j-1} (its propagation covered it) there is no wall to
-        // print: every point of the opened cavity's boundary lies within s' of V^{j-1}'s
-        // boundary (a point further in would be inside a disk of radius s' in the cavity), and
-        // the restriction keeps only what is t > s' inside it. On cat that is a quarter of the
-        // cavities, each an opening and an erosion saved.
-        if (swept && settings.opening() < settings.restriction() && cavity == layer.uncarved[j])
-            continue;
-        const Paths smoothed = clean(open(cavity, settings.opening()), kSimplify);
-        const Paths restriction =
-            erode(swept ? layer.uncarved[j] : remaining, settings.restriction());
-        for (WallPiece& piece :
-             restrict_loops(smoothed, restriction, to_units(settings.wall_extension), min_length)) {
-            Extrusion e;
-            e.feature = Feature::CavityWall;
-            e.points = std::move(piece.points);
-            e.closed = piece.closed;
-            e.cavity = index;
-            cavity_walls[j].push_back(std::move(e));
+        const Paths& uncarved = swept ? layer.uncarved[j] : remaining;  // V^{j-1}
+        if (!swept) next = subtract(remaining, cavity);
+        const Coord opening = settings.opening();
+        if (opening >= settings.restriction()) {
+            add_cavity_walls(cavity, uncarved, settings, index, min_length, cavity_walls[j]);
+        } else {
+            // Every wall point lies within s' of V^j, what the cavity leaves of V^{j-1}: a
+            // point of the opened cavity's boundary is within s' of the cavity's boundary (a
+            // point further in is inside a disk of radius s' in the cavity), and where that
+            // boundary is V^{j-1}'s, within s' < t of it, which the restriction drops. So
+            // only the cavity's clusters near V^j are opened, and only V^{j-1}'s clusters
+            // holding them are eroded; a cavity that took all of V^{j-1} has no wall. On
+            // fandisk that spares most of the openings.
+            const Paths& left = !swept                          ? next
+                                : j + 1 < layer.cavities.size() ? layer.uncarved[j + 1]
+                                                                : layer.remainder;  // V^j
+            std::vector<BBox2> reach;
+            for (const Path& p : left) {
+                if (area(p) <= 0) continue;  // a hole's box lies in its outer's
+                BBox2 b = bounds(p);
+                const Coord m = opening + 2;  // and Clipper's rounding
+                reach.push_back({b.min_x - m, b.min_y - m, b.max_x + m, b.max_y + m, false});
+            }
+            Paths near;
+            std::vector<BBox2> near_boxes;
+            for (Paths& cluster : clusters(cavity)) {
+                const BBox2 b = bounds(cluster);
+                if (std::none_of(reach.begin(), reach.end(),
+                                 [&](const BBox2& r) { return overlap(r, b); }))
+                    continue;
+                near_boxes.push_back(b);
+                std::move(cluster.begin(), cluster.end(), std::back_inserter(near));
+            }
+            if (!near.empty()) {
+                Paths holding;
+                for (Paths& cluster : clusters(uncarved)) {
+                    const BBox2 b = bounds(cluster);
+                    if (std::any_of(near_boxes.begin(), near_boxes.end(),
+                                    [&](const BBox2& n) { return overlap(n, b); }))
+                        std::move(cluster.begin(), cluster.end(), std::back_inserter(holding));
+                }
+                add_cavity_walls(near, holding, settings, index, min_length, cavity_walls[j]);
+            }
         }
-        if (!swept && j + 1 < layer.cavities.size()) remaining = subtract(remaining, cavity);
+        if (!swept) remaining = std::move(next);
     }
 
     // What the k iterations left uncarved (V^k) is solid model: its boundary is the last
