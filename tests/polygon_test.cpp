@@ -187,11 +187,12 @@ TEST(Polygon, GroupedBooleansEqualOneClipperPass) {
             const Coord x = rng.integer(0, 40) * 500, y = rng.integer(0, 8) * 500;
             const Coord side = rng.integer(1, 6) * 500;  // touching and overlapping neighbours
             out.push_back(square(x, y, side));
-            if (side >= 2000 && rng.integer(0, 1))  // a hole, sometimes with an island
+            if (side >= 2000 && rng.integer(0, 1))  // sometimes with a hole
                 out.push_back(reversed(square(x + 500, y + 500, side - 1000)));
         }
         return unite(out);
     };
+    // The reference, written out here rather than taken from polygon.cpp: one Clipper pass.
     auto one_pass = [](ClipType op, const Paths& a, const Paths* b) {
         Clipper c;
         c.AddPaths(a, ptSubject, true);

@@ -14,7 +14,7 @@
 namespace carve {
 
 class ThreadedSource : public LayerSource {
-public:
+  public:
     // Starts pulling from `upstream` at once; at most `capacity` layers wait in the queue, so
     // memory stays bounded whatever the model's height. A few layers cost ten times the
     // others (where the slices change fast: the tops of fandisk's faces), and with room for
@@ -28,7 +28,7 @@ public:
     // The next layer; rethrows here an exception raised upstream.
     std::optional<LayerPartition> next() override;
 
-private:
+  private:
     void run();
 
     LayerSource& upstream_;
