@@ -219,3 +219,56 @@ TEST(Polygon, GroupedBooleansEqualOneClipperPass) {
     }
     EXPECT_GT(grouped, 30);  // most rounds have pieces apart, which the grouping splits
 }
+
+// components() takes a group of contours with a single outer as one component without Clipper;
+// on scattered pieces with holes, islands in holes and touching neighbours the components must
+// be those of Clipper's nesting: the same number, each with the same outer area and holes.
+TEST(Polygon, ComponentsOfScatteredPiecesMatchClippersNesting) {
+    using namespace ClipperLib;
+    carve::test::Rng rng(9);
+    auto summary = [](const std::vector<Paths>& comps) {
+        std::vector<std::pair<double, double>> out;  // (outer area, total area), sorted
+        for (const Paths& c : comps) out.emplace_back(area(c.front()), area(c));
+        std::sort(out.begin(), out.end());
+        return out;
+    };
+    int shortcut = 0;
+    for (int round = 0; round < 40; ++round) {
+        Paths raw;
+        for (int i = 0; i < rng.integer(1, 10); ++i) {
+            const Coord x = rng.integer(0, 30) * 1000, y = rng.integer(0, 6) * 1000;
+            const Coord side = rng.integer(1, 5) * 1000;
+            raw.push_back(square(x, y, side));
+        }
+        Paths region = unite(raw);
+        if (rng.integer(0, 2) > 0) {  // a ring, apart or not, sometimes with an island
+            const Coord x = rng.integer(0, 30) * 1000;
+            region =
+                unite(region, subtract({square(x, 9000, 5000)}, {square(x + 1000, 10000, 3000)}));
+            if (rng.integer(0, 1)) region = unite(region, {square(x + 2000, 11000, 1000)});
+        }
+        PolyTree tree;
+        Clipper c;
+        c.AddPaths(region, ptSubject, true);
+        c.Execute(ctUnion, tree, pftNonZero, pftNonZero);
+        Paths outers;
+        for (const Path& p : region)
+            if (area(p) > 0) outers.push_back(p);
+        const std::vector<Paths> got = components(region);
+        size_t want = 0;
+        for (PolyNode* n = tree.GetFirst(); n; n = n->GetNext()) want += !n->IsHole();
+        EXPECT_EQ(got.size(), want) << round;
+        EXPECT_EQ(got.size(), outers.size()) << round;
+        // Against the library's nesting, one component at a time: outer first, then its holes.
+        std::vector<Paths> ref;
+        for (PolyNode* n = tree.GetFirst(); n; n = n->GetNext()) {
+            if (n->IsHole()) continue;
+            Paths comp{n->Contour};
+            for (PolyNode* h : n->Childs) comp.push_back(h->Contour);
+            ref.push_back(comp);
+        }
+        EXPECT_EQ(summary(got), summary(ref)) << round;
+        shortcut += clusters(region).size() > 1;
+    }
+    EXPECT_GT(shortcut, 20);
+}

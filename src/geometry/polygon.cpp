@@ -258,13 +258,34 @@ std::vector<Paths> clusters(const Paths& region) {
     return out;
 }
 
+// In a normalised region every hole lies in its outer's box, so a group of contours whose boxes
+// overlap no other group's (box_groups) and that holds a single outer is one component as it
+// stands; only groups with several outers (islands in holes, pieces side by side) need
+// Clipper's nesting. The sweep and the bridges split regions of dozens of small pieces.
 std::vector<Paths> components(const Paths& region) {
-    PolyTree tree;
-    Clipper c;
-    c.AddPaths(region, ptSubject, true);
-    c.Execute(ctUnion, tree, pftNonZero, pftNonZero);
     std::vector<Paths> comps;
-    collect_components(tree, comps);
+    Paths nested;
+    for (const std::vector<size_t>& members :
+         box_groups(region.size(), [&](size_t i) -> const Path& { return region[i]; })) {
+        size_t outers = 0, outer = 0;
+        for (size_t i : members)
+            if (area(region[i]) > 0) ++outers, outer = i;
+        if (outers != 1) {
+            for (size_t i : members) nested.push_back(region[i]);
+            continue;
+        }
+        Paths& comp = comps.emplace_back();
+        comp.push_back(region[outer]);
+        for (size_t i : members)
+            if (area(region[i]) < 0) comp.push_back(region[i]);
+    }
+    if (!nested.empty()) {
+        PolyTree tree;
+        Clipper c;
+        c.AddPaths(nested, ptSubject, true);
+        c.Execute(ctUnion, tree, pftNonZero, pftNonZero);
+        collect_components(tree, comps);
+    }
     return comps;
 }
 

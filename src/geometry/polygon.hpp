@@ -47,7 +47,8 @@ bool overlap(const BBox2& a, const BBox2& b);
 // Total length of polylines in units; closed = count the closing edge.
 double length(const Paths& paths, bool closed);
 
-// The outer contours with their holes, one region per connected component.
+// The outer contours with their holes, one region per connected component; `region`
+// normalised (as every result here is).
 std::vector<Paths> components(const Paths& region);
 // The region split where no contour's box overlaps another part's: each cluster is a union of
 // whole components (a hole's box lies in its outer's), found without a boolean. Operations
