@@ -17,7 +17,7 @@ namespace {
 
 namespace bp = boost::polygon;
 
-using BoostPredicates = bp::detail::voronoi_predicates<bp::detail::voronoi_ctype_traits<int32_t>>;
+using skel::BoostPredicates;
 
 struct Tally {
     long pss = 0, pss_ours = 0, sss = 0, sss_ours = 0, wrong = 0;

@@ -267,17 +267,18 @@ std::vector<Paths> components(const Paths& region) {
     Paths nested;
     for (const std::vector<size_t>& members :
          box_groups(region.size(), [&](size_t i) -> const Path& { return region[i]; })) {
-        size_t outers = 0, outer = 0;
-        for (size_t i : members)
-            if (area(region[i]) > 0) ++outers, outer = i;
-        if (outers != 1) {
+        std::vector<size_t> outers, holes;
+        for (size_t i : members) {
+            const double a = area(region[i]);
+            if (a != 0) (a > 0 ? outers : holes).push_back(i);
+        }
+        if (outers.size() != 1) {
             for (size_t i : members) nested.push_back(region[i]);
             continue;
         }
         Paths& comp = comps.emplace_back();
-        comp.push_back(region[outer]);
-        for (size_t i : members)
-            if (area(region[i]) < 0) comp.push_back(region[i]);
+        comp.push_back(region[outers.front()]);
+        for (size_t i : holes) comp.push_back(region[i]);
     }
     if (!nested.empty()) {
         PolyTree tree;

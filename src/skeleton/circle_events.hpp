@@ -20,6 +20,8 @@ namespace carve::skel {
 
 namespace bp = boost::polygon;
 
+using BoostPredicates = bp::detail::voronoi_predicates<bp::detail::voronoi_ctype_traits<int32_t>>;
+
 // Boost's circle formation functor with two changes, each falling back to Boost's own code
 // (fast formula, then big integers) wherever it cannot vouch for its result:
 //
@@ -49,9 +51,7 @@ class LocalCircles {
     }
 
   public:
-    using Lazy =
-        typename bp::detail::voronoi_predicates<bp::detail::voronoi_ctype_traits<int32_t>>::
-            template lazy_circle_formation_functor<Site, Circle>;
+    using Lazy = BoostPredicates::lazy_circle_formation_functor<Site, Circle>;
 
     void ppp(const Site& a, const Site& b, const Site& c, Circle& circle) {
         lazy_.ppp(a, b, c, circle);
@@ -227,8 +227,6 @@ class LocalCircles {
     };
     Lazy lazy_;
 };
-
-using BoostPredicates = bp::detail::voronoi_predicates<bp::detail::voronoi_ctype_traits<int32_t>>;
 
 // Boost's predicates with LocalCircles for the circle events.
 struct LocalPredicates : BoostPredicates {

@@ -19,7 +19,6 @@
 #include <algorithm>
 #include <boost/polygon/voronoi.hpp>
 #include <cmath>
-#include <limits>
 #include <optional>
 
 #include "core/stage_timer.hpp"

@@ -58,6 +58,21 @@ void add_cavity_walls(const Paths& cavity, const Paths& uncarved, const Settings
     }
 }
 
+// The clusters of `region` (see clusters()) whose boxes meet one of `boxes`, as one region;
+// their boxes go to `met` if given.
+Paths clusters_meeting(const Paths& region, const std::vector<BBox2>& boxes,
+                       std::vector<BBox2>* met = nullptr) {
+    Paths out;
+    for (Paths& cluster : clusters(region)) {
+        const BBox2 b = bounds(cluster);
+        if (std::none_of(boxes.begin(), boxes.end(), [&](const BBox2& o) { return overlap(o, b); }))
+            continue;
+        if (met) met->push_back(b);
+        std::move(cluster.begin(), cluster.end(), std::back_inserter(out));
+    }
+    return out;
+}
+
 // Bridges keep their line order (the supports stage chose it); only which bridge comes next
 // and the direction of each line are chosen for short travel.
 std::vector<Extrusion> order_bridges(const std::vector<Bridge>& bridges, double flow, Point& pos) {
@@ -210,26 +225,11 @@ LayerToolpaths plan_layer(const LayerPartition& layer, const Settings& settings)
                 const Coord m = opening + 2;  // and Clipper's rounding
                 reach.push_back({b.min_x - m, b.min_y - m, b.max_x + m, b.max_y + m, false});
             }
-            Paths near;
             std::vector<BBox2> near_boxes;
-            for (Paths& cluster : clusters(cavity)) {
-                const BBox2 b = bounds(cluster);
-                if (std::none_of(reach.begin(), reach.end(),
-                                 [&](const BBox2& r) { return overlap(r, b); }))
-                    continue;
-                near_boxes.push_back(b);
-                std::move(cluster.begin(), cluster.end(), std::back_inserter(near));
-            }
-            if (!near.empty()) {
-                Paths holding;
-                for (Paths& cluster : clusters(uncarved)) {
-                    const BBox2 b = bounds(cluster);
-                    if (std::any_of(near_boxes.begin(), near_boxes.end(),
-                                    [&](const BBox2& n) { return overlap(n, b); }))
-                        std::move(cluster.begin(), cluster.end(), std::back_inserter(holding));
-                }
-                add_cavity_walls(near, holding, settings, index, min_length, cavity_walls[j]);
-            }
+            const Paths near = clusters_meeting(cavity, reach, &near_boxes);
+            if (!near.empty())
+                add_cavity_walls(near, clusters_meeting(uncarved, near_boxes), settings, index,
+                                 min_length, cavity_walls[j]);
         }
         if (!swept) remaining = std::move(next);
     }
