@@ -783,3 +783,26 @@ TEST(MorphologyProperties, RealSlicesOfTheModels) {
         }
     }
 }
+
+// The erosion before its union (PositiveRegion) must mean the same region to a boolean that
+// reads it with the positive fill rule: the bridge stage subtracts from it directly.
+TEST(MorphologyProperties, UnresolvedErosionSubtractsLikeTheErosion) {
+    Rng rng(31);
+    int nonempty = 0;
+    for (const Shape& s : zoo())
+        for (Coord a : kRadii) {
+            SCOPED_TRACE(s.name + " a=" + std::to_string(a));
+            const BBox2 b = bounds(s.region);
+            // A cutter across the middle, so that the difference has pieces on both sides.
+            const double cx = 0.5 * double(b.min_x + b.max_x), cy = 0.5 * double(b.min_y + b.max_y);
+            const Paths cut{rotated_rect(cx, cy, 3.0 * double(b.max_x - b.min_x + 1000),
+                                         0.2 * double(b.max_y - b.min_y + 1000),
+                                         rng.uniform(0, kPi))};
+            const Paths want = subtract(erode(s.region, a), cut);
+            const Paths got = subtract(erosion(s.region, a), cut);
+            nonempty += !want.empty();
+            EXPECT_LE(hausdorff(got, want), 2.0);
+            EXPECT_NEAR(area(got), area(want), 1e-4 * std::abs(area(s.region)) + 100.0);
+        }
+    EXPECT_GT(nonempty, 20);
+}

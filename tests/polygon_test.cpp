@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "geometry/morphology.hpp"
 #include "test_rng.hpp"
 
 using namespace carve;
@@ -271,4 +272,39 @@ TEST(Polygon, ComponentsOfScatteredPiecesMatchClippersNesting) {
         shortcut += clusters(region).size() > 1;
     }
     EXPECT_GT(shortcut, 20);
+}
+
+// contours_near() leaves out what a dilation by up to `reach` cannot bring to `other`: outers
+// with their holes, and holes (filled). Within `other` the dilation of what it keeps must be
+// that of the whole region, and rounds must drop something, outers and holes alike.
+TEST(Polygon, ContoursNearKeepTheDilationWithinTheOther) {
+    carve::test::Rng rng(11);
+    auto holed_squares = [&rng](int count, Coord spread) {
+        Paths out;
+        for (int i = 0; i < count; ++i) {
+            const Coord x = rng.integer(0, 40) * spread, y = rng.integer(0, 10) * spread;
+            const Coord side = rng.integer(4, 12) * 500;
+            out.push_back(square(x, y, side));
+            if (rng.integer(0, 2) > 0)  // a hole, 300 um inside or further in
+                out.push_back(reversed(square(x + 300 + rng.integer(0, 3) * 400,
+                                              y + 300 + rng.integer(0, 3) * 400, 1500)));
+        }
+        return unite(out);
+    };
+    int dropped_outers = 0, dropped_holes = 0;
+    for (int round = 0; round < 120; ++round) {
+        const Paths region = holed_squares(rng.integer(2, 10), 1000);
+        const Paths other = holed_squares(rng.integer(1, 4), 1000);
+        const Coord reach = rng.integer(1, 4) * 250;
+        const Paths kept = contours_near(region, other, reach);
+        for (const Path& p : region)
+            if (std::find(kept.begin(), kept.end(), p) == kept.end())
+                (area(p) > 0 ? dropped_outers : dropped_holes)++;
+        EXPECT_EQ(std::abs(area(symmetric_difference(intersect(dilate(kept, reach), other),
+                                                     intersect(dilate(region, reach), other)))),
+                  0.0)
+            << round;
+    }
+    EXPECT_GT(dropped_outers, 60);
+    EXPECT_GT(dropped_holes, 15);
 }

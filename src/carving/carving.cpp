@@ -149,7 +149,11 @@ std::optional<LayerPartition> CarvingSweep::next() {
         layer->uncarved.push_back(remainder);
         Paths cavity;
         if (!remainder.empty()) {
-            const Paths propagated = above.empty() ? Paths{} : dilate(above, r);  // G
+            // G, from the contours of C^j_{i+1} that come near V: G matters only within V (the
+            // tear's reach too). Late iterations have a V of a few specks under a cavity above
+            // that is most of the slice.
+            const Paths propagated =
+                above.empty() ? Paths{} : dilate(contours_near(above, remainder, r + tear), r);
             // V \ G: what the propagated cavity leaves; it is also V^j when no seed is added,
             // and where G covers all of V the cavity is V itself: each saves a Clipper pass.
             Paths uncovered = subtract(remainder, propagated);

@@ -32,9 +32,9 @@ struct LayerPartition {
     Paths covers;                 // shell_paths_region minus carvable: printed solid
     std::vector<Paths> cavities;  // C^1_i .. C^k_i, pairwise disjoint, inside carvable
     Paths remainder;              // V^k_i
-    // V^0_i .. V^{k-1}_i, what was left before each iteration, as the sweep computed them: the
-    // toolpath stage restricts the walls of C^j to V^{j-1} and need not redo the differences.
-    // Empty when unknown (bridges changed the partition, or a hand-made layer).
+    // V^0_i .. V^{k-1}_i, what was left before each iteration, as the sweep computed them and
+    // the bridges updated them: the toolpath stage restricts the walls of C^j to V^{j-1} and
+    // need not redo the differences. Empty when unknown (a hand-made layer).
     std::vector<Paths> uncarved;
     std::vector<Bridge> bridges;  // filled in by the supports stage
 };

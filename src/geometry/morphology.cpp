@@ -185,16 +185,22 @@ Paths dilate(const Paths& region, Coord radius) {
     return unite_positive(convolve_all(region, radius));
 }
 
-Paths erode(const Paths& region, Coord radius) {
+PositiveRegion erosion(const Paths& region, Coord radius) {
     StageTimer timer(Stage::kMorphology);
-    if (radius <= 0 || region.empty()) return radius < 0 ? dilate(region, -radius) : region;
-    if (area(region) < 0) return erode(unite(region), radius);
+    if (radius <= 0 || region.empty()) return {radius < 0 ? dilate(region, -radius) : region};
+    if (area(region) < 0) return erosion(unite(region), radius);
     Paths reversed = without_vanishing(region, radius);
     if (reversed.empty()) return {};
     ClipperLib::ReversePaths(reversed);
-    Paths conv = convolve_all(reversed, radius);  // the element is centrally symmetric
-    ClipperLib::ReversePaths(conv);
-    return unite_positive(conv);
+    PositiveRegion out{convolve_all(reversed, radius)};  // the element is centrally symmetric
+    ClipperLib::ReversePaths(out.contours);
+    return out;
+}
+
+Paths erode(const Paths& region, Coord radius) {
+    StageTimer timer(Stage::kMorphology);
+    if (radius <= 0 || region.empty()) return radius < 0 ? dilate(region, -radius) : region;
+    return resolve(erosion(region, radius));
 }
 
 Paths dilate_lines(const Paths& polylines, Coord radius) {

@@ -7,7 +7,7 @@
 // sweep needs. Clipper's ClipperOffset is deliberately not used here.
 #pragma once
 
-#include "geometry/types.hpp"
+#include "geometry/polygon.hpp"
 
 namespace carve {
 
@@ -29,6 +29,8 @@ Path disk(Coord radius);
 // Clipper's intersections (about 1 um per use; repeated uses add up, see the tests).
 Paths dilate(const Paths& region, Coord radius);  // S ⊕ D(r)
 Paths erode(const Paths& region, Coord radius);  // S ⊖ D(r), complement of the dilated complement
+// The erosion before its union (see PositiveRegion), for an operation that uses it once.
+PositiveRegion erosion(const Paths& region, Coord radius);
 inline Paths open(const Paths& region, Coord radius) {
     return dilate(erode(region, radius), radius);
 }

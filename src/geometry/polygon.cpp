@@ -51,12 +51,17 @@ std::vector<std::vector<size_t>> box_groups(size_t n, PathAt path_at) {
     return out;
 }
 
-Paths run_clipper(ClipType op, const Paths& subject, const Paths* clip, PolyFillType fill) {
+// Fill rules of the two operands.
+struct Fills {
+    PolyFillType subject = pftNonZero, clip = pftNonZero;
+};
+
+Paths run_clipper(ClipType op, const Paths& subject, const Paths* clip, Fills fill) {
     Clipper c;
     c.AddPaths(subject, ptSubject, true);
     if (clip) c.AddPaths(*clip, ptClip, true);
     Paths out;
-    c.Execute(op, out, fill, fill);
+    c.Execute(op, out, fill.subject, fill.clip);
     return out;
 }
 
@@ -66,7 +71,7 @@ Paths run_clipper(ClipType op, const Paths& subject, const Paths* clip, PolyFill
 // group's (box_groups) are independent: each is clipped alone and the results are
 // concatenated, exactly. Late in the sweep a slice's cavities and remainder are dozens of
 // pieces across the slice.
-Paths run(ClipType op, const Paths& subject, const Paths* clip, PolyFillType fill) {
+Paths run(ClipType op, const Paths& subject, const Paths* clip, Fills fill = {}) {
     StageTimer timer(Stage::kBoolean);
     const size_t ns = subject.size(), n = ns + (clip ? clip->size() : 0);
     if (n < 3) return run_clipper(op, subject, clip, fill);
@@ -88,7 +93,7 @@ Paths run(ClipType op, const Paths& subject, const Paths* clip, PolyFillType fil
                 c.AddPath((*clip)[i - ns], ptClip, true);
         }
         Paths part;
-        c.Execute(op, part, fill, fill);
+        c.Execute(op, part, fill.subject, fill.clip);
         std::move(part.begin(), part.end(), std::back_inserter(out));
     }
     return out;
@@ -133,27 +138,41 @@ double area(const Paths& region) {
 }
 
 Paths unite(const Paths& a) {
-    return run(ctUnion, a, nullptr, pftNonZero);
+    return run(ctUnion, a, nullptr);
 }
 Paths unite(const Paths& a, const Paths& b) {
-    return run(ctUnion, a, &b, pftNonZero);
+    return run(ctUnion, a, &b);
 }
 // Most calls in the sweep and the bridge search meet pieces far apart; a bounding-box test is
 // a few hundred comparisons where Clipper would build and sweep both inputs.
 Paths intersect(const Paths& a, const Paths& b) {
     if (a.empty() || b.empty() || !overlap(bounds(a), bounds(b))) return {};
-    return run(ctIntersection, a, &b, pftNonZero);
+    return run(ctIntersection, a, &b);
 }
 Paths subtract(const Paths& a, const Paths& b) {
     if (a.empty()) return {};
     if (b.empty() || !overlap(bounds(a), bounds(b))) return a;
-    return run(ctDifference, a, &b, pftNonZero);
+    return run(ctDifference, a, &b);
+}
+Paths subtract_from_union(const Paths& a, const Paths& b) {
+    if (a.empty()) return {};
+    if (b.empty() || !overlap(bounds(a), bounds(b))) return unite(a);
+    return run(ctDifference, a, &b);
 }
 Paths symmetric_difference(const Paths& a, const Paths& b) {
-    return run(ctXor, a, &b, pftNonZero);
+    return run(ctXor, a, &b);
 }
 Paths unite_positive(const Paths& a) {
-    return run(ctUnion, a, nullptr, pftPositive);
+    return run(ctUnion, a, nullptr, {pftPositive, pftPositive});
+}
+
+Paths resolve(const PositiveRegion& a) {
+    return unite_positive(a.contours);
+}
+Paths subtract(const PositiveRegion& a, const Paths& b) {
+    if (a.contours.empty()) return {};
+    if (b.empty() || !overlap(bounds(a.contours), bounds(b))) return resolve(a);
+    return run(ctDifference, a.contours, &b, {pftPositive, pftNonZero});
 }
 
 Paths drop_small(const Paths& region, double min_area) {
@@ -254,6 +273,22 @@ std::vector<Paths> clusters(const Paths& region) {
         Paths& cluster = out.emplace_back();
         cluster.reserve(members.size());
         for (size_t i : members) cluster.push_back(region[i]);
+    }
+    return out;
+}
+
+Paths contours_near(const Paths& region, const Paths& other, Coord reach) {
+    std::vector<BBox2> boxes;
+    for (const Path& p : other)
+        if (area(p) > 0) boxes.push_back(bounds(p));  // a hole's box lies in its outer's
+    const Coord m = reach + 2;                        // and Clipper's rounding
+    Paths out;
+    for (const Path& p : region) {
+        const BBox2 b = bounds(p);
+        const BBox2 grown{b.min_x - m, b.min_y - m, b.max_x + m, b.max_y + m, false};
+        if (std::any_of(boxes.begin(), boxes.end(),
+                        [&](const BBox2& o) { return overlap(o, grown); }))
+            out.push_back(p);
     }
     return out;
 }

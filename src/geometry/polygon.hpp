@@ -21,9 +21,21 @@ Paths unite(const Paths& a);  // self-union: resolves overlaps, non-zero fill
 Paths unite(const Paths& a, const Paths& b);
 Paths intersect(const Paths& a, const Paths& b);
 Paths subtract(const Paths& a, const Paths& b);
+// The union of `a`'s contours (non-zero fill, overlaps allowed) minus `b`, in one pass.
+Paths subtract_from_union(const Paths& a, const Paths& b);
 Paths symmetric_difference(const Paths& a, const Paths& b);
 // Union of contours whose orientation encodes the sign (convolution output): positive fill.
 Paths unite_positive(const Paths& a);
+
+// A region given by contours whose winding number is positive exactly inside it, crossings
+// and overlaps allowed: a Minkowski sum before the union that resolves it (morphology.hpp).
+// An operation that reads it with the positive fill rule takes it as is, so a morphology
+// result used once saves that union, a whole Clipper pass over the sum's many crossings.
+struct PositiveRegion {
+    Paths contours;
+};
+Paths resolve(const PositiveRegion& a);  // the normalised region
+Paths subtract(const PositiveRegion& a, const Paths& b);
 
 // Drops contours whose absolute area is below min_area (square units) together with the holes
 // inside dropped outers.
@@ -54,6 +66,13 @@ std::vector<Paths> components(const Paths& region);
 // whole components (a hole's box lies in its outer's), found without a boolean. Operations
 // local to components (morphology, booleans) can run cluster by cluster.
 std::vector<Paths> clusters(const Paths& region);
+
+// The contours of a normalised `region` whose box, grown by `reach`, meets the box of an outer
+// contour of `other`. What is left out is outers, with their holes and islands (which lie in
+// their boxes), and holes, which are filled, all further than `reach` from `other`: a dilation
+// by up to `reach` of the result equals that of `region` within `other`, and so does any
+// boolean with it.
+Paths contours_near(const Paths& region, const Paths& other, Coord reach);
 
 // Holes of a region that contain nothing else of the region (no island inside), as
 // counter-clockwise contours. Used for island local minima.

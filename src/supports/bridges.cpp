@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include "core/stage_timer.hpp"
@@ -168,10 +169,33 @@ ScanRows scan_lines(const Scanned& scanned, const Rotation& rot, double first, d
     return out;
 }
 
+// Row by row, the parts of a's intervals inside b's.
+ScanRows intersect_rows(const ScanRows& a, const ScanRows& b) {
+    ScanRows out;
+    const size_t count = a.begin.size() - 1;
+    out.begin.assign(count + 1, 0);
+    for (size_t k = 0; k < count; ++k) {
+        for (size_t i = a.begin[k]; i < a.begin[k + 1]; ++i)
+            for (size_t j = b.begin[k]; j < b.begin[k + 1]; ++j) {
+                const double lo = std::max(a.intervals[i].first, b.intervals[j].first);
+                const double hi = std::min(a.intervals[i].second, b.intervals[j].second);
+                if (lo < hi) out.intervals.emplace_back(lo, hi);
+            }
+        out.begin[k + 1] = out.intervals.size();
+    }
+    return out;
+}
+
+// What the lines run across: the cavity with the minimum filled in, within a window if given.
+struct Span {
+    const Scanned& region;
+    const Scanned* window = nullptr;
+};
+
 // Lines over `need` in the frame turned by `rot`, where they are horizontal; returns their
 // total length. The lines are in the turned frame.
-double horizontal_lines(const Scanned& need, const Scanned& span, const Rotation& rot,
-                        Coord spacing, Paths* lines) {
+double horizontal_lines(const Scanned& need, const Span& span, const Rotation& rot, Coord spacing,
+                        Paths* lines) {
     const HeightRange b = height_range(need.region, rot);
     if (b.empty) return 0;
     double total = 0;
@@ -179,7 +203,12 @@ double horizontal_lines(const Scanned& need, const Scanned& span, const Rotation
         std::max<int>(1, static_cast<int>(std::ceil(double(b.max_y - b.min_y) / spacing)));
     const double first = (b.min_y + b.max_y) / 2.0 - (count - 1) * spacing / 2.0 + 0.5;
     const ScanRows holes = scan_lines(need, rot, first, double(spacing), count);
-    const ScanRows spans = scan_lines(span, rot, first, double(spacing), count, &holes);
+    // Clipping the rows to the window, rather than the span with Clipper, spares a boolean
+    // over the cavity per minimum.
+    ScanRows spans = scan_lines(span.region, rot, first, double(spacing), count, &holes);
+    if (span.window)
+        spans = intersect_rows(
+            spans, scan_lines(*span.window, rot, first, double(spacing), count, &holes));
     for (int k = 0; k < count; ++k) {
         if (holes.empty(k)) continue;
         const auto h0 = holes.intervals.begin() + holes.begin[k];
@@ -284,8 +313,9 @@ std::vector<Paths> unsupported_regions(const Paths& cavity_here, const Paths& ca
                                        const Paths& carvable_here, const BridgeOptions& options) {
     std::vector<Paths> out;
     if (cavity_below.empty() || carvable_here.empty()) return out;
-    Paths deep_below = erode(cavity_below, options.dilation);
-    if (deep_below.empty()) return out;
+    // Used once: the subtraction resolves the erosion's crossings in its own pass.
+    const PositiveRegion deep_below = erosion(cavity_below, options.dilation);
+    if (deep_below.contours.empty()) return out;
     Paths u = intersect(subtract(deep_below, cavity_here), carvable_here);
     const double r2 = double(options.dilation) * options.dilation;
     // One PolyTree pass both splits U and drops what is too small to matter: outlines and
@@ -309,11 +339,16 @@ std::vector<Paths> unsupported_regions(const Paths& cavity_here, const Paths& ca
     return out;
 }
 
-Bridge plan_bridge(const Paths& need, const Paths& span, const BridgeOptions& options) {
+namespace {
+
+// plan_bridge() with the lines cut to a window (none if empty).
+Bridge plan_bridge_in(const Paths& need, const Paths& span, const Paths& window,
+                      const BridgeOptions& options) {
     Bridge best;
     double best_length = -1;
     const double step = options.angle_step_deg > 0 ? options.angle_step_deg : 5;
-    const Scanned need_scan(need), span_scan(span);
+    const Scanned need_scan(need), region_scan(span), window_scan(window);
+    const Span span_scan{region_scan, window.empty() ? nullptr : &window_scan};
     for (double angle = 0; angle < 180 - 1e-9; angle += step) {
         const Rotation rot(-angle);  // bring lines at `angle` to horizontal
         const double len = horizontal_lines(need_scan, span_scan, rot, options.line_width, nullptr);
@@ -331,18 +366,90 @@ Bridge plan_bridge(const Paths& need, const Paths& span, const BridgeOptions& op
     return best;
 }
 
+}  // namespace
+
+Bridge plan_bridge(const Paths& need, const Paths& span, const BridgeOptions& options) {
+    return plan_bridge_in(need, span, {}, options);
+}
+
+namespace {
+
+// The minima of one slice given a bridge, cavity by cavity (M_j), with a box per minimum.
+class BridgedMinima {
+  public:
+    explicit BridgedMinima(size_t cavities) : of_(cavities) {}
+
+    void add(size_t cavity, const Paths& minimum) {
+        Cavity& c = of_[cavity];
+        c.paths.insert(c.paths.end(), minimum.begin(), minimum.end());
+        c.boxes.push_back(bounds(minimum));
+        c.ends.push_back(c.paths.size());
+        all_boxes_.push_back(c.boxes.back());
+    }
+    bool empty() const { return all_boxes_.empty(); }
+    const std::vector<BBox2>& boxes() const { return all_boxes_; }
+    bool any(size_t cavity) const { return !of_[cavity].boxes.empty(); }
+
+    // The minima of the cavities `from` <= c < `to` whose boxes meet `box`, as one region: the
+    // minima of different cavities are disjoint, each lying in the erosion of its own cavity
+    // below, and those of one cavity are components of one region.
+    Paths near(const BBox2& box, size_t from, size_t to) const {
+        Paths out;
+        for (size_t c = from; c < std::min(to, of_.size()); ++c) {
+            const Cavity& m = of_[c];
+            for (size_t n = 0, begin = 0; n < m.boxes.size(); begin = m.ends[n++])
+                if (overlap(m.boxes[n], box))
+                    out.insert(out.end(), m.paths.begin() + begin, m.paths.begin() + m.ends[n]);
+        }
+        return out;
+    }
+
+  private:
+    struct Cavity {
+        Paths paths;
+        std::vector<BBox2> boxes;
+        std::vector<size_t> ends;  // where each minimum's paths end in `paths`
+    };
+    std::vector<Cavity> of_;
+    std::vector<BBox2> all_boxes_;
+};
+
+// The region with the minima of cavities [gain_from, gain_to) added and all the others taken
+// out, in one boolean on its part near them.
+Paths exchange(const Paths& region, const BridgedMinima& minima, size_t gain_from, size_t gain_to) {
+    const size_t all = std::numeric_limits<size_t>::max();
+    return near_minima(region, minima.boxes(), [&](const Paths& part) {
+        const BBox2 box = bounds(part);
+        Paths lost = minima.near(box, 0, gain_from);
+        const Paths lost_later = minima.near(box, gain_to, all);
+        lost.insert(lost.end(), lost_later.begin(), lost_later.end());
+        const Paths gained = minima.near(box, gain_from, gain_to);
+        if (gained.empty()) return subtract(part, lost);
+        if (lost.empty()) return unite(part, gained);
+        // The part and the minima it gains touch without overlapping, so their contours
+        // together under non-zero fill are their union: one pass does both.
+        Paths both = part;
+        both.insert(both.end(), gained.begin(), gained.end());
+        return subtract_from_union(both, lost);
+    });
+}
+
+}  // namespace
+
 void add_bridges(LayerPartition& layer, const LayerPartition* below, const BridgeOptions& options) {
     if (!below) return;
     const size_t k = std::min(layer.cavities.size(), below->cavities.size());
+    BridgedMinima bridged(layer.cavities.size());
     for (size_t j = 0; j < k; ++j) {
         const std::vector<Paths> needs =
             unsupported_regions(layer.cavities[j], below->cavities[j], layer.carvable, options);
         if (needs.empty()) continue;
+        // The minima of the cavities before this one leave it first: its bridges span it
+        // without them. (Its minima do not depend on it: they lie in the erosion of C^j
+        // below, which theirs do not meet.) The others leave it at the end.
+        if (!bridged.empty()) layer.cavities[j] = exchange(layer.cavities[j], bridged, j, j);
         const Paths holes = empty_holes(layer.cavities[j]);
         const std::vector<BBox2> piece_boxes = path_bounds(layer.cavities[j]);
-        Paths bridged;                     // the minima given a bridge, merged into C^j at the end
-        std::vector<BBox2> bridged_boxes;  // one per minimum in `bridged`
-        std::vector<size_t> bridged_ends;  // where each minimum's paths end in `bridged`
         for (const Paths& need : needs) {
             // The lines run across the cavity with the minimum filled in, wall to wall. Lines
             // longer than max_length are dropped anyway, so the scan only needs the part of the
@@ -352,11 +459,12 @@ void add_bridges(LayerPartition& layer, const LayerPartition* below, const Bridg
             const BBox2 w{b0.min_x - m, b0.min_y - m, b0.max_x + m, b0.max_y + m, false};
             const Paths window{
                 {{w.min_x, w.min_y}, {w.max_x, w.min_y}, {w.max_x, w.max_y}, {w.min_x, w.max_y}}};
-            const Paths span = unite(
-                options.prune ? intersect(paths_meeting(layer.cavities[j], piece_boxes, w), window)
-                              : layer.cavities[j],
-                need);
-            Bridge b = plan_bridge(need, span, options);
+            Bridge b =
+                options.prune
+                    ? plan_bridge_in(need,
+                                     unite(paths_meeting(layer.cavities[j], piece_boxes, w), need),
+                                     window, options)
+                    : plan_bridge(need, unite(layer.cavities[j], need), options);
             if (b.lines.empty()) continue;
             // A span longer than a printer bridges sags worse than the small minimum it would
             // hold: the minimum is left to hang on its own (rare, counted by the checker).
@@ -364,36 +472,22 @@ void add_bridges(LayerPartition& layer, const LayerPartition* below, const Bridg
             b.cavity = static_cast<int>(j) + 1;
             // An island fills (mostly) an empty hole of C^j; an edge-like minimum does not.
             b.island = std::abs(area(intersect(need, holes))) > 0.5 * std::abs(area(need));
-            bridged.insert(bridged.end(), need.begin(), need.end());
-            bridged_boxes.push_back(b0);
-            bridged_ends.push_back(bridged.size());
+            bridged.add(j, need);
             layer.bridges.push_back(std::move(b));
         }
-        if (bridged.empty()) continue;
-        layer.uncarved.clear();  // no longer the sweep's V^{j-1}
-        // The minima join their cavity in this slice: nothing is printed over the void but the
-        // bridge, and the slice above rests on the bridge. One boolean per cavity for all of
-        // them: big slices hold hundreds of minima. The other cavities and the remainder only
-        // lose the minima that come near them.
-        const auto near = [&](const Paths& region) {
-            const BBox2 box = bounds(region);
-            Paths out;
-            for (size_t n = 0, begin = 0; n < bridged_boxes.size(); begin = bridged_ends[n++])
-                if (overlap(bridged_boxes[n], box))
-                    out.insert(out.end(), bridged.begin() + begin,
-                               bridged.begin() + bridged_ends[n]);
-            return out;
-        };
-        const auto take_minima = [&](const Paths& region) {
-            return near_minima(region, bridged_boxes,
-                               [&](const Paths& part) { return subtract(part, near(part)); });
-        };
-        layer.cavities[j] = near_minima(layer.cavities[j], bridged_boxes,
-                                        [&](const Paths& part) { return unite(part, bridged); });
-        for (size_t other = 0; other < layer.cavities.size(); ++other)
-            if (other != j) layer.cavities[other] = take_minima(layer.cavities[other]);
-        layer.remainder = take_minima(layer.remainder);
     }
+    if (bridged.empty()) return;
+    // The minima join their cavity in this slice: nothing is printed over the void but the
+    // bridge, and the slice above rests on the bridge. Each cavity and the remainder change
+    // once, for all the minima (big slices hold hundreds), and only near them.
+    for (size_t j = 0; j < layer.cavities.size(); ++j)
+        layer.cavities[j] = exchange(layer.cavities[j], bridged, j, j + 1);
+    layer.remainder = exchange(layer.remainder, bridged, 0, 0);
+    // So does what each iteration had left, V^{j-1} = C^j ∪ .. ∪ C^k ∪ V^k: it gains the minima
+    // of C^j .. C^k and loses the others. The toolpaths read V^{j-1} and V^j from it.
+    if (layer.uncarved.size() == layer.cavities.size())
+        for (size_t j = 1; j < layer.uncarved.size(); ++j)
+            layer.uncarved[j] = exchange(layer.uncarved[j], bridged, j, layer.cavities.size());
 }
 
 BridgeStage::BridgeStage(LayerSource& input, const Settings& settings)

@@ -190,7 +190,7 @@ LayerToolpaths plan_layer(const LayerPartition& layer, const Settings& settings)
 
     // 3. Cavity walls, C^1 .. C^k in the order they were modelled (4.2).
     std::vector<std::vector<Extrusion>> cavity_walls(layer.cavities.size());
-    Paths remaining = layer.carvable;  // V^{j-1} when the bridges changed the partition
+    Paths remaining = layer.carvable;  // V^{j-1} when the layer does not hold them
     Paths next;                        // and then V^j
     const bool swept = layer.uncarved.size() == layer.cavities.size();
     for (size_t j = 0; j < layer.cavities.size(); ++j) {
