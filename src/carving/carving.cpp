@@ -2,6 +2,8 @@
 #include "carving/carving.hpp"
 
 #include <cmath>
+#include <iterator>
+#include <tuple>
 
 #include "core/stage_timer.hpp"
 #include "geometry/morphology.hpp"
@@ -121,6 +123,24 @@ Paths seeds(const Paths& remainder, const Paths& propagated, const Paths& uncove
     return out;
 }
 
+// V split into the pieces worth carving and specks: clusters that fit within two line widths
+// and hold less than (w/2)^2. A speck holds no disk of radius s' = 0.9 w/2, so carved it is
+// opened away with the walls, and left uncarved it is too thin for the solid fill; a minimum
+// it would leave is pruned by the bridges (same size test). Late iterations get V as dozens of
+// them, slivers between the cavities, and each cost the booleans of every later iteration.
+std::pair<Paths, Paths> without_specks(Paths remainder, Coord w) {
+    std::pair<Paths, Paths> out;
+    for (Paths& cluster : clusters(remainder)) {
+        const BBox2 b = bounds(cluster);
+        const bool speck =
+            std::hypot(double(b.max_x - b.min_x), double(b.max_y - b.min_y)) < 2.0 * double(w) &&
+            std::abs(area(cluster)) < 0.25 * double(w) * double(w);
+        Paths& to = speck ? out.second : out.first;
+        std::move(cluster.begin(), cluster.end(), std::back_inserter(to));
+    }
+    return out;
+}
+
 }  // namespace
 
 int sweep_iterations(const Settings& settings) {
@@ -148,6 +168,8 @@ std::optional<LayerPartition> CarvingSweep::next() {
     for (Paths& above : previous_) {  // C^j_{i+1}, replaced by C^j_i
         layer->uncarved.push_back(remainder);
         Paths cavity;
+        Paths specks;  // passed on to V^j as they are
+        std::tie(remainder, specks) = without_specks(std::move(remainder), w);
         if (!remainder.empty()) {
             // G, from the contours of C^j_{i+1} that come near V: G matters only within V (the
             // tear's reach too). Late iterations have a V of a few specks under a cavity above
@@ -176,6 +198,7 @@ std::optional<LayerPartition> CarvingSweep::next() {
                 remainder = s.empty() ? std::move(uncovered) : subtract(uncovered, s);
             }
         }
+        remainder.insert(remainder.end(), specks.begin(), specks.end());
         layer->cavities.push_back(cavity);
         above = std::move(cavity);
     }
