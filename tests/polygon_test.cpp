@@ -308,3 +308,43 @@ TEST(Polygon, ContoursNearKeepTheDilationWithinTheOther) {
     EXPECT_GT(dropped_outers, 60);
     EXPECT_GT(dropped_holes, 15);
 }
+
+// clip_to_box() keeps the winding number of every point inside the box: united, the cut
+// contours are the region's intersection with the box, up to the rounding of the cuts. The
+// bridges cut cavities to a window around each minimum with it.
+TEST(Polygon, BoxClipUnitedIsTheIntersectionWithTheBox) {
+    carve::test::Rng rng(13);
+    int cut = 0;
+    for (int round = 0; round < 80; ++round) {
+        Paths raw;
+        for (int i = 0; i < rng.integer(1, 8); ++i) {
+            const Coord x = rng.integer(0, 30) * 700, y = rng.integer(0, 30) * 700;
+            const Coord side = rng.integer(2, 12) * 600;
+            raw.push_back(square(x, y, side));
+            if (rng.integer(0, 1)) raw.push_back(reversed(square(x + 500, y + 500, side - 1000)));
+        }
+        Path tilted;  // a rotated piece, so that cuts fall between integer points
+        const double a = rng.uniform(0, 3.14159), cx = rng.integer(0, 20000),
+                     cy = rng.integer(0, 20000);
+        for (int k = 0; k < 5; ++k) {
+            const double t = a + k * 2 * 3.14159 / 5;
+            tilted.emplace_back(Coord(cx + 6000 * std::cos(t)), Coord(cy + 6000 * std::sin(t)));
+        }
+        raw.push_back(tilted);
+        const Paths region = unite(raw);
+        const Coord x0 = rng.integer(0, 15000), y0 = rng.integer(0, 15000);
+        const BBox2 box{x0, y0, x0 + rng.integer(1000, 15000), y0 + rng.integer(1000, 15000),
+                        false};
+        const Paths want = intersect(region, {{{box.min_x, box.min_y},
+                                               {box.max_x, box.min_y},
+                                               {box.max_x, box.max_y},
+                                               {box.min_x, box.max_y}}});
+        const Paths got = unite(clip_to_box(region, box));
+        cut += !want.empty() && std::abs(area(want) - area(region)) > 1;
+        // um^2: a cut end rounded by half a unit swings its edge by a sliver, at most half a
+        // unit wide along the boundary; a lost winding costs a whole piece (square mm).
+        EXPECT_LT(std::abs(area(symmetric_difference(got, want))), 0.5 * length(want, true) + 10)
+            << round;
+    }
+    EXPECT_GT(cut, 40);
+}

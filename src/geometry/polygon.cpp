@@ -2,6 +2,7 @@
 #include "geometry/polygon.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <iterator>
 
 #include "core/stage_timer.hpp"
@@ -273,6 +274,61 @@ std::vector<Paths> clusters(const Paths& region) {
         Paths& cluster = out.emplace_back();
         cluster.reserve(members.size());
         for (size_t i : members) cluster.push_back(region[i]);
+    }
+    return out;
+}
+
+namespace {
+
+// One Sutherland-Hodgman step: the part of `in` where inside(p) holds, the crossings of the
+// boundary at `cross(a, b)`.
+template <typename Inside, typename Cross>
+void clip_half_plane(const Path& in, Path& out, Inside inside, Cross cross) {
+    out.clear();
+    const size_t n = in.size();
+    for (size_t i = 0; i < n; ++i) {
+        const Point& a = in[(i + n - 1) % n];
+        const Point& b = in[i];
+        const bool ia = inside(a), ib = inside(b);
+        if (ia != ib) out.push_back(cross(a, b));
+        if (ib) out.push_back(b);
+    }
+}
+
+// The point of segment ab where coordinate `along` (X or Y) equals `at`, the other rounded.
+Point cut(const Point& a, const Point& b, Coord at, bool on_x) {
+    const double t =
+        on_x ? double(at - a.X) / double(b.X - a.X) : double(at - a.Y) / double(b.Y - a.Y);
+    return on_x ? Point(at, a.Y + static_cast<Coord>(std::llround(t * double(b.Y - a.Y))))
+                : Point(a.X + static_cast<Coord>(std::llround(t * double(b.X - a.X))), at);
+}
+
+}  // namespace
+
+Paths clip_to_box(const Paths& region, const BBox2& box) {
+    Paths out;
+    Path a, b;
+    for (const Path& p : region) {
+        const BBox2 pb = bounds(p);
+        if (!overlap(pb, box)) continue;  // winding 0 inside the box
+        if (pb.min_x >= box.min_x && pb.max_x <= box.max_x && pb.min_y >= box.min_y &&
+            pb.max_y <= box.max_y) {
+            out.push_back(p);
+            continue;
+        }
+        clip_half_plane(
+            p, a, [&](const Point& q) { return q.X >= box.min_x; },
+            [&](const Point& s, const Point& e) { return cut(s, e, box.min_x, true); });
+        clip_half_plane(
+            a, b, [&](const Point& q) { return q.X <= box.max_x; },
+            [&](const Point& s, const Point& e) { return cut(s, e, box.max_x, true); });
+        clip_half_plane(
+            b, a, [&](const Point& q) { return q.Y >= box.min_y; },
+            [&](const Point& s, const Point& e) { return cut(s, e, box.min_y, false); });
+        clip_half_plane(
+            a, b, [&](const Point& q) { return q.Y <= box.max_y; },
+            [&](const Point& s, const Point& e) { return cut(s, e, box.max_y, false); });
+        if (b.size() >= 3) out.push_back(b);
     }
     return out;
 }

@@ -67,6 +67,12 @@ std::vector<Paths> components(const Paths& region);
 // local to components (morphology, booleans) can run cluster by cluster.
 std::vector<Paths> clusters(const Paths& region);
 
+// Each contour cut to an axis-aligned box (Sutherland-Hodgman), without a boolean: outside
+// parts are replaced by runs along the box, so every point inside the box keeps its winding
+// number, but contours may run over each other on its sides. Read the result under non-zero
+// fill (any boolean), or unite it: it is then region ∩ box.
+Paths clip_to_box(const Paths& region, const BBox2& box);
+
 // The contours of a normalised `region` whose box, grown by `reach`, meets the box of an outer
 // contour of `other`. What is left out is outers, with their holes and islands (which lie in
 // their boxes), and holes, which are filled, all further than `reach` from `other`: a dilation

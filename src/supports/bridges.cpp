@@ -169,33 +169,10 @@ ScanRows scan_lines(const Scanned& scanned, const Rotation& rot, double first, d
     return out;
 }
 
-// Row by row, the parts of a's intervals inside b's.
-ScanRows intersect_rows(const ScanRows& a, const ScanRows& b) {
-    ScanRows out;
-    const size_t count = a.begin.size() - 1;
-    out.begin.assign(count + 1, 0);
-    for (size_t k = 0; k < count; ++k) {
-        for (size_t i = a.begin[k]; i < a.begin[k + 1]; ++i)
-            for (size_t j = b.begin[k]; j < b.begin[k + 1]; ++j) {
-                const double lo = std::max(a.intervals[i].first, b.intervals[j].first);
-                const double hi = std::min(a.intervals[i].second, b.intervals[j].second);
-                if (lo < hi) out.intervals.emplace_back(lo, hi);
-            }
-        out.begin[k + 1] = out.intervals.size();
-    }
-    return out;
-}
-
-// What the lines run across: the cavity with the minimum filled in, within a window if given.
-struct Span {
-    const Scanned& region;
-    const Scanned* window = nullptr;
-};
-
 // Lines over `need` in the frame turned by `rot`, where they are horizontal; returns their
 // total length. The lines are in the turned frame.
-double horizontal_lines(const Scanned& need, const Span& span, const Rotation& rot, Coord spacing,
-                        Paths* lines) {
+double horizontal_lines(const Scanned& need, const Scanned& span, const Rotation& rot,
+                        Coord spacing, Paths* lines) {
     const HeightRange b = height_range(need.region, rot);
     if (b.empty) return 0;
     double total = 0;
@@ -203,12 +180,7 @@ double horizontal_lines(const Scanned& need, const Span& span, const Rotation& r
         std::max<int>(1, static_cast<int>(std::ceil(double(b.max_y - b.min_y) / spacing)));
     const double first = (b.min_y + b.max_y) / 2.0 - (count - 1) * spacing / 2.0 + 0.5;
     const ScanRows holes = scan_lines(need, rot, first, double(spacing), count);
-    // Clipping the rows to the window, rather than the span with Clipper, spares a boolean
-    // over the cavity per minimum.
-    ScanRows spans = scan_lines(span.region, rot, first, double(spacing), count, &holes);
-    if (span.window)
-        spans = intersect_rows(
-            spans, scan_lines(*span.window, rot, first, double(spacing), count, &holes));
+    const ScanRows spans = scan_lines(span, rot, first, double(spacing), count, &holes);
     for (int k = 0; k < count; ++k) {
         if (holes.empty(k)) continue;
         const auto h0 = holes.intervals.begin() + holes.begin[k];
@@ -339,16 +311,11 @@ std::vector<Paths> unsupported_regions(const Paths& cavity_here, const Paths& ca
     return out;
 }
 
-namespace {
-
-// plan_bridge() with the lines cut to a window (none if empty).
-Bridge plan_bridge_in(const Paths& need, const Paths& span, const Paths& window,
-                      const BridgeOptions& options) {
+Bridge plan_bridge(const Paths& need, const Paths& span, const BridgeOptions& options) {
     Bridge best;
     double best_length = -1;
     const double step = options.angle_step_deg > 0 ? options.angle_step_deg : 5;
-    const Scanned need_scan(need), region_scan(span), window_scan(window);
-    const Span span_scan{region_scan, window.empty() ? nullptr : &window_scan};
+    const Scanned need_scan(need), span_scan(span);
     for (double angle = 0; angle < 180 - 1e-9; angle += step) {
         const Rotation rot(-angle);  // bring lines at `angle` to horizontal
         const double len = horizontal_lines(need_scan, span_scan, rot, options.line_width, nullptr);
@@ -364,12 +331,6 @@ Bridge plan_bridge_in(const Paths& need, const Paths& span, const Paths& window,
     horizontal_lines(need_scan, span_scan, rot, options.line_width, &lines);
     best.lines = rotated_back(lines, rot);
     return best;
-}
-
-}  // namespace
-
-Bridge plan_bridge(const Paths& need, const Paths& span, const BridgeOptions& options) {
-    return plan_bridge_in(need, span, {}, options);
 }
 
 namespace {
@@ -453,18 +414,16 @@ void add_bridges(LayerPartition& layer, const LayerPartition* below, const Bridg
         for (const Paths& need : needs) {
             // The lines run across the cavity with the minimum filled in, wall to wall. Lines
             // longer than max_length are dropped anyway, so the scan only needs the part of the
-            // cavity around the minimum: large cavities would make every angle costly.
+            // cavity around the minimum: large cavities would make every angle costly. The
+            // cavity is cut to that window by a box clip rather than a boolean.
             const BBox2 b0 = bounds(need);
             const Coord m = options.max_length;
             const BBox2 w{b0.min_x - m, b0.min_y - m, b0.max_x + m, b0.max_y + m, false};
-            const Paths window{
-                {{w.min_x, w.min_y}, {w.max_x, w.min_y}, {w.max_x, w.max_y}, {w.min_x, w.max_y}}};
-            Bridge b =
-                options.prune
-                    ? plan_bridge_in(need,
-                                     unite(paths_meeting(layer.cavities[j], piece_boxes, w), need),
-                                     window, options)
-                    : plan_bridge(need, unite(layer.cavities[j], need), options);
+            const Paths span = unite(
+                options.prune ? clip_to_box(paths_meeting(layer.cavities[j], piece_boxes, w), w)
+                              : layer.cavities[j],
+                need);
+            Bridge b = plan_bridge(need, span, options);
             if (b.lines.empty()) continue;
             // A span longer than a printer bridges sags worse than the small minimum it would
             // hold: the minimum is left to hang on its own (rare, counted by the checker).
