@@ -280,34 +280,45 @@ std::vector<Paths> clusters(const Paths& region) {
 
 namespace {
 
-// One Sutherland-Hodgman step: the part of `in` where inside(p) holds, the crossings of the
-// boundary at `cross(a, b)`.
-template <typename Inside, typename Cross>
-void clip_half_plane(const Path& in, Path& out, Inside inside, Cross cross) {
+// A side of a box: the line where X (or Y) is `at`, keeping the points on the `above` side.
+struct BoxSide {
+    Coord at;
+    bool on_x, above;
+    bool keeps(const Point& q) const {
+        const Coord c = on_x ? q.X : q.Y;
+        return above ? c >= at : c <= at;
+    }
+    // Where segment ab, which it separates, crosses it; the other coordinate rounded.
+    Point cut(const Point& a, const Point& b) const {
+        const double t =
+            on_x ? double(at - a.X) / double(b.X - a.X) : double(at - a.Y) / double(b.Y - a.Y);
+        return on_x ? Point(at, a.Y + static_cast<Coord>(std::llround(t * double(b.Y - a.Y))))
+                    : Point(a.X + static_cast<Coord>(std::llround(t * double(b.X - a.X))), at);
+    }
+};
+
+// One Sutherland-Hodgman step: the part of `in` on the kept side, crossings on the side.
+void clip_to_side(const Path& in, Path& out, const BoxSide& side) {
     out.clear();
     const size_t n = in.size();
     for (size_t i = 0; i < n; ++i) {
         const Point& a = in[(i + n - 1) % n];
         const Point& b = in[i];
-        const bool ia = inside(a), ib = inside(b);
-        if (ia != ib) out.push_back(cross(a, b));
-        if (ib) out.push_back(b);
+        const bool keep_b = side.keeps(b);
+        if (side.keeps(a) != keep_b) out.push_back(side.cut(a, b));
+        if (keep_b) out.push_back(b);
     }
-}
-
-// The point of segment ab where coordinate `along` (X or Y) equals `at`, the other rounded.
-Point cut(const Point& a, const Point& b, Coord at, bool on_x) {
-    const double t =
-        on_x ? double(at - a.X) / double(b.X - a.X) : double(at - a.Y) / double(b.Y - a.Y);
-    return on_x ? Point(at, a.Y + static_cast<Coord>(std::llround(t * double(b.Y - a.Y))))
-                : Point(a.X + static_cast<Coord>(std::llround(t * double(b.X - a.X))), at);
 }
 
 }  // namespace
 
 Paths clip_to_box(const Paths& region, const BBox2& box) {
+    const BoxSide sides[] = {{box.min_x, true, true},
+                             {box.max_x, true, false},
+                             {box.min_y, false, true},
+                             {box.max_y, false, false}};
     Paths out;
-    Path a, b;
+    Path cut, next;
     for (const Path& p : region) {
         const BBox2 pb = bounds(p);
         if (!overlap(pb, box)) continue;  // winding 0 inside the box
@@ -316,19 +327,12 @@ Paths clip_to_box(const Paths& region, const BBox2& box) {
             out.push_back(p);
             continue;
         }
-        clip_half_plane(
-            p, a, [&](const Point& q) { return q.X >= box.min_x; },
-            [&](const Point& s, const Point& e) { return cut(s, e, box.min_x, true); });
-        clip_half_plane(
-            a, b, [&](const Point& q) { return q.X <= box.max_x; },
-            [&](const Point& s, const Point& e) { return cut(s, e, box.max_x, true); });
-        clip_half_plane(
-            b, a, [&](const Point& q) { return q.Y >= box.min_y; },
-            [&](const Point& s, const Point& e) { return cut(s, e, box.min_y, false); });
-        clip_half_plane(
-            a, b, [&](const Point& q) { return q.Y <= box.max_y; },
-            [&](const Point& s, const Point& e) { return cut(s, e, box.max_y, false); });
-        if (b.size() >= 3) out.push_back(b);
+        cut = p;
+        for (const BoxSide& side : sides) {
+            clip_to_side(cut, next, side);
+            std::swap(cut, next);
+        }
+        if (cut.size() >= 3) out.push_back(cut);
     }
     return out;
 }
