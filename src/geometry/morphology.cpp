@@ -185,10 +185,12 @@ Paths dilate(const Paths& region, Coord radius) {
     return unite_positive(convolve_all(region, radius));
 }
 
-PositiveRegion erosion(const Paths& region, Coord radius) {
-    StageTimer timer(Stage::kMorphology);
+namespace {
+
+// erosion() without its timer, so that erode() counts once in the profile.
+PositiveRegion erosion_contours(const Paths& region, Coord radius) {
     if (radius <= 0 || region.empty()) return {radius < 0 ? dilate(region, -radius) : region};
-    if (area(region) < 0) return erosion(unite(region), radius);
+    if (area(region) < 0) return erosion_contours(unite(region), radius);
     Paths reversed = without_vanishing(region, radius);
     if (reversed.empty()) return {};
     ClipperLib::ReversePaths(reversed);
@@ -197,10 +199,17 @@ PositiveRegion erosion(const Paths& region, Coord radius) {
     return out;
 }
 
+}  // namespace
+
+PositiveRegion erosion(const Paths& region, Coord radius) {
+    StageTimer timer(Stage::kMorphology);
+    return erosion_contours(region, radius);
+}
+
 Paths erode(const Paths& region, Coord radius) {
     StageTimer timer(Stage::kMorphology);
     if (radius <= 0 || region.empty()) return radius < 0 ? dilate(region, -radius) : region;
-    return resolve(erosion(region, radius));
+    return resolve(erosion_contours(region, radius));
 }
 
 Paths dilate_lines(const Paths& polylines, Coord radius) {

@@ -3,7 +3,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <numbers>
 
 #include "core/stage_timer.hpp"
@@ -349,14 +348,15 @@ class BridgedMinima {
     }
     bool empty() const { return all_boxes_.empty(); }
     const std::vector<BBox2>& boxes() const { return all_boxes_; }
-    bool any(size_t cavity) const { return !of_[cavity].boxes.empty(); }
 
-    // The minima of the cavities `from` <= c < `to` whose boxes meet `box`, as one region: the
-    // minima of different cavities are disjoint, each lying in the erosion of its own cavity
-    // below, and those of one cavity are components of one region.
-    Paths near(const BBox2& box, size_t from, size_t to) const {
+    // The minima whose boxes meet `box`, of the cavities `from` <= c < `to` or, if not
+    // `inside`, of all the others, as one region: the minima of different cavities are
+    // disjoint, each lying in the erosion of its own cavity below, and those of one cavity
+    // are components of one region.
+    Paths near(const BBox2& box, size_t from, size_t to, bool inside = true) const {
         Paths out;
-        for (size_t c = from; c < std::min(to, of_.size()); ++c) {
+        for (size_t c = 0; c < of_.size(); ++c) {
+            if ((c >= from && c < to) != inside) continue;
             const Cavity& m = of_[c];
             for (size_t n = 0, begin = 0; n < m.boxes.size(); begin = m.ends[n++])
                 if (overlap(m.boxes[n], box))
@@ -378,12 +378,9 @@ class BridgedMinima {
 // The region with the minima of cavities [gain_from, gain_to) added and all the others taken
 // out, in one boolean on its part near them.
 Paths exchange(const Paths& region, const BridgedMinima& minima, size_t gain_from, size_t gain_to) {
-    const size_t all = std::numeric_limits<size_t>::max();
     return near_minima(region, minima.boxes(), [&](const Paths& part) {
         const BBox2 box = bounds(part);
-        Paths lost = minima.near(box, 0, gain_from);
-        const Paths lost_later = minima.near(box, gain_to, all);
-        lost.insert(lost.end(), lost_later.begin(), lost_later.end());
+        const Paths lost = minima.near(box, gain_from, gain_to, false);
         const Paths gained = minima.near(box, gain_from, gain_to);
         if (gained.empty()) return subtract(part, lost);
         if (lost.empty()) return unite(part, gained);
