@@ -372,22 +372,36 @@ TEST(Ordering, GridNearestNeighbourMatchesBruteForce) {
 }
 
 TEST(Walls, PieceThroughTheLoopStartIsOneCurveWithExtensions) {
-    // The loop starts at (0, 0), inside W; W misses a 2 mm notch on the right side.
+    // The loop starts at (0, 0), 1 mm inside the region; a notch reaches to 0.5 mm of its
+    // right side, so at depth 0.5 mm a 2 mm stretch of it (y from 4 to 6 mm) is left out.
     const Paths loop = rect(0, 0, 10 * kMm, 10 * kMm);
     const Paths region =
-        subtract(rect(-kMm, -kMm, 11 * kMm, 11 * kMm), rect(9 * kMm, 4 * kMm, 12 * kMm, 6 * kMm));
-    auto pieces = restrict_loops(loop, region, 1.0 * kMm, 800);
+        subtract(rect(-kMm, -kMm, 11 * kMm, 11 * kMm), rect(9500, 4500, 12 * kMm, 5500));
+    auto pieces = loops_inside_erosion(loop, region, kMm / 2, 1.0 * kMm, 800);
     ASSERT_EQ(pieces.size(), 1u);
     Extrusion e;
     e.points = pieces[0].points;
     // 40 mm minus the 2 mm gap, plus 1 mm at both ends: the extensions close the gap.
     EXPECT_TRUE(pieces[0].closed || path_length(e) > 39.9 * kMm);
     // With 0.5 mm extensions the gap stays open by 1 mm.
-    pieces = restrict_loops(loop, region, 0.5 * kMm, 800);
+    pieces = loops_inside_erosion(loop, region, kMm / 2, 0.5 * kMm, 800);
     ASSERT_EQ(pieces.size(), 1u);
     e.points = pieces[0].points;
     EXPECT_NEAR(path_length(e) / kMm, 39.0, 0.01);
     EXPECT_NEAR(boundary_dist(pieces[0].points.front(), loop), 0, 2);
+    EXPECT_NEAR(double(pieces[0].points.front().Y), 5.5 * kMm, 2);  // 6 mm less the extension
+    // Without extensions the piece ends where the notch comes within 0.5 mm.
+    pieces = loops_inside_erosion(loop, region, kMm / 2, 0, 800);
+    ASSERT_EQ(pieces.size(), 1u);
+    EXPECT_NEAR(double(pieces[0].points.front().Y), 6.0 * kMm, 2);
+    EXPECT_NEAR(double(pieces[0].points.back().Y), 4.0 * kMm, 2);
+    // A loop outside the region, however far from it, is left out; one wholly inside is
+    // kept closed.
+    EXPECT_TRUE(
+        loops_inside_erosion(rect(20 * kMm, 0, 30 * kMm, 10 * kMm), region, kMm / 2, 0, 0).empty());
+    pieces = loops_inside_erosion(rect(2 * kMm, 2 * kMm, 8 * kMm, 8 * kMm), region, kMm / 2, 0, 0);
+    ASSERT_EQ(pieces.size(), 1u);
+    EXPECT_TRUE(pieces[0].closed);
 }
 
 TEST(Walls, RestrictedPiecesFollowTheLoopsInsideTheRegion) {
@@ -413,7 +427,8 @@ TEST(Walls, RestrictedPiecesFollowTheLoopsInsideTheRegion) {
         loops = subtract(loops, Paths{blob(2 * kMm * u(rng), 2 * kMm * u(rng), 1.5 * kMm)});
         const Paths region = Paths{blob(6 * kMm * u(rng), 6 * kMm * u(rng), 7 * kMm)};
         const double ext = 1.0 * kMm;
-        auto pieces = restrict_loops(loops, region, ext, 0);
+        const Coord depth = 500;
+        auto pieces = loops_inside_erosion(loops, region, depth, ext, 0);
         std::vector<Extrusion> ex;
         for (auto& p : pieces) {
             Extrusion e;
@@ -421,15 +436,18 @@ TEST(Walls, RestrictedPiecesFollowTheLoopsInsideTheRegion) {
             e.closed = p.closed;
             ex.push_back(e);
         }
-        // Every output point lies on a loop. A stretch outside the region is an extension: at
-        // most ext long at a piece's end, at most 2 ext where two extensions met and merged.
-        const Paths grown = dilate(region, 5);
+        // Every output point lies on a loop. A stretch outside region ⊖ depth (measured here by
+        // brute force) is an extension: at most ext long at a piece's end, at most 2 ext where
+        // two extensions met and merged.
+        auto in_erosion = [&](const Point& p, double margin) {
+            return point_in_region(p, region) && boundary_dist(p, region) > depth + margin;
+        };
         for (const Extrusion& e : ex) {
             const double len = path_length(e);
             auto pts = samples(e, 50);
             double run_start = -1;
             for (size_t i = 0; i <= pts.size(); ++i) {
-                const bool outside = i < pts.size() && !point_in_region(pts[i].first, grown);
+                const bool outside = i < pts.size() && !in_erosion(pts[i].first, -5);
                 if (i < pts.size()) {
                     EXPECT_LT(boundary_dist(pts[i].first, loops), 3.0);
                 }
@@ -444,16 +462,13 @@ TEST(Walls, RestrictedPiecesFollowTheLoopsInsideTheRegion) {
                 }
             }
         }
-        // Every loop point well inside the region is covered by an output piece.
-        Paths covered;
-        for (const Extrusion& e : ex) covered.push_back(e.points);
-        const Paths inside = erode(region, 5);
+        // Every loop point well inside region ⊖ depth is covered by an output piece.
         for (const Path& l : loops) {
             Extrusion e;
             e.points = l;
             e.closed = true;
             for (const auto& [p, at] : samples(e, 150)) {
-                if (!point_in_region(p, inside)) continue;
+                if (!in_erosion(p, 5)) continue;
                 double best = 1e18;
                 for (const Extrusion& o : ex) {
                     Path q = o.points;
@@ -564,10 +579,9 @@ TEST(Toolpath, CavityWallsOnlyNearWhatTheCavityLeavesAreAllTheWalls) {
         const Paths* uncarved[2] = {&l.carvable, &v1};
         for (int j = 0; j < 2; ++j) {
             double want = 0;
-            for (const WallPiece& w :
-                 restrict_loops(clean(open(l.cavities[j], st.opening()), 5.0),
-                                erode(*uncarved[j], st.restriction()), to_units(st.wall_extension),
-                                2.0 * double(st.line_width())))
+            for (const WallPiece& w : loops_inside_erosion(
+                     clean(open(l.cavities[j], st.opening()), 5.0), *uncarved[j], st.restriction(),
+                     to_units(st.wall_extension), 2.0 * double(st.line_width())))
                 want += length(Paths{w.points}, w.closed);
             double got = 0;
             for (const Extrusion& e : t.extrusions)

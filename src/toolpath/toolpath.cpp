@@ -46,9 +46,8 @@ void add_loops(const Paths& region, Feature feature, int cavity, double min_leng
 void add_cavity_walls(const Paths& cavity, const Paths& uncarved, const Settings& settings,
                       int index, double min_length, std::vector<Extrusion>& out) {
     const Paths smoothed = clean(open(cavity, settings.opening()), kSimplify);
-    const Paths restriction = erode(uncarved, settings.restriction());
-    for (WallPiece& piece :
-         restrict_loops(smoothed, restriction, to_units(settings.wall_extension), min_length)) {
+    for (WallPiece& piece : loops_inside_erosion(smoothed, uncarved, settings.restriction(),
+                                                 to_units(settings.wall_extension), min_length)) {
         Extrusion e;
         e.feature = Feature::CavityWall;
         e.points = std::move(piece.points);
@@ -164,8 +163,8 @@ LayerToolpaths plan_layer(const LayerPartition& layer, const Settings& settings)
         if (!layer.carvable.empty()) {
             const bool single = settings.walls == WallMode::Single;
             const Paths edge = single ? layer.carvable : dilate(layer.carvable, s);
-            for (WallPiece& piece : restrict_loops(
-                     clean(edge, kSimplify), erode(inner, settings.restriction()), 0, min_length)) {
+            for (WallPiece& piece : loops_inside_erosion(clean(edge, kSimplify), inner,
+                                                         settings.restriction(), 0, min_length)) {
                 Extrusion e;
                 e.feature = Feature::Cover;
                 e.points = std::move(piece.points);
