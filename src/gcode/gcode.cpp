@@ -2,13 +2,13 @@
 //
 // Layers are spilled in a compact binary form (zig-zag varint deltas) to an unlinked temporary
 // file next to the output, so nothing is left behind even if the process dies. finish() runs the
-// emitter twice over the spilled layers: a dry pass that only measures (time, material, bounds)
-// so the header can state them, then the writing pass into a temporary name that is renamed onto
-// the output when complete. Both passes run the same code, so the header cannot disagree with
-// the body.
+// emitter once over the spilled layers, writing the body to a second unlinked file while it
+// measures (time, material, bounds); then the header stating those figures, the body and the
+// trailer go to a temporary name that is renamed onto the output when complete. The figures
+// come from the very moves written, so the header cannot disagree with the body. (A measuring
+// pass before the writing pass did the same in twice the time, all of it after the last layer,
+// when nothing else runs.)
 #include "gcode/gcode.hpp"
-
-#include "core/stage_timer.hpp"
 
 #include <fcntl.h>
 #include <fmt/format.h>
@@ -28,6 +28,7 @@
 
 #include "core/error.hpp"
 #include "core/placeholders.hpp"
+#include "core/stage_timer.hpp"
 #include "gcode/motion.hpp"
 #include "gcode/spill.hpp"
 
@@ -432,6 +433,25 @@ class Emitter {
 
 }  // namespace
 
+namespace {
+
+// A read-write temporary file next to `path` (same disk, and a bad directory fails early),
+// unlinked at once so that it disappears with the process whatever happens.
+std::FILE* unlinked_file(const std::string& path, const char* suffix) {
+    std::string name = path + suffix;
+    const int fd = mkstemp(name.data());
+    if (fd < 0) io_error(std::strerror(errno), path);
+    ::unlink(name.c_str());
+    std::FILE* f = fdopen(fd, "w+b");
+    if (!f) {
+        ::close(fd);
+        io_error(std::strerror(errno), path);
+    }
+    return f;
+}
+
+}  // namespace
+
 struct GcodeWriter::Impl {
     std::string output_path;
     Settings settings;
@@ -478,15 +498,7 @@ GcodeWriter::GcodeWriter(std::string output_path, const Settings& settings, doub
     m.sizes.assign(m.layer_count, 0);
     // The spill lives next to the output (same disk, and a bad directory fails early), unlinked
     // at once so that it disappears with the process whatever happens.
-    std::string name = m.output_path + ".spill-XXXXXX";
-    const int fd = mkstemp(name.data());
-    if (fd < 0) io_error(std::strerror(errno), m.output_path);
-    ::unlink(name.c_str());
-    m.spill = fdopen(fd, "w+b");
-    if (!m.spill) {
-        ::close(fd);
-        io_error(std::strerror(errno), m.output_path);
-    }
+    m.spill = unlinked_file(m.output_path, ".spill-XXXXXX");
 }
 
 GcodeWriter::~GcodeWriter() {
@@ -517,23 +529,29 @@ PrintStats GcodeWriter::finish(const std::vector<std::string>& header_comments) 
     if (m.finished) throw std::logic_error("GcodeWriter::finish called twice");
     if (std::fflush(m.spill) != 0) io_error(std::strerror(errno), m.output_path);
 
-    // Pass 1: measure only.
-    Emitter dry(m.settings, m.off_x, m.off_y, nullptr, m.output_path);
-    m.run(dry);
-    const PrintStats& s = dry.stats();
-    const Bounds& b = dry.bounds();
-
-    std::string name = m.output_path + ".tmp-XXXXXX";
-    const int fd = mkstemp(name.data());
-    if (fd < 0) io_error(std::strerror(errno), m.output_path);
-    m.temp_output = name;
-    ::fchmod(fd, 0644);  // mkstemp's 0600 would be a surprise on a shared printer host
-    std::FILE* out = fdopen(fd, "wb");
-    if (!out) {
-        ::close(fd);
-        io_error(std::strerror(errno), m.output_path);
-    }
+    // The body, measured as it is written.
+    std::FILE* body = unlinked_file(m.output_path, ".body-XXXXXX");
+    std::FILE* out = nullptr;
     try {
+        std::setvbuf(body, nullptr, _IOFBF, 1 << 16);
+        Emitter writer(m.settings, m.off_x, m.off_y, body, m.output_path);
+        m.run(writer);
+        writer.flush_all();
+        if (std::fflush(body) != 0 || std::ferror(body) || std::fseek(body, 0, SEEK_SET) != 0)
+            io_error(std::strerror(errno), m.output_path);
+        const PrintStats s = writer.stats();
+        const Bounds& b = writer.bounds();
+
+        std::string name = m.output_path + ".tmp-XXXXXX";
+        const int fd = mkstemp(name.data());
+        if (fd < 0) io_error(std::strerror(errno), m.output_path);
+        m.temp_output = name;
+        ::fchmod(fd, 0644);  // mkstemp's 0600 would be a surprise on a shared printer host
+        out = fdopen(fd, "wb");
+        if (!out) {
+            ::close(fd);
+            io_error(std::strerror(errno), m.output_path);
+        }
         std::setvbuf(out, nullptr, _IOFBF, 1 << 16);
         const double volume_cm3 = s.extruded_volume_mm3 / 1000.0;
         std::vector<std::string> head;
@@ -567,17 +585,23 @@ PrintStats GcodeWriter::finish(const std::vector<std::string>& header_comments) 
             head.push_back(fmt::format("; {} = {}", key, value));
         head.push_back("");
 
-        // Pass 2: the same moves, written.
-        Emitter writer(m.settings, m.off_x, m.off_y, out, m.output_path);
-        writer.comment_block(head);
-        m.run(writer);
-        writer.comment_block({"", "; end of print",
-                              fmt::format("; estimated printing time (normal mode) = {}",
-                                          format_duration(s.estimated_print_time_s)),
-                              fmt::format("; filament used [mm] = {:.2f}", s.filament_length_mm),
-                              fmt::format("; filament used [g] = {:.2f}", s.filament_weight_g)});
-        writer.flush_all();
-        const PrintStats result = writer.stats();
+        Emitter text(m.settings, m.off_x, m.off_y, out, m.output_path);
+        text.comment_block(head);
+        text.flush_all();
+        std::vector<char> chunk(1 << 20);
+        for (size_t n; (n = std::fread(chunk.data(), 1, chunk.size(), body)) > 0;)
+            if (std::fwrite(chunk.data(), 1, n, out) != n)
+                io_error(std::strerror(errno), m.output_path);
+        if (std::ferror(body)) io_error(std::strerror(errno), m.output_path);
+        std::fclose(body);
+        body = nullptr;
+        text.comment_block({"", "; end of print",
+                            fmt::format("; estimated printing time (normal mode) = {}",
+                                        format_duration(s.estimated_print_time_s)),
+                            fmt::format("; filament used [mm] = {:.2f}", s.filament_length_mm),
+                            fmt::format("; filament used [g] = {:.2f}", s.filament_weight_g)});
+        text.flush_all();
+        const PrintStats result = s;
         if (std::fflush(out) != 0 || std::ferror(out))
             io_error(std::strerror(errno), m.output_path);
         if (::fsync(fileno(out)) != 0 && errno != EINVAL)
@@ -593,8 +617,9 @@ PrintStats GcodeWriter::finish(const std::vector<std::string>& header_comments) 
         m.spill = nullptr;
         return result;
     } catch (...) {
+        if (body) std::fclose(body);
         if (out) std::fclose(out);
-        ::unlink(m.temp_output.c_str());
+        if (!m.temp_output.empty()) ::unlink(m.temp_output.c_str());
         m.temp_output.clear();
         throw;
     }
