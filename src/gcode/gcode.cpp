@@ -163,13 +163,11 @@ class Emitter {
     void layer(const LayerToolpaths& layer) {
         layer_ = layer.index;
         layer_z_ = to_units(layer.z);
-        if (out_) {
-            put("\n;LAYER_CHANGE\n;Z:");
-            fixed(layer_z_, 3);
-            put("\n;HEIGHT:");
-            fixed(to_units(st_.layer_height), 3);
-            fmt::format_to(std::back_inserter(buf_), "\n;LAYER:{}\n", layer.index);
-        }
+        put("\n;LAYER_CHANGE\n;Z:");
+        fixed(layer_z_, 3);
+        put("\n;HEIGHT:");
+        fixed(to_units(st_.layer_height), 3);
+        fmt::format_to(std::back_inserter(buf_), "\n;LAYER:{}\n", layer.index);
         if (layer.index == 1) {
             if (st_.nozzle_temperature != st_.first_layer_nozzle_temperature)
                 line(fmt::format("M104 S{}", st_.nozzle_temperature));
@@ -207,15 +205,14 @@ class Emitter {
     const Bounds& bounds() const { return bounds_; }
 
   private:
-    // --- text output; every formatting call is skipped in the measuring pass.
+    // --- text output.
     void put(std::string_view s) { buf_.append(s.data(), s.data() + s.size()); }
     void line(std::string_view s) {
-        if (!out_) return;
         put(s);
         buf_.push_back('\n');
     }
     void raw(const std::string& text) {
-        if (!out_ || text.empty()) return;
+        if (text.empty()) return;
         put(text);
         if (text.back() != '\n') buf_.push_back('\n');
     }
@@ -230,7 +227,6 @@ class Emitter {
                        v % kPow[decimals], decimals);
     }
     void flush(bool force) {
-        if (!out_) return;
         if (!force && buf_.size() < kFlushBytes) return;
         if (buf_.size() > 0 && std::fwrite(buf_.data(), 1, buf_.size(), out_) != buf_.size())
             io_error(std::strerror(errno), path_);
@@ -242,7 +238,6 @@ class Emitter {
         speed = std::clamp(speed, 0, 255);
         if (speed == fan_) return;
         fan_ = speed;
-        if (!out_) return;
         if (st_.flavor == GcodeFlavor::RepRap)
             line(fmt::format("M106 S{:.2f}", speed / 255.0));
         else if (speed == 0)
@@ -256,7 +251,7 @@ class Emitter {
         const long long f = std::llround(mm_per_s * 60.0);
         if (f == feed_) return;
         feed_ = f;
-        if (out_) fmt::format_to(std::back_inserter(buf_), " F{}", f);
+        fmt::format_to(std::back_inserter(buf_), " F{}", f);
     }
 
     void e_word(long long target) {
@@ -266,12 +261,10 @@ class Emitter {
 
     // Retraction and its recovery are the same pure-filament move at the retraction speed.
     void move_filament(long long target) {
-        if (out_) {
-            put("G1");
-            e_word(target);
-        }
+        put("G1");
+        e_word(target);
         feed(st_.retract_speed);
-        if (out_) buf_.push_back('\n');
+        buf_.push_back('\n');
         e_units_ = target;
         planner_.dwell(st_.retract_length / st_.retract_speed);
     }
@@ -291,12 +284,10 @@ class Emitter {
 
     void move_z(Coord z) {
         if (z == z_) return;
-        if (out_) {
-            put("G1 Z");
-            fixed(z, 3);
-        }
+        put("G1 Z");
+        fixed(z, 3);
         feed(kZSpeed);
-        if (out_) buf_.push_back('\n');
+        buf_.push_back('\n');
         const double dz = z_ < 0 ? to_mm(z) : std::abs(to_mm(z - z_));
         planner_.dwell(trapezoid_time(dz, 0, kZSpeed, 0, st_.travel_acceleration));
         z_ = z;
@@ -315,14 +306,12 @@ class Emitter {
             move_z(std::max(z_, layer_z_) + hop);
         else if (layer_z_ > z_)
             move_z(layer_z_);
-        if (out_) {
-            put("G0 X");
-            fixed(p.X, 3);
-            put(" Y");
-            fixed(p.Y, 3);
-        }
+        put("G0 X");
+        fixed(p.X, 3);
+        put(" Y");
+        fixed(p.Y, 3);
         feed(st_.travel_speed);
-        if (out_) buf_.push_back('\n');
+        buf_.push_back('\n');
         planner_.move(to_mm(p.X - pos_.X), to_mm(p.Y - pos_.Y), st_.travel_speed,
                       st_.travel_acceleration);
         stats_.travel_length_mm += d;
@@ -360,13 +349,12 @@ class Emitter {
         if (!type_known_ || ex.feature != type_) {
             type_known_ = true;
             type_ = ex.feature;
-            if (out_)
-                fmt::format_to(std::back_inserter(buf_), ";TYPE:{}\n", feature_name(ex.feature));
+            fmt::format_to(std::back_inserter(buf_), ";TYPE:{}\n", feature_name(ex.feature));
         }
         const double width = st_.nozzle * ex.flow;
         if (width != width_) {
             width_ = width;
-            if (out_) fmt::format_to(std::back_inserter(buf_), ";WIDTH:{:.3f}\n", width);
+            fmt::format_to(std::back_inserter(buf_), ";WIDTH:{:.3f}\n", width);
         }
         if (layer_ > 0)
             set_fan(ex.feature == Feature::Bridge ? st_.bridge_fan_speed : st_.fan_speed);
@@ -382,15 +370,13 @@ class Emitter {
             const double len = std::hypot(dx, dy);
             e_mm_ += len * e_per_mm;
             const long long target = std::llround(e_mm_ * kEScale);
-            if (out_) {
-                put("G1 X");
-                fixed(q.X, 3);
-                put(" Y");
-                fixed(q.Y, 3);
-                e_word(target);
-            }
+            put("G1 X");
+            fixed(q.X, 3);
+            put(" Y");
+            fixed(q.Y, 3);
+            e_word(target);
             feed(speed);
-            if (out_) buf_.push_back('\n');
+            buf_.push_back('\n');
             e_units_ = target;
             planner_.move(dx, dy, speed, st_.acceleration);
             stats_.extruded_volume_mm3 += len * e_per_mm * filament_area_;
