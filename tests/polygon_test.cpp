@@ -166,6 +166,44 @@ TEST(Polygon, EmptyHolesAreTheHolesWithoutIslands) {
     EXPECT_TRUE(empty_holes(Paths{square(0, 0, 100)}).empty());
 }
 
+TEST(Polygon, EmptyHolesMatchClippersNestingOnRandomRegions) {
+    // Rings inside rings, some with islands, some touching, as the booleans leave them; the
+    // reference is Clipper's own nesting (PolyTree): holes without children.
+    carve::test::Rng rng(17);
+    int holes_seen = 0, islands_seen = 0;
+    for (int trial = 0; trial < 200; ++trial) {
+        Paths region;
+        for (int k = 0; k < 6; ++k) {
+            const Coord x = rng.integer(0, 20000), y = rng.integer(0, 20000);
+            const Coord a = rng.integer(2000, 12000), t = rng.integer(300, a / 3);
+            Paths ring = subtract(Paths{square(x, y, a)}, Paths{square(x + t, y + t, a - 2 * t)});
+            const Coord inner = a - 2 * t, g = rng.integer(100, std::max<int>(101, inner / 3));
+            if (rng.integer(0, 1) == 0 && inner - 2 * g > 100)
+                ring = unite(ring, Paths{square(x + t + g, y + t + g, inner - 2 * g)});
+            region = rng.integer(0, 3) == 0 ? subtract(region, ring) : unite(region, ring);
+        }
+        ClipperLib::PolyTree tree;
+        ClipperLib::Clipper c;
+        c.AddPaths(region, ClipperLib::ptSubject, true);
+        c.Execute(ClipperLib::ctUnion, tree, ClipperLib::pftNonZero, ClipperLib::pftNonZero);
+        double want = 0;
+        int empty = 0;
+        for (ClipperLib::PolyNode* n = tree.GetFirst(); n; n = n->GetNext())
+            if (n->IsHole()) {
+                ++holes_seen;
+                if (n->Childs.empty())
+                    want += std::abs(area(n->Contour)), ++empty;
+                else
+                    ++islands_seen;
+            }
+        const Paths got = empty_holes(region);
+        EXPECT_EQ(int(got.size()), empty) << "trial " << trial;
+        EXPECT_DOUBLE_EQ(area(got), want) << "trial " << trial;  // counter-clockwise
+    }
+    EXPECT_GT(holes_seen, 200);
+    EXPECT_GT(islands_seen, 50);
+}
+
 TEST(Polygon, PointInRegionRespectsHolesAndIslands) {
     const Paths r = ring_with_island();
     EXPECT_TRUE(point_in_region({1000, 1000}, r));   // in the ring

@@ -100,10 +100,14 @@ Paths seeds(const Paths& remainder, const Paths& propagated, const Paths& uncove
         const Paths open = components_not_covered(comps, uncovered);
         if (open.empty()) return {};
         const Paths lines = medial_axis(open, options);
-        if (lines.empty()) return {};
         // Not clipped to V: the caller only ever takes V \ G minus it, and outside `open` any
-        // part of V it meets lies in G already.
-        return dilate_lines(lines, options.thickness);
+        // part of V it meets lies in G already. For the same reason a branch of the axis whose
+        // box, grown by the thickness, meets no piece of V \ G is not thickened: it would only
+        // add to G (a third of the axis on fandisk and cat). contours_near() reads each path's
+        // box alone, so it selects polylines as well.
+        const Paths near = contours_near(lines, uncovered, options.thickness);
+        if (near.empty()) return {};
+        return dilate_lines(near, options.thickness);
     }
     const Paths reach = propagated.empty() ? Paths{} : dilate(propagated, tear_limit);
     const BBox2 open_box = bounds(uncovered);

@@ -100,19 +100,6 @@ Paths run(ClipType op, const Paths& subject, const Paths* clip, Fills fill = {})
     return out;
 }
 
-void collect_holes(const PolyNode& node, Paths& out) {
-    for (const PolyNode* child : node.Childs) {
-        if (child->IsHole()) {
-            if (child->Childs.empty()) {
-                Path h = child->Contour;
-                if (!Orientation(h)) ReversePath(h);
-                out.push_back(std::move(h));
-            }
-        }
-        collect_holes(*child, out);
-    }
-}
-
 void collect_components(const PolyNode& node, std::vector<Paths>& out) {
     for (const PolyNode* child : node.Childs) {
         if (!child->IsHole()) {
@@ -385,13 +372,35 @@ std::vector<Paths> components(const Paths& region) {
     return comps;
 }
 
+// In a normalised region the holes are the clockwise contours and an island in a hole is a
+// counter-clockwise contour inside it, which no contour crosses: box containment and one vertex
+// tell, without a Clipper pass to build the nesting.
 Paths empty_holes(const Paths& region) {
-    PolyTree tree;
-    Clipper c;
-    c.AddPaths(region, ptSubject, true);
-    c.Execute(ctUnion, tree, pftNonZero, pftNonZero);
+    std::vector<BBox2> boxes;
+    std::vector<size_t> outers;
+    boxes.reserve(region.size());
+    for (size_t i = 0; i < region.size(); ++i) {
+        boxes.push_back(bounds(region[i]));
+        if (Area(region[i]) > 0) outers.push_back(i);
+    }
+    auto inside = [&](size_t island, size_t hole) {
+        const BBox2& a = boxes[island];
+        const BBox2& b = boxes[hole];
+        if (a.min_x < b.min_x || a.max_x > b.max_x || a.min_y < b.min_y || a.max_y > b.max_y)
+            return false;
+        for (const Point& v : region[island])  // a vertex off the hole's contour decides
+            if (const int in = PointInPolygon(v, region[hole]); in >= 0) return in == 1;
+        return false;
+    };
     Paths out;
-    collect_holes(tree, out);
+    for (size_t h = 0; h < region.size(); ++h) {
+        if (region[h].size() < 3 || Area(region[h]) >= 0) continue;
+        if (std::any_of(outers.begin(), outers.end(), [&](size_t o) { return inside(o, h); }))
+            continue;
+        Path hole = region[h];
+        ReversePath(hole);
+        out.push_back(std::move(hole));
+    }
     return out;
 }
 

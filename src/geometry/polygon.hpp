@@ -80,7 +80,7 @@ Paths clip_to_box(const Paths& region, const BBox2& box);
 // boolean with it.
 Paths contours_near(const Paths& region, const Paths& other, Coord reach);
 
-// Holes of a region that contain nothing else of the region (no island inside), as
+// Holes of a normalised region that contain nothing else of the region (no island inside), as
 // counter-clockwise contours. Used for island local minima.
 Paths empty_holes(const Paths& region);
 
