@@ -216,15 +216,24 @@ class Emitter {
         put(text);
         if (text.back() != '\n') buf_.push_back('\n');
     }
-    // A value in units of 10^-decimals, written with exactly that many decimals.
+    // A value in units of 10^-decimals (decimals >= 1), written with exactly that many
+    // decimals. By hand: every coordinate of the file passes here, and fmt's general path (a
+    // format string parsed per call) was most of the time spent writing G-code.
     void fixed(long long v, int decimals) {
-        static constexpr long long kPow[] = {1, 10, 100, 1000, 10000, 100000};
         if (v < 0) {
             buf_.push_back('-');
             v = -v;
         }
-        fmt::format_to(std::back_inserter(buf_), "{}.{:0{}}", v / kPow[decimals],
-                       v % kPow[decimals], decimals);
+        char digits[24];  // least significant first, at least decimals + 1 of them
+        int n = 0;
+        do {
+            digits[n++] = static_cast<char>('0' + v % 10);
+            v /= 10;
+        } while (v > 0 || n <= decimals);
+        for (int i = n - 1; i >= 0; --i) {
+            if (i == decimals - 1) buf_.push_back('.');
+            buf_.push_back(digits[i]);
+        }
     }
     void flush(bool force) {
         if (!force && buf_.size() < kFlushBytes) return;
