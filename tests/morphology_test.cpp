@@ -408,7 +408,11 @@ TEST(Morphology, DilatedSegmentIsAStadium) {
         const Paths d = dilate_lines(Paths{seg}, r);
         SCOPED_TRACE(angle);
         ASSERT_EQ(d.size(), 1u);
-        EXPECT_NEAR(area(d), w * len + element, 1e-5 * (w * len + element) + 2);
+        // The convolution drops points within a unit of the line through their neighbours
+        // (a side of the element in line with the segment, at 7.5 degrees), each changing the
+        // area by half the chord at most: half the perimeter in all.
+        const double perimeter = 2 * len + 2 * kPi * r;
+        EXPECT_NEAR(area(d), w * len + element, 1e-5 * (w * len + element) + 2 + perimeter / 2);
         EXPECT_NEAR(w, 2 * r, 2 * r * (1 - kCos) + 1);
     }
 }
@@ -559,8 +563,9 @@ TEST(MorphologyProperties, ClosingContainsAndOpeningIsInside) {
             const Paths o = open(s.region, a);
             EXPECT_TRUE(inside(s.region, c, 3));
             EXPECT_TRUE(inside(o, s.region, 3));
-            // Idempotence: opening an opened region changes nothing (up to rounding).
-            EXPECT_LE(hausdorff(open(o, a), o), 3.0);
+            // Idempotence: opening an opened region changes nothing (up to rounding, and a unit
+            // for each of the two convolutions, which drop points almost in line).
+            EXPECT_LE(hausdorff(open(o, a), o), 5.0);
         }
 }
 
@@ -803,6 +808,44 @@ TEST(MorphologyProperties, UnresolvedErosionSubtractsLikeTheErosion) {
             nonempty += !want.empty();
             EXPECT_LE(hausdorff(got, want), 2.0);
             EXPECT_NEAR(area(got), area(want), 1e-4 * std::abs(area(s.region)) + 100.0);
+        }
+    EXPECT_GT(nonempty, 20);
+}
+
+// The sweep reads G = C ⊕ r unresolved, with the seed's region added, under the positive fill
+// rule (CarvingSweep::next). That needs the convolution's winding to be positive exactly in the
+// sum and never negative outside it, holes and islands included: a winding of -1 left by a
+// hole's convolution would cancel the +1 of a seed laid over it.
+TEST(MorphologyProperties, UnresolvedDilationReadsLikeTheDilationWithARegionAdded) {
+    Rng rng(47);
+    int nonempty = 0;
+    for (const Shape& s : zoo())
+        for (Coord a : kRadii) {
+            SCOPED_TRACE(s.name + " a=" + std::to_string(a));
+            const Paths region = unite(s.region);  // a cavity is normalised, as dilation() needs
+            const BBox2 b = bounds(region);
+            const double cx = 0.5 * double(b.min_x + b.max_x), cy = 0.5 * double(b.min_y + b.max_y);
+            const double wide = double(b.max_x - b.min_x + 1000),
+                         tall = double(b.max_y - b.min_y + 1000);
+            // V: a band across the shape; S: a bar across the band, over the shape's holes.
+            const Paths v{rotated_rect(cx, cy, 2.0 * wide, 0.4 * tall, rng.uniform(0, kPi))};
+            const Paths seed{rotated_rect(cx, cy, 0.1 * wide, 2.0 * tall, rng.uniform(0, kPi))};
+            const Paths g = dilate(region, a);
+            PositiveRegion raw = dilation(region, a);
+            // Compared by the area between them: Clipper's rounding leaves slivers under a unit
+            // wide in one or the other, and the convolution drops points within a unit of their
+            // neighbours' line, which moves the boundary by a unit at most (the union keeps
+            // them). A winding of -1 would lose a whole piece of the seed.
+            auto apart = [](const Paths& got, const Paths& want) {
+                return std::abs(area(symmetric_difference(got, want))) /
+                       (1e-4 * std::abs(area(want)) + length(want, true) + 100.0);
+            };
+            EXPECT_LE(apart(subtract_positive(v, raw), subtract(v, g)), 1.0);
+            raw.contours.insert(raw.contours.end(), seed.begin(), seed.end());
+            const Paths want = intersect(v, unite(g, seed));
+            const Paths got = intersect_positive(v, raw);
+            nonempty += !want.empty();
+            EXPECT_LE(apart(got, want), 1.0);
         }
     EXPECT_GT(nonempty, 20);
 }

@@ -386,3 +386,44 @@ TEST(Polygon, BoxClipUnitedIsTheIntersectionWithTheBox) {
     }
     EXPECT_GT(cut, 40);
 }
+
+// simplify() drops points almost in line, never two in a row, so no point of the input ends
+// further than the tolerance from the result. clean() re-tests each point against the
+// neighbours left after the last removal and flattens a finely sampled gentle arc far more.
+TEST(Polygon, SimplifyStaysWithinItsTolerance) {
+    const double radius = 1e6, step = 20;  // a 1 m circle sampled every 20 um: bends 0.2 um
+    Path arc;
+    for (int k = 0; k <= 2000; ++k) {
+        const double t = k * step / radius;
+        arc.emplace_back(std::llround(radius * std::sin(t)), std::llround(radius * std::cos(t)));
+    }
+    arc.emplace_back(arc.back().X, -100000);  // closed far below the arc
+    arc.emplace_back(0, -100000);
+    std::reverse(arc.begin(), arc.end());  // counter-clockwise
+    auto farthest = [&](const Paths& simplified) {
+        double worst = 0;
+        for (const Point& p : arc) {
+            double best = 1e300;
+            const Path& q = simplified.front();
+            for (size_t i = 0; i < q.size(); ++i) {
+                const Point& a = q[i];
+                const Point& b = q[(i + 1) % q.size()];
+                const double dx = double(b.X - a.X), dy = double(b.Y - a.Y);
+                const double len2 = dx * dx + dy * dy;
+                double t = len2 > 0 ? (double(p.X - a.X) * dx + double(p.Y - a.Y) * dy) / len2 : 0;
+                t = std::clamp(t, 0.0, 1.0);
+                best = std::min(best, std::hypot(double(p.X) - (double(a.X) + t * dx),
+                                                 double(p.Y) - (double(a.Y) + t * dy)));
+            }
+            worst = std::max(worst, best);
+        }
+        return worst;
+    };
+    const Paths s = simplify(Paths{arc}, 5.0);
+    ASSERT_EQ(s.size(), 1u);
+    EXPECT_LT(s.front().size(), arc.size());  // it does drop the points in line
+    EXPECT_LE(farthest(s), 5.0);
+    EXPECT_GT(farthest(clean(Paths{arc}, 5.0)), 20.0);  // what simplify() is there to avoid
+    // Never two in a row: at least half the points stay.
+    EXPECT_GE(2 * s.front().size() + 1, arc.size());
+}

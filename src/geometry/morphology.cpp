@@ -114,6 +114,11 @@ void convolve(const Path& contour, const std::array<Point, kSides>& q, Paths& ou
             result.emplace_back(v.X + q[to].X, v.Y + q[to].Y);
         }
     }
+    // Along an arc made by earlier uses of the element, each fan point and the next translated
+    // edge are in line but for the rounding of the two elements: the convolution would carry
+    // twice the arc's vertices into the booleans that read it unresolved, and Clipper's own
+    // union drops only exactly collinear points.
+    drop_straight_points(result, 1.0);
     out.push_back(std::move(result));
 }
 
@@ -183,6 +188,13 @@ Paths dilate(const Paths& region, Coord radius) {
     if (radius <= 0 || region.empty()) return radius < 0 ? erode(region, -radius) : region;
     if (area(region) < 0) return dilate(unite(region), radius);
     return unite_positive(convolve_all(region, radius));
+}
+
+PositiveRegion dilation(const Paths& region, Coord radius) {
+    StageTimer timer(Stage::kMorphology);
+    if (radius <= 0 || region.empty()) return {radius < 0 ? erode(region, -radius) : region};
+    if (area(region) < 0) return dilation(unite(region), radius);
+    return {convolve_all(region, radius)};
 }
 
 namespace {

@@ -29,6 +29,9 @@ Path disk(Coord radius);
 // Clipper's intersections (about 1 um per use; repeated uses add up, see the tests).
 Paths dilate(const Paths& region, Coord radius);  // S ⊕ D(r)
 Paths erode(const Paths& region, Coord radius);  // S ⊖ D(r), complement of the dilated complement
+// The dilation before its union: its winding is never negative (see morphology.cpp), so
+// normalised regions added to it make their union, read with the positive fill rule.
+PositiveRegion dilation(const Paths& region, Coord radius);
 // The erosion before its union (see PositiveRegion), for an operation that uses it once.
 PositiveRegion erosion(const Paths& region, Coord radius);
 inline Paths open(const Paths& region, Coord radius) {

@@ -57,6 +57,13 @@ struct Fills {
     PolyFillType subject = pftNonZero, clip = pftNonZero;
 };
 
+// Executes `c`, appending its result to `out`.
+void execute_into(Clipper& c, ClipType op, Fills fill, Paths& out) {
+    Paths part;
+    c.Execute(op, part, fill.subject, fill.clip);
+    std::move(part.begin(), part.end(), std::back_inserter(out));
+}
+
 Paths run_clipper(ClipType op, const Paths& subject, const Paths* clip, Fills fill) {
     Clipper c;
     c.AddPaths(subject, ptSubject, true);
@@ -66,18 +73,25 @@ Paths run_clipper(ClipType op, const Paths& subject, const Paths* clip, Fills fi
     return out;
 }
 
+Paths run_within(ClipType op, const Paths& subject, const Paths& clip, Fills fill,
+                 bool anchor_is_subject);
+size_t vertex_count(const Paths& region);
+
 // Clipper's sweep costs about (scanbeams) x (edges active on a scanline), so pieces side by
 // side make each other's scanbeams dearer. The winding number at a point only depends on the
 // contours whose boxes hold it, so groups of contours whose boxes do not overlap any other
 // group's (box_groups) are independent: each is clipped alone and the results are
 // concatenated, exactly. Late in the sweep a slice's cavities and remainder are dozens of
-// pieces across the slice.
+// pieces across the slice. Differences and intersections go further (run_within).
 Paths run(ClipType op, const Paths& subject, const Paths* clip, Fills fill = {}) {
     StageTimer timer(Stage::kBoolean);
+    if (clip && op == ctDifference) return run_within(op, subject, *clip, fill, true);
+    if (clip && op == ctIntersection)
+        return run_within(op, subject, *clip, fill, vertex_count(subject) <= vertex_count(*clip));
     const size_t ns = subject.size(), n = ns + (clip ? clip->size() : 0);
     if (n < 3) return run_clipper(op, subject, clip, fill);
-    const std::vector<std::vector<size_t>> groups = box_groups(
-        n, [&](size_t i) -> const Path& { return i < ns ? subject[i] : (*clip)[i - ns]; });
+    auto path_at = [&](size_t i) -> const Path& { return i < ns ? subject[i] : (*clip)[i - ns]; };
+    const std::vector<std::vector<size_t>> groups = box_groups(n, path_at);
     if (groups.size() <= 1) return run_clipper(op, subject, clip, fill);
     Paths out;
     for (const std::vector<size_t>& members : groups) {
@@ -87,15 +101,8 @@ Paths run(ClipType op, const Paths& subject, const Paths* clip, Fills fill = {})
         if (subjects == 0 && op != ctUnion && op != ctXor) continue;
         if (clips == 0 && op == ctIntersection) continue;
         Clipper c;
-        for (size_t i : members) {
-            if (i < ns)
-                c.AddPath(subject[i], ptSubject, true);
-            else
-                c.AddPath((*clip)[i - ns], ptClip, true);
-        }
-        Paths part;
-        c.Execute(op, part, fill.subject, fill.clip);
-        std::move(part.begin(), part.end(), std::back_inserter(out));
+        for (size_t i : members) c.AddPath(path_at(i), i < ns ? ptSubject : ptClip, true);
+        execute_into(c, op, fill, out);
     }
     return out;
 }
@@ -163,6 +170,16 @@ Paths subtract(const PositiveRegion& a, const Paths& b) {
     return run(ctDifference, a.contours, &b, {pftPositive, pftNonZero});
 }
 
+Paths subtract_positive(const Paths& a, const PositiveRegion& b) {
+    if (a.empty()) return {};
+    if (b.contours.empty() || !overlap(bounds(a), bounds(b.contours))) return a;
+    return run(ctDifference, a, &b.contours, {pftNonZero, pftPositive});
+}
+Paths intersect_positive(const Paths& a, const PositiveRegion& b) {
+    if (a.empty() || b.contours.empty() || !overlap(bounds(a), bounds(b.contours))) return {};
+    return run(ctIntersection, a, &b.contours, {pftNonZero, pftPositive});
+}
+
 Paths drop_small(const Paths& region, double min_area) {
     PolyTree tree;
     Clipper c;
@@ -210,6 +227,39 @@ Paths clean(const Paths& region, double tolerance) {
     CleanPolygons(region, out, tolerance);
     out.erase(std::remove_if(out.begin(), out.end(), [](const Path& p) { return p.size() < 3; }),
               out.end());
+    return out;
+}
+
+void drop_straight_points(Path& p, double tolerance) {
+    const size_t n = p.size();
+    if (n < 4) return;
+    const double t2 = tolerance * tolerance;
+    Path out;
+    out.reserve(n);
+    bool dropped = true;  // keeps the first point
+    for (size_t i = 0; i < n; ++i) {
+        const Point& b = p[i];
+        if (!dropped && i + 1 < n) {
+            const Point& a = out.back();
+            const Point& c = p[i + 1];
+            const double ux = double(c.X - a.X), uy = double(c.Y - a.Y);
+            const double vx = double(b.X - a.X), vy = double(b.Y - a.Y);
+            const double cross = ux * vy - uy * vx, len2 = ux * ux + uy * uy;
+            const double along = ux * vx + uy * vy;
+            if (cross * cross <= t2 * len2 && along > 0 && along < len2) {
+                dropped = true;
+                continue;
+            }
+        }
+        dropped = false;
+        out.push_back(b);
+    }
+    if (out.size() >= 3) p = std::move(out);
+}
+
+Paths simplify(const Paths& region, double tolerance) {
+    Paths out = region;
+    for (Path& p : out) drop_straight_points(p, tolerance);
     return out;
 }
 
@@ -323,6 +373,53 @@ Paths clip_to_box(const Paths& region, const BBox2& box) {
     }
     return out;
 }
+
+namespace {
+
+// Where the result lies within one operand, the anchor (the subject of a difference, the
+// smaller operand of an intersection), only the other operand's contours over the anchor's
+// pieces matter. So each cluster of the anchor (box_groups) is clipped alone, with the other
+// operand's contours whose boxes meet the cluster's: late in the sweep V is dozens of small
+// pieces, and grouping both operands together would join them all through the cavity above
+// that spans them. The other's contours are given whole, not cut to the cluster's box: every
+// edge stays the same, so Clipper rounds each crossing the same way in every pass, and the
+// pieces of a partition made by several passes still meet exactly.
+Paths run_within(ClipType op, const Paths& subject, const Paths& clip, Fills fill,
+                 bool anchor_is_subject) {
+    const Paths& anchor = anchor_is_subject ? subject : clip;
+    const Paths& other = anchor_is_subject ? clip : subject;
+    const PolyType anchor_type = anchor_is_subject ? ptSubject : ptClip;
+    const PolyType other_type = anchor_is_subject ? ptClip : ptSubject;
+    std::vector<BBox2> other_boxes;
+    other_boxes.reserve(other.size());
+    for (const Path& p : other) other_boxes.push_back(bounds(p));
+    const std::vector<std::vector<size_t>> groups =
+        box_groups(anchor.size(), [&](size_t i) -> const Path& { return anchor[i]; });
+    Paths out;
+    for (const std::vector<size_t>& members : groups) {
+        BBox2 box;
+        for (size_t i : members) expand(box, bounds(anchor[i]));
+        Clipper c;
+        for (size_t i : members) c.AddPath(anchor[i], anchor_type, true);
+        bool met = false;
+        for (size_t j = 0; j < other.size(); ++j)
+            if (overlap(other_boxes[j], box)) {
+                met = true;
+                c.AddPath(other[j], other_type, true);
+            }
+        if (!met && op == ctIntersection) continue;
+        execute_into(c, op, fill, out);
+    }
+    return out;
+}
+
+size_t vertex_count(const Paths& region) {
+    size_t n = 0;
+    for (const Path& p : region) n += p.size();
+    return n;
+}
+
+}  // namespace
 
 Paths contours_near(const Paths& region, const Paths& other, Coord reach) {
     std::vector<BBox2> boxes;

@@ -36,6 +36,11 @@ struct PositiveRegion {
 };
 Paths resolve(const PositiveRegion& a);  // the normalised region
 Paths subtract(const PositiveRegion& a, const Paths& b);
+// `a` minus, or within, a positive region: a normalised `a` against a region given by contours
+// whose winding is positive exactly inside it and never negative (a dilation before its union,
+// with normalised regions added to it: their union).
+Paths subtract_positive(const Paths& a, const PositiveRegion& b);
+Paths intersect_positive(const Paths& a, const PositiveRegion& b);
 
 // Drops contours whose absolute area is below min_area (square units) together with the holes
 // inside dropped outers.
@@ -48,6 +53,19 @@ Paths clip_lines_outside(const Paths& lines, const Paths& region);
 
 // Removes duplicate and almost-collinear points (distance tolerance in units).
 Paths clean(const Paths& region, double tolerance = 1.415);
+
+// How far (units) a contour may move when its points in line with their neighbours are dropped:
+// far below a printer's resolution (an eightieth of a line width). The G-code and the regions
+// that only feed a measure or a smoothing (the bridges' erosion, the walls' opening, the
+// propagated cavity) are simplified this much; each Clipper pass costs per vertex.
+constexpr double kSimplify = 5.0;
+
+// Drops the points of a closed contour that lie within `tolerance` of the segment joining
+// their neighbours, between them, never two in a row: unlike clean(), which re-tests after
+// each removal and can flatten a finely sampled gentle curve by far more than its tolerance,
+// no point ends further than `tolerance` from the result.
+void drop_straight_points(Path& path, double tolerance);
+Paths simplify(const Paths& region, double tolerance);
 
 BBox2 bounds(const Path& path);
 BBox2 bounds(const Paths& region);

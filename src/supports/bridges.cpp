@@ -285,7 +285,7 @@ std::vector<Paths> unsupported_regions(const Paths& cavity_here, const Paths& ca
     std::vector<Paths> out;
     if (cavity_below.empty() || carvable_here.empty()) return out;
     // Used once: the subtraction resolves the erosion's crossings in its own pass.
-    const PositiveRegion deep_below = erosion(cavity_below, options.dilation);
+    const PositiveRegion deep_below = erosion(simplify(cavity_below, kSimplify), options.dilation);
     if (deep_below.contours.empty()) return out;
     Paths u = intersect(subtract(deep_below, cavity_here), carvable_here);
     const double r2 = double(options.dilation) * options.dilation;

@@ -24,9 +24,6 @@ namespace {
 
 // Cover lines overlap the innermost wall by this fraction of a line width, for adhesion.
 constexpr double kCoverOverlap = 0.15;
-// Vertices closer than this to the line through their neighbours are dropped (micrometres):
-// far below the printer's resolution, and it keeps the G-code from carrying the element's facets.
-constexpr double kSimplify = 5.0;
 
 void add_loops(const Paths& region, Feature feature, int cavity, double min_length,
                std::vector<Extrusion>& out) {
@@ -45,7 +42,7 @@ void add_loops(const Paths& region, Feature feature, int cavity, double min_leng
 // lies at least t inside V^{j-1} (`uncarved`).
 void add_cavity_walls(const Paths& cavity, const Paths& uncarved, const Settings& settings,
                       int index, double min_length, std::vector<Extrusion>& out) {
-    const Paths smoothed = clean(open(cavity, settings.opening()), kSimplify);
+    const Paths smoothed = clean(open(simplify(cavity, kSimplify), settings.opening()), kSimplify);
     for (WallPiece& piece : loops_inside_erosion(smoothed, uncarved, settings.restriction(),
                                                  to_units(settings.wall_extension), min_length)) {
         Extrusion e;
