@@ -427,3 +427,58 @@ TEST(Polygon, SimplifyStaysWithinItsTolerance) {
     // Never two in a row: at least half the points stay.
     EXPECT_GE(2 * s.front().size() + 1, arc.size());
 }
+
+// A difference or an intersection runs each piece of one operand with the other's contours
+// folded to the piece's box (run_within). Folding keeps every edge that reaches the box, so the
+// result is not merely close to one Clipper pass over everything: it is the same, crossing for
+// crossing, which is what lets the sweep's passes partition a slice exactly. Here a wavy ring
+// with many vertices, unresolved dilations included, lies over scattered small squares.
+TEST(Polygon, PiecewiseBooleansUnderALargeContourEqualOneClipperPass) {
+    using namespace ClipperLib;
+    carve::test::Rng rng(23);
+    auto one_pass = [](ClipType op, const Paths& a, const Paths& b, PolyFillType fb) {
+        Clipper c;
+        c.AddPaths(a, ptSubject, true);
+        c.AddPaths(b, ptClip, true);
+        Paths out;
+        c.Execute(op, out, pftNonZero, fb);
+        return out;
+    };
+    auto same = [](const Paths& got, const Paths& want) {
+        return std::abs(area(symmetric_difference(got, want))) == 0 && area(got) == area(want) &&
+               got.size() == want.size();
+    };
+    int folded = 0;
+    for (int round = 0; round < 30; ++round) {
+        Paths pieces;
+        for (int i = 0; i < rng.integer(2, 15); ++i)
+            pieces.push_back(square(rng.integer(0, 60) * 700 + rng.integer(0, 99),
+                                    rng.integer(0, 60) * 700 + rng.integer(0, 99),
+                                    rng.integer(2, 9) * 100 + rng.integer(0, 99)));
+        pieces = unite(pieces);
+        Path ring, hole;
+        const double cx = 21000, cy = 21000;
+        for (int k = 0; k < 400; ++k) {
+            const double t = 2 * 3.141592653589793 * k / 400;
+            const double r = 15000 + 6000 * std::sin(7 * t + round) + rng.uniform(-300, 300);
+            ring.emplace_back(std::llround(cx + r * std::cos(t)),
+                              std::llround(cy + r * std::sin(t)));
+            hole.emplace_back(std::llround(cx + 0.4 * r * std::cos(-t)),
+                              std::llround(cy + 0.4 * r * std::sin(-t)));
+        }
+        const Paths big = unite(Paths{ring, hole});
+        EXPECT_TRUE(same(subtract(pieces, big), one_pass(ctDifference, pieces, big, pftNonZero)))
+            << round;
+        EXPECT_TRUE(same(intersect(pieces, big), one_pass(ctIntersection, pieces, big, pftNonZero)))
+            << round;
+        const PositiveRegion raw = dilation(big, rng.integer(50, 900));
+        EXPECT_TRUE(same(subtract_positive(pieces, raw),
+                         one_pass(ctDifference, pieces, raw.contours, pftPositive)))
+            << round;
+        EXPECT_TRUE(same(intersect_positive(pieces, raw),
+                         one_pass(ctIntersection, pieces, raw.contours, pftPositive)))
+            << round;
+        folded += clusters(pieces).size() > 1;
+    }
+    EXPECT_GT(folded, 20);
+}

@@ -376,14 +376,54 @@ Paths clip_to_box(const Paths& region, const BBox2& box) {
 
 namespace {
 
+// `p` with every run of consecutive vertices beyond one side of `box` (strictly) replaced by
+// the run's first and last vertex. The new edge lies beyond that side with the run, so the
+// winding number of every point inside the box is unchanged; and every edge that reaches the
+// box is kept as it was, so a boolean rounds its crossings with anything inside the box
+// exactly as it would on `p`. A cavity above that spans the slice then brings to each small
+// piece of V only its edges near it, plus a few.
+void fold_beyond(const Path& p, const BBox2& box, Path& out) {
+    out = p;
+    Path next;
+    for (int side = 0; side < 4; ++side) {
+        auto beyond = [&](const Point& q) {
+            switch (side) {
+                case 0:
+                    return q.X < box.min_x;
+                case 1:
+                    return q.X > box.max_x;
+                case 2:
+                    return q.Y < box.min_y;
+                default:
+                    return q.Y > box.max_y;
+            }
+        };
+        const size_t n = out.size();
+        size_t start = n;  // a vertex not beyond this side, where the walk starts
+        for (size_t i = 0; i < n && start == n; ++i)
+            if (!beyond(out[i])) start = i;
+        if (start == n || n < 4) continue;  // wholly beyond: the caller's box test drops it
+        next.clear();
+        for (size_t k = 0; k < n; ++k) {
+            const size_t i = (start + k) % n;
+            // Interior vertices of a run beyond the side: both neighbours beyond too.
+            if (beyond(out[i]) && beyond(out[(i + n - 1) % n]) && beyond(out[(i + 1) % n]))
+                continue;
+            next.push_back(out[i]);
+        }
+        std::swap(out, next);
+    }
+}
+
 // Where the result lies within one operand, the anchor (the subject of a difference, the
 // smaller operand of an intersection), only the other operand's contours over the anchor's
 // pieces matter. So each cluster of the anchor (box_groups) is clipped alone, with the other
-// operand's contours whose boxes meet the cluster's: late in the sweep V is dozens of small
-// pieces, and grouping both operands together would join them all through the cavity above
-// that spans them. The other's contours are given whole, not cut to the cluster's box: every
-// edge stays the same, so Clipper rounds each crossing the same way in every pass, and the
-// pieces of a partition made by several passes still meet exactly.
+// operand's contours whose boxes meet the cluster's, folded to its box (fold_beyond): late in
+// the sweep V is dozens of small pieces, and grouping both operands together would join them
+// all through the cavity above that spans them. Folding keeps every edge that reaches the box,
+// so Clipper rounds each crossing the same way in every pass, and the pieces of a partition
+// made by several passes still meet exactly (a Sutherland-Hodgman cut would move the cut
+// edges by the rounding of their new ends).
 Paths run_within(ClipType op, const Paths& subject, const Paths& clip, Fills fill,
                  bool anchor_is_subject) {
     const Paths& anchor = anchor_is_subject ? subject : clip;
@@ -393,20 +433,27 @@ Paths run_within(ClipType op, const Paths& subject, const Paths& clip, Fills fil
     std::vector<BBox2> other_boxes;
     other_boxes.reserve(other.size());
     for (const Path& p : other) other_boxes.push_back(bounds(p));
-    const std::vector<std::vector<size_t>> groups =
-        box_groups(anchor.size(), [&](size_t i) -> const Path& { return anchor[i]; });
     Paths out;
-    for (const std::vector<size_t>& members : groups) {
+    Path folded;
+    for (const std::vector<size_t>& members :
+         box_groups(anchor.size(), [&](size_t i) -> const Path& { return anchor[i]; })) {
         BBox2 box;
         for (size_t i : members) expand(box, bounds(anchor[i]));
         Clipper c;
         for (size_t i : members) c.AddPath(anchor[i], anchor_type, true);
         bool met = false;
-        for (size_t j = 0; j < other.size(); ++j)
-            if (overlap(other_boxes[j], box)) {
-                met = true;
+        for (size_t j = 0; j < other.size(); ++j) {
+            const BBox2& ob = other_boxes[j];
+            if (!overlap(ob, box)) continue;
+            met = true;
+            if (ob.min_x >= box.min_x && ob.max_x <= box.max_x && ob.min_y >= box.min_y &&
+                ob.max_y <= box.max_y) {
                 c.AddPath(other[j], other_type, true);
+                continue;
             }
+            fold_beyond(other[j], box, folded);
+            c.AddPath(folded, other_type, true);
+        }
         if (!met && op == ctIntersection) continue;
         execute_into(c, op, fill, out);
     }
