@@ -28,6 +28,25 @@ Paths ring_with_island() {
     return {square(0, 0, 10000), reversed(square(2000, 2000, 6000)), square(4000, 4000, 2000)};
 }
 
+// The reference for the grouped booleans, written out here rather than taken from polygon.cpp:
+// one Clipper pass over everything.
+Paths one_clipper_pass(ClipperLib::ClipType op, const Paths& a, const Paths* b,
+                       ClipperLib::PolyFillType clip_fill = ClipperLib::pftNonZero) {
+    using namespace ClipperLib;
+    Clipper c;
+    c.AddPaths(a, ptSubject, true);
+    if (b) c.AddPaths(*b, ptClip, true);
+    Paths out;
+    c.Execute(op, out, pftNonZero, clip_fill);
+    return out;
+}
+
+// The same region to the last unit: nothing between them, and as many contours.
+bool same_region(const Paths& got, const Paths& want) {
+    return std::abs(area(symmetric_difference(got, want))) == 0 && area(got) == area(want) &&
+           got.size() == want.size();
+}
+
 // Every outer counter-clockwise, every hole clockwise.
 bool normalised(const Paths& region) {
     for (const Paths& comp : components(region)) {
@@ -231,30 +250,18 @@ TEST(Polygon, GroupedBooleansEqualOneClipperPass) {
         }
         return unite(out);
     };
-    // The reference, written out here rather than taken from polygon.cpp: one Clipper pass.
-    auto one_pass = [](ClipType op, const Paths& a, const Paths* b) {
-        Clipper c;
-        c.AddPaths(a, ptSubject, true);
-        if (b) c.AddPaths(*b, ptClip, true);
-        Paths out;
-        c.Execute(op, out, pftNonZero, pftNonZero);
-        return out;
-    };
-    auto same = [](const Paths& got, const Paths& want) {
-        return std::abs(area(symmetric_difference(got, want))) == 0 &&
-               std::abs(area(got) - area(want)) == 0 && got.size() == want.size();
-    };
     int grouped = 0;
     for (int round = 0; round < 60; ++round) {
         const Paths a = scatter(rng.integer(1, 12)), b = scatter(rng.integer(1, 12));
         Paths both = a;
         both.insert(both.end(), b.begin(), b.end());
         grouped += components(a).size() > 1;
-        EXPECT_TRUE(same(intersect(a, b), one_pass(ctIntersection, a, &b))) << round;
-        EXPECT_TRUE(same(subtract(a, b), one_pass(ctDifference, a, &b))) << round;
-        EXPECT_TRUE(same(unite(a, b), one_pass(ctUnion, a, &b))) << round;
-        EXPECT_TRUE(same(unite(both), one_pass(ctUnion, both, nullptr))) << round;
-        EXPECT_TRUE(same(symmetric_difference(a, b), one_pass(ctXor, a, &b))) << round;
+        EXPECT_TRUE(same_region(intersect(a, b), one_clipper_pass(ctIntersection, a, &b))) << round;
+        EXPECT_TRUE(same_region(subtract(a, b), one_clipper_pass(ctDifference, a, &b))) << round;
+        EXPECT_TRUE(same_region(unite(a, b), one_clipper_pass(ctUnion, a, &b))) << round;
+        EXPECT_TRUE(same_region(unite(both), one_clipper_pass(ctUnion, both, nullptr))) << round;
+        EXPECT_TRUE(same_region(symmetric_difference(a, b), one_clipper_pass(ctXor, a, &b)))
+            << round;
     }
     EXPECT_GT(grouped, 30);  // most rounds have pieces apart, which the grouping splits
 }
@@ -436,18 +443,6 @@ TEST(Polygon, SimplifyStaysWithinItsTolerance) {
 TEST(Polygon, PiecewiseBooleansUnderALargeContourEqualOneClipperPass) {
     using namespace ClipperLib;
     carve::test::Rng rng(23);
-    auto one_pass = [](ClipType op, const Paths& a, const Paths& b, PolyFillType fb) {
-        Clipper c;
-        c.AddPaths(a, ptSubject, true);
-        c.AddPaths(b, ptClip, true);
-        Paths out;
-        c.Execute(op, out, pftNonZero, fb);
-        return out;
-    };
-    auto same = [](const Paths& got, const Paths& want) {
-        return std::abs(area(symmetric_difference(got, want))) == 0 && area(got) == area(want) &&
-               got.size() == want.size();
-    };
     int folded = 0;
     for (int round = 0; round < 30; ++round) {
         Paths pieces;
@@ -467,16 +462,19 @@ TEST(Polygon, PiecewiseBooleansUnderALargeContourEqualOneClipperPass) {
                               std::llround(cy + 0.4 * r * std::sin(-t)));
         }
         const Paths big = unite(Paths{ring, hole});
-        EXPECT_TRUE(same(subtract(pieces, big), one_pass(ctDifference, pieces, big, pftNonZero)))
+        EXPECT_TRUE(
+            same_region(subtract(pieces, big), one_clipper_pass(ctDifference, pieces, &big)))
             << round;
-        EXPECT_TRUE(same(intersect(pieces, big), one_pass(ctIntersection, pieces, big, pftNonZero)))
+        EXPECT_TRUE(
+            same_region(intersect(pieces, big), one_clipper_pass(ctIntersection, pieces, &big)))
             << round;
         const PositiveRegion raw = dilation(big, rng.integer(50, 900));
-        EXPECT_TRUE(same(subtract_positive(pieces, raw),
-                         one_pass(ctDifference, pieces, raw.contours, pftPositive)))
+        EXPECT_TRUE(same_region(subtract_positive(pieces, raw),
+                                one_clipper_pass(ctDifference, pieces, &raw.contours, pftPositive)))
             << round;
-        EXPECT_TRUE(same(intersect_positive(pieces, raw),
-                         one_pass(ctIntersection, pieces, raw.contours, pftPositive)))
+        EXPECT_TRUE(
+            same_region(intersect_positive(pieces, raw),
+                        one_clipper_pass(ctIntersection, pieces, &raw.contours, pftPositive)))
             << round;
         folded += clusters(pieces).size() > 1;
     }
