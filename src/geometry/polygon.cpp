@@ -73,16 +73,108 @@ Paths run_clipper(ClipType op, const Paths& subject, const Paths* clip, Fills fi
     return out;
 }
 
+// Whether `inner` lies in `outer` (closed boxes).
+bool contains(const BBox2& outer, const BBox2& inner) {
+    return inner.min_x >= outer.min_x && inner.max_x <= outer.max_x && inner.min_y >= outer.min_y &&
+           inner.max_y <= outer.max_y;
+}
+
+// `p` with every run of consecutive vertices beyond one side of `box` (strictly) replaced by
+// the run's first and last vertex. The new edge lies beyond that side with the run, so the
+// winding number of every point inside the box is unchanged; and every edge that reaches the
+// box is kept as it was, so a boolean rounds its crossings with anything inside the box
+// exactly as it would on `p`. A cavity above that spans the slice then brings to each small
+// piece of V only its edges near it, plus a few.
+void fold_beyond(const Path& p, const BBox2& box, Path& out) {
+    out = p;
+    Path next;
+    for (int side = 0; side < 4; ++side) {
+        auto beyond = [&](const Point& q) {
+            switch (side) {
+                case 0:
+                    return q.X < box.min_x;
+                case 1:
+                    return q.X > box.max_x;
+                case 2:
+                    return q.Y < box.min_y;
+                default:
+                    return q.Y > box.max_y;
+            }
+        };
+        const size_t n = out.size();
+        size_t start = n;  // a vertex not beyond this side, where the walk starts
+        for (size_t i = 0; i < n && start == n; ++i)
+            if (!beyond(out[i])) start = i;
+        if (start == n || n < 4) continue;  // wholly beyond: the caller's box test drops it
+        next.clear();
+        for (size_t k = 0; k < n; ++k) {
+            const size_t i = (start + k) % n;
+            // Interior vertices of a run beyond the side: both neighbours beyond too.
+            if (beyond(out[i]) && beyond(out[(i + n - 1) % n]) && beyond(out[(i + 1) % n]))
+                continue;
+            next.push_back(out[i]);
+        }
+        std::swap(out, next);
+    }
+}
+
+// Where the result lies within one operand, the anchor (the subject of a difference, the
+// smaller operand of an intersection), only the other operand's contours over the anchor's
+// pieces matter. So each cluster of the anchor (box_groups) is clipped alone, with the other
+// operand's contours whose boxes meet the cluster's, folded to its box (fold_beyond): late in
+// the sweep V is dozens of small pieces, and grouping both operands together would join them
+// all through the cavity above that spans them. Folding keeps every edge that reaches the box,
+// so Clipper rounds each crossing the same way in every pass, and the pieces of a partition
+// made by several passes still meet exactly (a Sutherland-Hodgman cut would move the cut
+// edges by the rounding of their new ends).
 Paths run_within(ClipType op, const Paths& subject, const Paths& clip, Fills fill,
-                 bool anchor_is_subject);
-size_t vertex_count(const Paths& region);
+                 bool anchor_is_subject) {
+    const Paths& anchor = anchor_is_subject ? subject : clip;
+    const Paths& other = anchor_is_subject ? clip : subject;
+    const PolyType anchor_type = anchor_is_subject ? ptSubject : ptClip;
+    const PolyType other_type = anchor_is_subject ? ptClip : ptSubject;
+    std::vector<BBox2> other_boxes;
+    other_boxes.reserve(other.size());
+    for (const Path& p : other) other_boxes.push_back(bounds(p));
+    Paths out;
+    Path folded;
+    for (const std::vector<size_t>& members :
+         box_groups(anchor.size(), [&](size_t i) -> const Path& { return anchor[i]; })) {
+        BBox2 box;
+        for (size_t i : members) expand(box, bounds(anchor[i]));
+        Clipper c;
+        for (size_t i : members) c.AddPath(anchor[i], anchor_type, true);
+        bool met = false;
+        for (size_t j = 0; j < other.size(); ++j) {
+            const BBox2& ob = other_boxes[j];
+            if (!overlap(ob, box)) continue;
+            met = true;
+            if (contains(box, ob)) {
+                c.AddPath(other[j], other_type, true);
+                continue;
+            }
+            fold_beyond(other[j], box, folded);
+            c.AddPath(folded, other_type, true);
+        }
+        if (!met && op == ctIntersection) continue;
+        execute_into(c, op, fill, out);
+    }
+    return out;
+}
+
+size_t vertex_count(const Paths& region) {
+    size_t n = 0;
+    for (const Path& p : region) n += p.size();
+    return n;
+}
 
 // Clipper's sweep costs about (scanbeams) x (edges active on a scanline), so pieces side by
 // side make each other's scanbeams dearer. The winding number at a point only depends on the
 // contours whose boxes hold it, so groups of contours whose boxes do not overlap any other
 // group's (box_groups) are independent: each is clipped alone and the results are
 // concatenated, exactly. Late in the sweep a slice's cavities and remainder are dozens of
-// pieces across the slice. Differences and intersections go further (run_within).
+// pieces across the slice. That is how unions and symmetric differences run; differences and
+// intersections go further (run_within).
 Paths run(ClipType op, const Paths& subject, const Paths* clip, Fills fill = {}) {
     StageTimer timer(Stage::kBoolean);
     if (clip && op == ctDifference) return run_within(op, subject, *clip, fill, true);
@@ -95,11 +187,6 @@ Paths run(ClipType op, const Paths& subject, const Paths* clip, Fills fill = {})
     if (groups.size() <= 1) return run_clipper(op, subject, clip, fill);
     Paths out;
     for (const std::vector<size_t>& members : groups) {
-        size_t subjects = 0;
-        for (size_t i : members) subjects += i < ns;
-        const size_t clips = members.size() - subjects;
-        if (subjects == 0 && op != ctUnion && op != ctXor) continue;
-        if (clips == 0 && op == ctIntersection) continue;
         Clipper c;
         for (size_t i : members) c.AddPath(path_at(i), i < ns ? ptSubject : ptClip, true);
         execute_into(c, op, fill, out);
@@ -359,8 +446,7 @@ Paths clip_to_box(const Paths& region, const BBox2& box) {
     for (const Path& p : region) {
         const BBox2 pb = bounds(p);
         if (!overlap(pb, box)) continue;  // winding 0 inside the box
-        if (pb.min_x >= box.min_x && pb.max_x <= box.max_x && pb.min_y >= box.min_y &&
-            pb.max_y <= box.max_y) {
+        if (contains(box, pb)) {
             out.push_back(p);
             continue;
         }
@@ -373,100 +459,6 @@ Paths clip_to_box(const Paths& region, const BBox2& box) {
     }
     return out;
 }
-
-namespace {
-
-// `p` with every run of consecutive vertices beyond one side of `box` (strictly) replaced by
-// the run's first and last vertex. The new edge lies beyond that side with the run, so the
-// winding number of every point inside the box is unchanged; and every edge that reaches the
-// box is kept as it was, so a boolean rounds its crossings with anything inside the box
-// exactly as it would on `p`. A cavity above that spans the slice then brings to each small
-// piece of V only its edges near it, plus a few.
-void fold_beyond(const Path& p, const BBox2& box, Path& out) {
-    out = p;
-    Path next;
-    for (int side = 0; side < 4; ++side) {
-        auto beyond = [&](const Point& q) {
-            switch (side) {
-                case 0:
-                    return q.X < box.min_x;
-                case 1:
-                    return q.X > box.max_x;
-                case 2:
-                    return q.Y < box.min_y;
-                default:
-                    return q.Y > box.max_y;
-            }
-        };
-        const size_t n = out.size();
-        size_t start = n;  // a vertex not beyond this side, where the walk starts
-        for (size_t i = 0; i < n && start == n; ++i)
-            if (!beyond(out[i])) start = i;
-        if (start == n || n < 4) continue;  // wholly beyond: the caller's box test drops it
-        next.clear();
-        for (size_t k = 0; k < n; ++k) {
-            const size_t i = (start + k) % n;
-            // Interior vertices of a run beyond the side: both neighbours beyond too.
-            if (beyond(out[i]) && beyond(out[(i + n - 1) % n]) && beyond(out[(i + 1) % n]))
-                continue;
-            next.push_back(out[i]);
-        }
-        std::swap(out, next);
-    }
-}
-
-// Where the result lies within one operand, the anchor (the subject of a difference, the
-// smaller operand of an intersection), only the other operand's contours over the anchor's
-// pieces matter. So each cluster of the anchor (box_groups) is clipped alone, with the other
-// operand's contours whose boxes meet the cluster's, folded to its box (fold_beyond): late in
-// the sweep V is dozens of small pieces, and grouping both operands together would join them
-// all through the cavity above that spans them. Folding keeps every edge that reaches the box,
-// so Clipper rounds each crossing the same way in every pass, and the pieces of a partition
-// made by several passes still meet exactly (a Sutherland-Hodgman cut would move the cut
-// edges by the rounding of their new ends).
-Paths run_within(ClipType op, const Paths& subject, const Paths& clip, Fills fill,
-                 bool anchor_is_subject) {
-    const Paths& anchor = anchor_is_subject ? subject : clip;
-    const Paths& other = anchor_is_subject ? clip : subject;
-    const PolyType anchor_type = anchor_is_subject ? ptSubject : ptClip;
-    const PolyType other_type = anchor_is_subject ? ptClip : ptSubject;
-    std::vector<BBox2> other_boxes;
-    other_boxes.reserve(other.size());
-    for (const Path& p : other) other_boxes.push_back(bounds(p));
-    Paths out;
-    Path folded;
-    for (const std::vector<size_t>& members :
-         box_groups(anchor.size(), [&](size_t i) -> const Path& { return anchor[i]; })) {
-        BBox2 box;
-        for (size_t i : members) expand(box, bounds(anchor[i]));
-        Clipper c;
-        for (size_t i : members) c.AddPath(anchor[i], anchor_type, true);
-        bool met = false;
-        for (size_t j = 0; j < other.size(); ++j) {
-            const BBox2& ob = other_boxes[j];
-            if (!overlap(ob, box)) continue;
-            met = true;
-            if (ob.min_x >= box.min_x && ob.max_x <= box.max_x && ob.min_y >= box.min_y &&
-                ob.max_y <= box.max_y) {
-                c.AddPath(other[j], other_type, true);
-                continue;
-            }
-            fold_beyond(other[j], box, folded);
-            c.AddPath(folded, other_type, true);
-        }
-        if (!met && op == ctIntersection) continue;
-        execute_into(c, op, fill, out);
-    }
-    return out;
-}
-
-size_t vertex_count(const Paths& region) {
-    size_t n = 0;
-    for (const Path& p : region) n += p.size();
-    return n;
-}
-
-}  // namespace
 
 Paths contours_near(const Paths& region, const Paths& other, Coord reach) {
     std::vector<BBox2> boxes;
@@ -528,10 +520,7 @@ Paths empty_holes(const Paths& region) {
         if (Area(region[i]) > 0) outers.push_back(i);
     }
     auto inside = [&](size_t island, size_t hole) {
-        const BBox2& a = boxes[island];
-        const BBox2& b = boxes[hole];
-        if (a.min_x < b.min_x || a.max_x > b.max_x || a.min_y < b.min_y || a.max_y > b.max_y)
-            return false;
+        if (!contains(boxes[hole], boxes[island])) return false;
         for (const Point& v : region[island])  // a vertex off the hole's contour decides
             if (const int in = PointInPolygon(v, region[hole]); in >= 0) return in == 1;
         return false;
