@@ -3,6 +3,10 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
+
+#include "slice/slicer.hpp"
+
 namespace carve {
 
 std::string format_duration(double seconds) {
@@ -84,9 +88,75 @@ std::string describe(const GcodeAnalysis& a) {
                        100 * a.unsupported_fraction);
     out += fmt::format("far-unsupported  {:.3f} % (nothing below within 2 mm)\n",
                        100 * a.far_unsupported_fraction);
+    out += fmt::format("hanging          {:.1f} mm2 far-unsupported", a.far_unsupported_area_mm2);
+    if (a.model_checked)
+        out += fmt::format(": {:.1f} mm2 inside (over the model's slice below), {:.1f} mm2 overhang",
+                           a.hanging_inside_mm2, a.hanging_overhang_mm2);
+    out += "\n";
+    out += fmt::format("retractions      {}", a.retractions);
+    if (a.firmware_retractions > 0) out += fmt::format(" ({} G10)", a.firmware_retractions);
+    out += "\n";
+    out += fmt::format("travel           {:.0f} mm", a.travel_length_mm);
+    if (a.model_checked)
+        out += fmt::format(" ({:.0f} mm outside the model, {} wall crossings)",
+                           a.travel_outside_mm, a.wall_crossings);
+    out += "\n";
+    if (a.model_checked) {
+        out += fmt::format("outside model    {:.1f} mm2 (farthest {:.2f} mm)\n", a.outside_area_mm2,
+                           a.max_outside_model_mm);
+        if (!a.mesh_alignment.empty())
+            out += fmt::format("mesh offset      {:.3f}, {:.3f}, {:.3f} mm ({})\n",
+                               a.mesh_offset_mm[0], a.mesh_offset_mm[1], a.mesh_offset_mm[2],
+                               a.mesh_alignment);
+    }
+    double total = 0;
+    for (const auto& [type, v] : a.volume_by_type_mm3) total += v;
+    if (total > 0 && !(a.volume_by_type_mm3.size() == 1 && a.volume_by_type_mm3.count("none"))) {
+        out += "material by type";
+        const char* sep = " ";
+        for (const auto& [type, v] : a.volume_by_type_mm3) {
+            out += fmt::format("{}{} {:.1f} %", sep, type, 100 * v / total);
+            sep = ", ";
+        }
+        out += "\n";
+    }
+    out += fmt::format("stick time       {} (no look-ahead, same stick for every slicer)\n",
+                       format_duration(a.stick_time_s));
     if (a.estimated_time_from_header_s >= 0)
         out += fmt::format("header time      {}\n", format_duration(a.estimated_time_from_header_s));
     return out;
+}
+
+GcodeAnalysis analyse_gcode_on_mesh(const std::string& gcode_path, const Mesh& mesh,
+                                    GcodeAnalysisOptions options, const std::optional<Vec3>& offset) {
+    const BBox3 box = bounding_box(mesh);
+    Vec3 shift;
+    std::string how = "given";
+    if (offset) {
+        shift = *offset;
+        if (std::isnan(shift.z)) shift.z = -box.min.z;  // X,Y given: z still on the bed
+    } else {
+        how = "automatic";
+        const ExtrusionBounds b = extrusion_bounds(gcode_path, options);
+        if (b.any) {
+            shift.x = (b.min_x + b.max_x) / 2 - (box.min.x + box.max.x) / 2;
+            shift.y = (b.min_y + b.max_y) / 2 - (box.min.y + box.max.y) / 2;
+        }
+        shift.z = -box.min.z;
+    }
+    const Coord ux = to_units(shift.x), uy = to_units(shift.y);
+    options.model_slice = [&mesh, shift, ux, uy](double z) {
+        Paths region = slice_at(mesh, z - shift.z);
+        for (Path& p : region)
+            for (Point& q : p) q.X += ux, q.Y += uy;
+        return region;
+    };
+    GcodeAnalysis a = analyse_gcode(gcode_path, options);
+    a.mesh_alignment = how;
+    a.mesh_offset_mm[0] = shift.x;
+    a.mesh_offset_mm[1] = shift.y;
+    a.mesh_offset_mm[2] = shift.z;
+    return a;
 }
 
 }  // namespace carve
