@@ -96,6 +96,10 @@ int main(int argc, char** argv) {
         ->required();
     slice->add_option("-o,--output", run.gcode_path, "G-code file to write [required]")->required();
     slice->add_option("--stats", stats_path, "Write the run's figures as JSON to this file [none]");
+    slice->add_flag("--stats-check", run.check_output,
+                    "Also measure the written G-code as carve check --mesh does (hanging inside "
+                    "and overhang, material per type, retractions, travel) into the stats' "
+                    "\"check\" [off: it doubles the run time]");
     slice->add_option("--load", profile_path,
                       "PrusaSlicer .ini profile with printer and filament settings (options given "
                       "on the command line win) [none]");

@@ -39,6 +39,11 @@ nlohmann::json stats_json(const RunResult& run, const Settings& settings) {
     j["cover_volume_mm3"] = run.cover_volume_mm3;
     j["mesh_closed"] = run.mesh.closed();
     j["mesh_warnings"] = run.mesh.warnings;
+    if (run.check) {
+        // What `carve check --mesh --json` says of the written G-code (--stats-check).
+        j["check"] = to_json(*run.check);
+        j["check"]["time_s"] = run.check_time_s;
+    }
     nlohmann::json s;
     s["layer_height_mm"] = settings.layer_height;
     s["nozzle_mm"] = settings.nozzle;
@@ -71,6 +76,10 @@ std::string summary_text(const RunResult& run, const Settings& settings) {
                        run.print.extruded_volume_mm3 / 1000, run.material_percent(),
                        run.print.filament_length_mm / 1000, run.print.filament_weight_g);
     out += fmt::format("print time {} (estimate)\n", format_duration(run.print.estimated_print_time_s));
+    if (run.check)
+        out += fmt::format(
+            "hanging    {:.1f} mm2 inside the model, {:.1f} mm2 overhang (checked in {:.2f} s)\n",
+            run.check->hanging_inside_mm2, run.check->hanging_overhang_mm2, run.check_time_s);
     out += fmt::format("sliced in  {:.2f} s, peak memory {:.0f} MB\n", run.processing_time_s,
                        run.peak_memory_mb);
     return out;
