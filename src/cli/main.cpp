@@ -265,8 +265,9 @@ int main(int argc, char** argv) {
     check->add_flag("--json", check_json, "Machine-readable output (JSON) [off: text]");
     bool check_layers = false;
     check->add_flag("--layers", check_layers,
-                    "With --json: the figures of every layer too (z, footprint, unsupported, "
-                    "far-unsupported, retractions, travel, stick time) [off]");
+                    "The figures of every layer too (z, footprint, far-unsupported, with --mesh "
+                    "inside, overhang, travel outside, crossings; retractions, travel, stick "
+                    "time), as a table or with --json in it [off]");
     std::string check_mesh, check_offset;
     check->add_option("--mesh", check_mesh,
                       "The model the G-code prints (STL, OBJ, 3MF): splits hanging filament "
@@ -324,10 +325,12 @@ int main(int argc, char** argv) {
                 if (offset) return fail("--mesh-offset needs --mesh");
                 a = carve::analyse_gcode(check_gcode, check_options);
             }
-            if (check_json)
+            if (check_json) {
                 std::cout << carve::to_json(a, check_layers).dump(2) << "\n";
-            else
+            } else {
                 std::cout << carve::describe(a);
+                if (check_layers) std::cout << "\n" << carve::describe_layers(a);
+            }
             return 0;
         }
 

@@ -860,8 +860,10 @@ class Analyser {
     // centres lie half a line width inside the slice, so travel along the wall stays in).
     // A wall crossing is a piece of a travel path outside the grown slice that has the path
     // inside at both of its ends: the nozzle leaves the object through its outer wall and comes
-    // back through it within one travel, e.g. across the mouth of a C. A path that starts
-    // outside (from a prime line, from another object) or ends outside is not a crossing.
+    // back through it within one travel, e.g. across the mouth of a C, or from one island of a
+    // layer to another (the cat's legs): a strand can be dragged over the outside of the print
+    // either way. A path that starts outside (from a prime line, the home position) or ends
+    // outside (parking) is not a crossing.
     void check_travel(const Paths& grown) {
         double total = 0;
         for (const Path& p : layer_travel_) total += open_length_mm(Paths{p});

@@ -136,6 +136,24 @@ std::string describe(const GcodeAnalysis& a) {
     return out;
 }
 
+std::string describe_layers(const GcodeAnalysis& a) {
+    std::string out = "     z mm  footprint mm2  far mm2";
+    if (a.model_checked) out += "  inside mm2  overhang mm2";
+    out += "  retractions  travel mm";
+    if (a.model_checked) out += "  outside mm  crossings";
+    out += "  stick s\n";
+    for (const LayerFigures& l : a.per_layer) {
+        out += fmt::format("{:9.2f}  {:13.1f}  {:7.2f}", l.z_mm, l.footprint_area_mm2,
+                           l.far_unsupported_area_mm2);
+        if (a.model_checked)
+            out += fmt::format("  {:10.2f}  {:12.2f}", l.hanging_inside_mm2, l.hanging_overhang_mm2);
+        out += fmt::format("  {:11}  {:9.1f}", l.retractions, l.travel_length_mm);
+        if (a.model_checked) out += fmt::format("  {:10.1f}  {:9}", l.travel_outside_mm, l.wall_crossings);
+        out += fmt::format("  {:7.1f}\n", l.stick_time_s);
+    }
+    return out;
+}
+
 GcodeAnalysis analyse_gcode_on_mesh(const std::string& gcode_path, const Mesh& mesh,
                                     GcodeAnalysisOptions options, const std::optional<Vec3>& offset) {
     const BBox3 box = bounding_box(mesh);

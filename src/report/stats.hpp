@@ -15,6 +15,8 @@ std::string summary_text(const RunResult& run, const Settings& settings);
 std::string format_duration(double seconds);  // "1h 02m 03s"
 // The figures of `carve check` for people.
 std::string describe(const GcodeAnalysis& analysis);
+// `carve check --layers` without --json: one line per layer.
+std::string describe_layers(const GcodeAnalysis& analysis);
 
 // `carve check --mesh`: the analysis with the mesh as the model, sliced at the middle of every
 // G-code layer. `offset` is where the mesh's coordinates land in the G-code's (G-code = mesh +
