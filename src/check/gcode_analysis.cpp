@@ -17,6 +17,7 @@
 #include <numbers>
 
 #include "base/error.hpp"
+#include "gcode/motion.hpp"
 
 namespace carve {
 
@@ -55,6 +56,15 @@ Paths difference(const Paths& a, const Paths& b) {
     Paths out;
     c.Execute(ClipperLib::ctDifference, out, ClipperLib::pftNonZero, ClipperLib::pftNonZero);
     return out;
+}
+
+// Total length of open paths, mm.
+double open_length_mm(const Paths& paths) {
+    double l = 0;
+    for (const Path& p : paths)
+        for (size_t i = 1; i < p.size(); ++i)
+            l += std::hypot(double(p[i].X - p[i - 1].X), double(p[i].Y - p[i - 1].Y));
+    return l / kUnitsPerMm;
 }
 
 Paths intersection(const Paths& a, const Paths& b) {
@@ -287,7 +297,9 @@ struct Words {
 
 class Analyser {
   public:
-    Analyser(const GcodeAnalysisOptions& o, double filament_diameter) : opt_(o) {
+    // scan_only: parse and track the extent of the extrusion, build no footprint.
+    Analyser(const GcodeAnalysisOptions& o, double filament_diameter, bool scan_only = false)
+        : opt_(o), scan_only_(scan_only) {
         result_.filament_diameter_mm = filament_diameter;
         filament_area_ = std::numbers::pi * filament_diameter * filament_diameter / 4;
         r_units_ = to_units(o.support_radius_mm);
@@ -340,7 +352,13 @@ class Analyser {
     }
 
     GcodeAnalysis finish() {
-        if (have_layer_) finish_layer();
+        // Moves after the last extrusion (retraction, lift, park) belong to the last layer; the
+        // travel path they draw ends nowhere, so it cannot cross the wall.
+        end_travel();
+        if (have_layer_) {
+            take_pending();
+            finish_layer();
+        }
         GcodeAnalysis& r = result_;
         r.extruded_volume_mm3 = r.filament_length_mm * filament_area_;
         if (r.footprint_area_mm2 > 0) {
@@ -348,8 +366,11 @@ class Analyser {
             r.far_unsupported_fraction = r.far_unsupported_area_mm2 / r.footprint_area_mm2;
         }
         if (width_weight_ > 0) r.mean_line_width_mm = width_sum_ / width_weight_;
+        if (r.model_checked && r.layers > 0) r.model_tolerance_mm = tolerance_sum_ / r.layers;
         return std::move(r);
     }
+
+    ExtrusionBounds bounds() const { return above_first_.any ? above_first_ : all_layers_; }
 
   private:
     void comment(std::string_view c) {
@@ -361,6 +382,10 @@ class Analyser {
             } else if (starts_with(c, "Generated with ")) {
                 r.generator = std::string(trim(c.substr(15)));
             }
+        }
+        if (starts_with(c, "TYPE:")) {
+            type_ = std::string(trim(c.substr(5)));
+            return;
         }
         double v = 0;
         if (starts_with(c, "TIME:")) {
@@ -391,6 +416,20 @@ class Analyser {
             case 2:
             case 3:
                 arc(w, code == 2);
+                break;
+            case 4:  // dwell: P milliseconds or S seconds
+                add_time(w.any('S') ? w.get('S') : w.any('P') ? w.get('P') / 1000 : 0);
+                break;
+            case 10:  // firmware retraction (RepRap, Klipper, Marlin with FWRETRACT)
+                if (!w.any('P') && !w.any('L')) {  // G10 P/L sets tool offsets on RepRapFirmware
+                    ++result_.retractions;
+                    ++result_.firmware_retractions;
+                    ++pending_.retractions;
+                    add_time(opt_.stick_firmware_retract_s);
+                }
+                break;
+            case 11:
+                add_time(opt_.stick_firmware_retract_s);
                 break;
             case 20:
                 unit_ = 25.4;
@@ -445,25 +484,59 @@ class Analyser {
         return d;
     }
 
+    void feed(const Words& w) {
+        if (w.any('F') && w.get('F') > 0) feed_mm_s_ = w.get('F') * unit_ / 60;
+    }
+
+    // One move of the measuring stick: from rest to rest at its feed rate.
+    void stick_move(double length, double de, bool extrudes) {
+        if (length > kMinMoveMm) {
+            add_time(trapezoid_time(length, 0, feed_mm_s_, 0,
+                                    extrudes ? opt_.stick_print_accel : opt_.stick_travel_accel));
+        } else if (de != 0) {
+            add_time(std::fabs(de) / feed_mm_s_);  // retraction or its recovery, at F
+        }
+    }
+
+    void add_time(double seconds) {
+        result_.stick_time_s += seconds;
+        pending_.stick_time_s += seconds;
+    }
+
+    void count_retraction(double de) {
+        if (de >= 0) return;
+        ++result_.retractions;
+        ++pending_.retractions;
+    }
+
     void move(const Words& w) {
+        feed(w);
         double nx = target(w, 'X', x_), ny = target(w, 'Y', y_), nz = target(w, 'Z', z_);
         double de = e_delta(w);
         ++result_.moves;
+        count_retraction(de);
+        double xy = std::hypot(nx - x_, ny - y_);
+        stick_move(std::hypot(xy, nz - z_), de, de > 0 && xy > kMinMoveMm);
         segment(nx, ny, nz, de);
     }
 
     void arc(const Words& w, bool clockwise) {
         ++result_.arcs;
         ++result_.moves;
+        feed(w);
         double nx = target(w, 'X', x_), ny = target(w, 'Y', y_), nz = target(w, 'Z', z_);
         double de = e_delta(w);
+        count_retraction(de);
         double cx, cy;
         if (w.any('R')) {
             // Centre on the chord's bisector; negative R takes the long way round.
             double rr = w.get('R') * unit_;
             double mx = (x_ + nx) / 2, my = (y_ + ny) / 2;
             double dx = nx - x_, dy = ny - y_, d = std::hypot(dx, dy);
-            if (d < kMinMoveMm) return segment(nx, ny, nz, de);
+            if (d < kMinMoveMm) {
+                stick_move(std::hypot(d, nz - z_), de, de > 0 && d > kMinMoveMm);
+                return segment(nx, ny, nz, de);
+            }
             double h = std::sqrt(std::max(0.0, rr * rr - d * d / 4));
             double side = ((clockwise ? 1 : -1) * (rr < 0 ? -1 : 1));
             cx = mx + side * h * dy / d;
@@ -482,6 +555,8 @@ class Analyser {
         }
         double step = radius > kArcSagittaMm ? 2 * std::acos(1 - kArcSagittaMm / radius) : 1.0;
         int n = std::clamp(static_cast<int>(std::ceil(std::fabs(sweep) / step)), 1, 10000);
+        double arc_xy = std::fabs(sweep) * radius;
+        stick_move(std::hypot(arc_xy, nz - z_), de, de > 0 && arc_xy > kMinMoveMm);
         double z0 = z_;
         for (int k = 1; k <= n; ++k) {
             double t = static_cast<double>(k) / n;
@@ -495,12 +570,17 @@ class Analyser {
     void segment(double nx, double ny, double nz, double de) {
         double length = std::hypot(nx - x_, ny - y_);
         result_.filament_length_mm += de;
-        if (de < 0) ++result_.retractions;
         if (de > 0 && length > kMinMoveMm) {
+            end_travel();
             extrude(nx, ny, nz, de, length);
         } else {
             if (length > kMinMoveMm) {
                 result_.travel_length_mm += length;
+                pending_.travel_length_mm += length;
+                if (!scan_only_) {
+                    if (travel_.empty()) travel_.push_back(Point(to_units(x_), to_units(y_)));
+                    travel_.push_back(Point(to_units(nx), to_units(ny)));
+                }
                 drawing_ = false;
             }
             if (std::fabs(nz - z_) > 1e-9) drawing_ = false;
@@ -510,11 +590,46 @@ class Analyser {
         z_ = nz;
     }
 
+    // A travel path is every XY move between two extrusions (z hops included, seen from above).
+    // It belongs with what is pending to the layer of the extrusion that ends it: the way to a
+    // new layer's first line is part of that layer's travel.
+    void end_travel() {
+        if (travel_.size() >= 2) {
+            pending_.travel.push_back(std::move(travel_));
+        }
+        travel_.clear();
+    }
+
+    void take_pending() {
+        layer_.retractions += pending_.retractions;
+        layer_.travel_length_mm += pending_.travel_length_mm;
+        layer_.stick_time_s += pending_.stick_time_s;
+        for (Path& p : pending_.travel) layer_travel_.push_back(std::move(p));
+        pending_ = Pending{};
+    }
+
     void extrude(double nx, double ny, double nz, double de, double length) {
         ++result_.extruding_moves;
         if (!have_layer_ || std::fabs(nz - layer_z_) > kZTolerance) {
             start_layer(nz);
             drawing_ = false;
+        }
+        take_pending();
+        result_.volume_by_type_mm3[type_.empty() ? "none" : type_] += de * filament_area_;
+        auto grow = [&](ExtrusionBounds& box) {
+            for (auto [px, py] : {std::pair{x_, y_}, std::pair{nx, ny}}) {
+                if (!box.any) box = {true, px, py, px, py};
+                box.min_x = std::min(box.min_x, px), box.max_x = std::max(box.max_x, px);
+                box.min_y = std::min(box.min_y, py), box.max_y = std::max(box.max_y, py);
+            }
+        };
+        grow(all_layers_);
+        if (!on_bed_) grow(above_first_);
+        if (scan_only_) {
+            layer_.extruded_volume_mm3 += de * filament_area_;
+            layer_.path_length_mm += length;
+            drawing_ = true;
+            return;
         }
         bool extend = drawing_ && !lines_.empty();
         if (extend) {
@@ -569,6 +684,14 @@ class Analyser {
         have_layer_ = false;
         double h = layer_.height_mm;
         if (h <= kZTolerance) h = prev_height_ > 0 ? prev_height_ : 0.2;
+        if (scan_only_) {
+            ++result_.layers;
+            have_prev_ = true;
+            prev_z_ = layer_.z_mm;
+            prev_height_ = h;
+            layer_travel_.clear();
+            return;
+        }
         Paths footprint = widen(lines_, h, filament_area_, opt_.bead);
         lines_.clear();
         layer_.footprint_area_mm2 = region_area_mm2(footprint);
@@ -578,6 +701,15 @@ class Analyser {
             if (!unsupported.empty()) {
                 Paths far = far_region(unsupported);
                 layer_.far_unsupported_area_mm2 = region_area_mm2(far);
+                if (opt_.model_slice && have_prev_model_ && !far.empty()) {
+                    // Over the model's slice one layer down: something inside the object could
+                    // have held it. The rest hangs beyond the model itself.
+                    layer_.hanging_inside_mm2 = region_area_mm2(intersection(far, prev_model_));
+                    layer_.hanging_overhang_mm2 =
+                        std::max(0.0, layer_.far_unsupported_area_mm2 - layer_.hanging_inside_mm2);
+                } else {
+                    layer_.hanging_overhang_mm2 = layer_.far_unsupported_area_mm2;
+                }
             }
         }
         if (layer_.path_length_mm > 0) {
@@ -587,6 +719,7 @@ class Analyser {
             width_weight_ += layer_.path_length_mm;
         }
         if (opt_.model_slice) check_model(footprint, h);
+        layer_travel_.clear();
 
         GcodeAnalysis& r = result_;
         if (r.layers == 0) r.first_z_mm = layer_.z_mm;
@@ -598,6 +731,11 @@ class Analyser {
         r.far_unsupported_area_mm2 += layer_.far_unsupported_area_mm2;
         r.outside_area_mm2 += layer_.outside_area_mm2;
         r.max_outside_model_mm = std::max(r.max_outside_model_mm, layer_.max_outside_model_mm);
+        r.hanging_inside_mm2 += layer_.hanging_inside_mm2;
+        r.hanging_overhang_mm2 += layer_.hanging_overhang_mm2;
+        r.travel_inside_mm += layer_.travel_inside_mm;
+        r.travel_outside_mm += layer_.travel_outside_mm;
+        r.wall_crossings += layer_.wall_crossings;
         if (opt_.keep_layers) r.per_layer.push_back(layer_);
 
         prev_footprint_ = std::move(footprint);
@@ -697,11 +835,16 @@ class Analyser {
                                                h, opt_.bead)
                             : 0.2;
         }
-        Paths outside_tol = difference(footprint, dilate_round(model, to_units(tolerance)));
+        tolerance_sum_ += tolerance;
+        Paths grown = dilate_round(model, to_units(tolerance));
+        Paths outside_tol = difference(footprint, grown);
         layer_.outside_area_mm2 = region_area_mm2(outside_tol);
+        check_travel(grown);
+        prev_model_ = model;
+        have_prev_model_ = true;
         // The farthest point outside lies at a vertex of footprint minus model (up to the
         // polygonal approximation); its distance to the model's boundary is what we report.
-        Paths outside = difference(footprint, model);
+        Paths outside = difference(footprint, std::move(model));
         if (outside.empty()) return;
         EdgeGrid grid(model);
         double best = 0;
@@ -713,7 +856,52 @@ class Analyser {
             layer_.max_outside_model_mm = std::numeric_limits<double>::infinity();
     }
 
+    // Travel against the model's slice grown by the outside tolerance (the outer wall's bead
+    // centres lie half a line width inside the slice, so travel along the wall stays in).
+    // A wall crossing is a piece of a travel path outside the grown slice that has the path
+    // inside at both of its ends: the nozzle leaves the object through its outer wall and comes
+    // back through it within one travel, e.g. across the mouth of a C, or from one island of a
+    // layer to another (the cat's legs): a strand can be dragged over the outside of the print
+    // either way. A path that starts outside (from a prime line, the home position) or ends
+    // outside (parking) is not a crossing.
+    void check_travel(const Paths& grown) {
+        double total = 0;
+        for (const Path& p : layer_travel_) total += open_length_mm(Paths{p});
+        if (layer_travel_.empty()) return;
+        Clipper c;
+        c.AddPaths(layer_travel_, ClipperLib::ptSubject, false);
+        c.AddPaths(grown, ClipperLib::ptClip, true);
+        ClipperLib::PolyTree tree;
+        c.Execute(ClipperLib::ctDifference, tree, ClipperLib::pftNonZero, ClipperLib::pftNonZero);
+        Paths out;
+        ClipperLib::OpenPathsFromPolyTree(tree, out);
+        layer_.travel_outside_mm = open_length_mm(out);
+        layer_.travel_inside_mm = std::max(0.0, total - layer_.travel_outside_mm);
+        // Ends of the paths: a piece ending at one did not come back in (or never was in).
+        std::vector<Point> ends;
+        for (const Path& p : layer_travel_) {
+            ends.push_back(p.front());
+            ends.push_back(p.back());
+        }
+        std::sort(ends.begin(), ends.end(), [](const Point& a, const Point& b) {
+            return a.X != b.X ? a.X < b.X : a.Y < b.Y;
+        });
+        auto is_end = [&](const Point& q) {
+            auto it = std::lower_bound(
+                ends.begin(), ends.end(), Point(q.X - 1, q.Y - 1),
+                [](const Point& a, const Point& b) { return a.X != b.X ? a.X < b.X : a.Y < b.Y; });
+            for (; it != ends.end() && it->X <= q.X + 1; ++it)
+                if (std::llabs(it->Y - q.Y) <= 1) return true;
+            return false;
+        };
+        for (const Path& piece : out) {
+            if (piece.size() < 2 || open_length_mm(Paths{piece}) < 0.01) continue;
+            if (!is_end(piece.front()) && !is_end(piece.back())) ++layer_.wall_crossings;
+        }
+    }
+
     const GcodeAnalysisOptions& opt_;
+    bool scan_only_ = false;
     GcodeAnalysis result_;
     double filament_area_ = 0;
     Coord r_units_ = 0, far_units_ = 0;
@@ -736,7 +924,26 @@ class Analyser {
     double prev_z_ = 0, prev_height_ = 0, first_z_ = 0;
     Paths prev_footprint_;
 
-    double width_sum_ = 0, width_weight_ = 0;
+    double width_sum_ = 0, width_weight_ = 0, tolerance_sum_ = 0;
+
+    // Model slice of the layer below (for the inside / overhang split).
+    bool have_prev_model_ = false;
+    Paths prev_model_;
+
+    double feed_mm_s_ = 50;  // until the file sets F
+    std::string type_;       // the last ;TYPE: comment
+
+    // Moves since the last extrusion, waiting for the layer that the next extrusion opens.
+    struct Pending {
+        long long retractions = 0;
+        double travel_length_mm = 0, stick_time_s = 0;
+        Paths travel;
+    };
+    Pending pending_;
+    Path travel_;  // the travel path being drawn, from the last extrusion's end
+    Paths layer_travel_;
+
+    ExtrusionBounds above_first_, all_layers_;
 };
 
 struct FileCloser {
@@ -797,12 +1004,16 @@ double parse_duration_s(std::string_view text) {
     return any ? total : -1;
 }
 
-GcodeAnalysis analyse_gcode(const std::string& path, const GcodeAnalysisOptions& options) {
+namespace {
+
+// Opens the file and settles the filament diameter (header or option).
+std::unique_ptr<std::FILE, FileCloser> open_gcode(const std::string& path,
+                                                  const GcodeAnalysisOptions& options,
+                                                  double& diameter, std::string& source) {
     std::unique_ptr<std::FILE, FileCloser> file(std::fopen(path.c_str(), "rb"));
     if (!file) throw InputError("cannot open G-code file '" + path + "'");
-
-    double diameter = options.filament_diameter_mm;
-    std::string source = "option";
+    diameter = options.filament_diameter_mm;
+    source = "option";
     if (options.filament_diameter_from_header) {
         double from_header = 0;
         if (header_filament_diameter(file.get(), from_header)) {
@@ -811,12 +1022,14 @@ GcodeAnalysis analyse_gcode(const std::string& path, const GcodeAnalysisOptions&
         }
     }
     if (!(diameter > 0)) throw InputError("filament diameter must be positive");
+    return file;
+}
 
-    Analyser analyser(options, diameter);
+void feed_lines(std::FILE* file, const std::string& path, Analyser& analyser) {
     std::vector<char> buffer(1 << 20);
     std::string carry;
     size_t n;
-    while ((n = std::fread(buffer.data(), 1, buffer.size(), file.get())) > 0) {
+    while ((n = std::fread(buffer.data(), 1, buffer.size(), file)) > 0) {
         std::string_view chunk(buffer.data(), n);
         size_t start = 0;
         size_t nl;
@@ -833,12 +1046,33 @@ GcodeAnalysis analyse_gcode(const std::string& path, const GcodeAnalysisOptions&
         carry.append(chunk.substr(start));
     }
     if (!carry.empty()) analyser.line(carry);
-    if (std::ferror(file.get())) throw InputError("cannot read G-code file '" + path + "'");
+    if (std::ferror(file)) throw InputError("cannot read G-code file '" + path + "'");
+}
 
+}  // namespace
+
+GcodeAnalysis analyse_gcode(const std::string& path, const GcodeAnalysisOptions& options) {
+    double diameter = 0;
+    std::string source;
+    auto file = open_gcode(path, options, diameter, source);
+    Analyser analyser(options, diameter);
+    feed_lines(file.get(), path, analyser);
     GcodeAnalysis result = analyser.finish();
     result.filament_diameter_source = source;
     result.bead_model = options.bead == BeadModel::kRounded ? "rounded" : "rectangle";
     return result;
+}
+
+ExtrusionBounds extrusion_bounds(const std::string& path, const GcodeAnalysisOptions& options) {
+    double diameter = 0;
+    std::string source;
+    auto file = open_gcode(path, options, diameter, source);
+    GcodeAnalysisOptions scan = options;
+    scan.model_slice = nullptr;
+    Analyser analyser(scan, diameter, true);
+    feed_lines(file.get(), path, analyser);
+    analyser.finish();
+    return analyser.bounds();
 }
 
 nlohmann::json to_json(const GcodeAnalysis& a, bool with_layers) {
@@ -865,13 +1099,33 @@ nlohmann::json to_json(const GcodeAnalysis& a, bool with_layers) {
         {"moves", a.moves},
         {"extruding_moves", a.extruding_moves},
         {"retractions", a.retractions},
+        {"firmware_retractions", a.firmware_retractions},
+        {"stick_time_s", a.stick_time_s},
         {"arcs", a.arcs},
         {"z_reversals", a.z_reversals},
         {"model_checked", a.model_checked},
     };
+    {
+        double total = 0;
+        for (const auto& [type, v] : a.volume_by_type_mm3) total += v;
+        nlohmann::json types = nlohmann::json::object();
+        for (const auto& [type, v] : a.volume_by_type_mm3)
+            types[type] = {{"volume_mm3", v}, {"percent", total > 0 ? 100 * v / total : 0.0}};
+        j["material_by_type"] = std::move(types);
+    }
     if (a.model_checked) {
         j["outside_area_mm2"] = a.outside_area_mm2;
         j["max_outside_model_mm"] = a.max_outside_model_mm;
+        j["hanging_inside_mm2"] = a.hanging_inside_mm2;
+        j["hanging_overhang_mm2"] = a.hanging_overhang_mm2;
+        j["travel_inside_mm"] = a.travel_inside_mm;
+        j["travel_outside_mm"] = a.travel_outside_mm;
+        j["wall_crossings"] = a.wall_crossings;
+        j["model_tolerance_mm"] = a.model_tolerance_mm;
+        if (!a.mesh_alignment.empty()) {
+            j["mesh_alignment"] = a.mesh_alignment;
+            j["mesh_offset_mm"] = {a.mesh_offset_mm[0], a.mesh_offset_mm[1], a.mesh_offset_mm[2]};
+        }
     }
     if (with_layers) {
         nlohmann::json layers = nlohmann::json::array();
@@ -882,10 +1136,18 @@ nlohmann::json to_json(const GcodeAnalysis& a, bool with_layers) {
                                  {"path_length_mm", l.path_length_mm},
                                  {"footprint_area_mm2", l.footprint_area_mm2},
                                  {"unsupported_area_mm2", l.unsupported_area_mm2},
-                                 {"far_unsupported_area_mm2", l.far_unsupported_area_mm2}};
+                                 {"far_unsupported_area_mm2", l.far_unsupported_area_mm2},
+                                 {"retractions", l.retractions},
+                                 {"travel_length_mm", l.travel_length_mm},
+                                 {"stick_time_s", l.stick_time_s}};
             if (a.model_checked) {
                 lj["outside_area_mm2"] = l.outside_area_mm2;
                 lj["max_outside_model_mm"] = l.max_outside_model_mm;
+                lj["hanging_inside_mm2"] = l.hanging_inside_mm2;
+                lj["hanging_overhang_mm2"] = l.hanging_overhang_mm2;
+                lj["travel_inside_mm"] = l.travel_inside_mm;
+                lj["travel_outside_mm"] = l.travel_outside_mm;
+                lj["wall_crossings"] = l.wall_crossings;
             }
             layers.push_back(std::move(lj));
         }

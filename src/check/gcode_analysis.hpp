@@ -11,6 +11,7 @@
 #pragma once
 
 #include <functional>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <string_view>
@@ -42,6 +43,18 @@ struct GcodeAnalysisOptions {
     // mean line width.
     std::function<Paths(double z_mm)> model_slice;
     double model_tolerance_mm = -1;
+
+    // The look-ahead-free print time (stick_time_s): every move is a trapezoid from rest to rest
+    // at its F, so that one measuring stick applies to every slicer whatever its planner.
+    double stick_print_accel = 1000;         // mm/s^2, moves that extrude
+    double stick_travel_accel = 1500;        // mm/s^2, the others
+    double stick_firmware_retract_s = 0.03;  // G10 or G11: 0.8 mm at 35 mm/s, carve's default
+};
+
+// Extent of the extrusion, to place a mesh under G-code that moved it (see extrusion_bounds).
+struct ExtrusionBounds {
+    bool any = false;
+    double min_x = 0, min_y = 0, max_x = 0, max_y = 0;  // mm, machine coordinates
 };
 
 struct LayerFigures {
@@ -54,6 +67,17 @@ struct LayerFigures {
     double far_unsupported_area_mm2 = 0;  // footprint minus previous footprint dilated by 2 mm
     double outside_area_mm2 = 0;          // with a model: footprint outside the dilated model slice
     double max_outside_model_mm = 0;      // with a model: farthest footprint point from the slice
+    // With a model: the far-unsupported area split by the model's slice one layer down.
+    // Inside lies over it (the interior could have held it); overhang is the rest (the model's
+    // own external overhang, which only supports fix).
+    double hanging_inside_mm2 = 0;
+    double hanging_overhang_mm2 = 0;
+    long long retractions = 0;
+    double travel_length_mm = 0;   // travels that end at this layer's extrusions (see Analyser)
+    double travel_inside_mm = 0;   // with a model: within the slice grown by the tolerance
+    double travel_outside_mm = 0;  // with a model: the rest
+    long long wall_crossings = 0;  // with a model: travels leaving the slice and coming back
+    double stick_time_s = 0;
 };
 
 struct GcodeAnalysis {
@@ -79,17 +103,36 @@ struct GcodeAnalysis {
     double filament_used_from_header_mm = -1;
     long long moves = 0;
     long long extruding_moves = 0;
-    long long retractions = 0;  // moves with negative E
-    long long arcs = 0;         // G2/G3, approximated by chords
-    int z_reversals = 0;        // extrusion at a lower z than the layer before (sequential prints)
+    long long retractions = 0;           // moves with negative E, and G10 firmware retractions
+    long long firmware_retractions = 0;  // G10 of them
+    double stick_time_s = 0;             // see GcodeAnalysisOptions::stick_*
+    // Extruded volume (moves that draw) per ;TYPE: comment, as written by the slicer; "none"
+    // before the first one.
+    std::map<std::string, double> volume_by_type_mm3;
+    long long arcs = 0;   // G2/G3, approximated by chords
+    int z_reversals = 0;  // extrusion at a lower z than the layer before (sequential prints)
     bool model_checked = false;
     double outside_area_mm2 = 0;
     double max_outside_model_mm = 0;
+    double hanging_inside_mm2 = 0;  // see LayerFigures
+    double hanging_overhang_mm2 = 0;
+    double travel_inside_mm = 0;
+    double travel_outside_mm = 0;
+    long long wall_crossings = 0;
+    double model_tolerance_mm = 0;  // mean over layers of the tolerance used
+    // How the model was placed under the G-code, when the caller says (carve check --mesh).
+    std::string mesh_alignment;
+    double mesh_offset_mm[3] = {0, 0, 0};
     std::vector<LayerFigures> per_layer;
 };
 
 // Reads the file once; throws carve::InputError if it cannot be opened.
 GcodeAnalysis analyse_gcode(const std::string& path, const GcodeAnalysisOptions& options = {});
+
+// One cheap pass (no footprints) that finds the extent of the extruding moves above the first
+// layer: the first layer is left out because prime lines, skirts and purge lines live there.
+// Falls back to every layer when there is only one.
+ExtrusionBounds extrusion_bounds(const std::string& path, const GcodeAnalysisOptions& options = {});
 
 nlohmann::json to_json(const GcodeAnalysis& analysis, bool with_layers = false);
 

@@ -3,8 +3,10 @@
 // orchestration that calls them.
 #pragma once
 
+#include <optional>
 #include <vector>
 
+#include "check/gcode_analysis.hpp"
 #include "gcode/gcode.hpp"
 #include "mesh/mesh.hpp"
 
@@ -25,6 +27,8 @@ struct RunResult {
     double processing_time_s = 0;
     double peak_memory_mb = 0;
     std::vector<double> layer_material_mm3;  // per layer, bottom up (for the report's plot)
+    std::optional<GcodeAnalysis> check;      // with RunOptions::check_output
+    double check_time_s = 0;                 // its cost, not in processing_time_s
     double material_percent() const {
         return mesh.volume_mm3 > 0 ? 100.0 * print.extruded_volume_mm3 / mesh.volume_mm3 : 0;
     }

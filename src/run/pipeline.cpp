@@ -226,6 +226,17 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
     result.print = writer.finish(header);
     result.processing_time_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (options.check_output) {
+        // The mesh is where the slicer had it: moved by the bed offset, its lowest point on z = 0.
+        const auto check_start = std::chrono::steady_clock::now();
+        GcodeAnalysisOptions check_options;
+        check_options.filament_diameter_mm = settings.filament_diameter;
+        check_options.keep_layers = false;
+        result.check = analyse_gcode_on_mesh(options.gcode_path, mesh, check_options,
+                                             Vec3{offset_x, offset_y, -box.min.z});
+        result.check_time_s =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - check_start).count();
+    }
     if (raster) raster->finish();
     result.peak_memory_mb = peak_memory_mb();
     if (html) html->finish(result, stats_json(result, settings));

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -23,6 +24,10 @@ struct RunOptions {
     bool progress = false;          // progress on stderr
     bool progress_bar = true;       // a redrawn bar (terminal), else a plain line per 10 %
     std::function<void(const std::string&)> note;  // warnings for the user (stderr)
+    // Measure the written G-code as `carve check --mesh` does, with the loaded mesh at its
+    // exact place. Off by default: it costs as much again as the slicing (cat: 3.1 s on top of
+    // 2.6 s, skull: 14 s on top of 11 s, loaded 2-core machine).
+    bool check_output = false;
 };
 
 RunResult run_slice(const Settings& settings, const RunOptions& options);

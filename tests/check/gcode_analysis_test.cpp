@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -16,6 +17,8 @@
 #include <vector>
 
 #include "base/error.hpp"
+#include "mesh/mesh.hpp"
+#include "report/stats.hpp"
 
 namespace carve {
 namespace {
@@ -390,6 +393,205 @@ TEST(GcodeAnalysis, ModelCheckMeasuresExtrusionOutside) {
     GcodeAnalysis outside = analyse_gcode(file.path(), options);
     EXPECT_NEAR(outside.max_outside_model_mm, std::hypot(2.0, 2.0) + w / 2, 0.01);
     EXPECT_NEAR(outside.outside_area_mm2, outside.footprint_area_mm2, 0.01);
+}
+
+// Closed boxes {x0, y0, z0, x1, y1, z1}, one shell each, faces counter-clockwise from outside.
+Mesh boxes(const std::vector<std::array<double, 6>>& list) {
+    Mesh m;
+    for (const auto& [x0, y0, z0, x1, y1, z1] : list) {
+        const auto base = static_cast<uint32_t>(m.vertices.size());
+        for (int k = 0; k < 8; ++k)
+            m.vertices.push_back({k & 1 ? x1 : x0, k & 2 ? y1 : y0, k & 4 ? z1 : z0});
+        const uint32_t quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4},
+                                      {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+        for (const auto& q : quads) {
+            m.triangles.push_back({base + q[0], base + q[1], base + q[2]});
+            m.triangles.push_back({base + q[0], base + q[2], base + q[3]});
+        }
+    }
+    return m;
+}
+
+// Area of a closed square-cornered loop of beads of width w along a rectangle a x b.
+double loop_area(double a, double b, double w) {
+    return 2 * (a + b) * w - (4 - std::numbers::pi) * w * w / 4;
+}
+
+std::vector<XY> rectangle(double x0, double y0, double x1, double y1) {
+    return {{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}};
+}
+
+// A 20 mm box printed as its wall up to mid-height, then one layer with a square loop floating
+// inside it (over the box's slice below: inside) and a loop under a shelf that the model only
+// has from that height on (nothing of the model below: overhang). Both loops lie farther than
+// 2 mm from the box's wall, so each is hanging whole.
+std::string box_and_shelf_gcode(double dx, double dy, double w, double h) {
+    Program prog;
+    auto shifted = [&](std::vector<XY> loop) {
+        for (XY& p : loop) p = {p.x + dx, p.y + dy};
+        return loop;
+    };
+    prog.raw(";TYPE:Skirt");  // a prime line on the first layer, outside everything
+    prog.travel({dx - 30, dy - 5}, h);
+    prog.extrude_to({dx + 50, dy - 5}, w, h);
+    prog.raw(";TYPE:WALL-OUTER");
+    for (int i = 1; i <= 11; ++i) prog.loop(shifted(square(0, 0, 20)), i * h, w, h);
+    prog.loop(shifted(square(8, 8, 4)), 11 * h, w, h);
+    prog.loop(shifted(rectangle(24, 0, 30, 20)), 11 * h, w, h);
+    return prog.str();
+}
+
+TEST(GcodeAnalysis, MeshSplitsHangingIntoInsideAndOverhang) {
+    const double w = 0.45, h = 0.2;
+    // The shelf starts at z = 2.05: in the slice of the last layer (z 2.0 .. 2.2, cut at 2.1),
+    // not in the one below (cut at 1.9).
+    const Mesh mesh = boxes({{0, 0, 0, 20, 20, 4}, {24, 0, 2.05, 30, 20, 4}});
+    const double inside = loop_area(4, 4, w), overhang = loop_area(6, 20, w);
+
+    TempGcode file(box_and_shelf_gcode(0, 0, w, h));
+    GcodeAnalysis a = analyse_gcode_on_mesh(file.path(), mesh, {}, Vec3{0, 0, 0});
+    ASSERT_TRUE(a.model_checked);
+    EXPECT_EQ(a.mesh_alignment, "given");
+    EXPECT_NEAR(a.far_unsupported_area_mm2, inside + overhang, 0.02 * (inside + overhang));
+    EXPECT_NEAR(a.hanging_inside_mm2, inside, 0.02 * inside);
+    EXPECT_NEAR(a.hanging_overhang_mm2, overhang, 0.02 * overhang);
+    ASSERT_EQ(a.per_layer.size(), 11u);
+    EXPECT_NEAR(a.per_layer.back().hanging_inside_mm2, a.hanging_inside_mm2, 1e-9);
+
+    // The same print moved on the bed: the automatic placement finds it again (the skirt on the
+    // first layer does not pull the mesh off), with the same split.
+    TempGcode moved(box_and_shelf_gcode(100, 50, w, h));
+    GcodeAnalysis b = analyse_gcode_on_mesh(moved.path(), mesh, {});
+    EXPECT_EQ(b.mesh_alignment, "automatic");
+    EXPECT_NEAR(b.mesh_offset_mm[0], 100, 1e-6);
+    EXPECT_NEAR(b.mesh_offset_mm[1], 50, 1e-6);
+    EXPECT_NEAR(b.mesh_offset_mm[2], 0, 1e-9);
+    EXPECT_NEAR(b.hanging_inside_mm2, a.hanging_inside_mm2, 1e-6);
+    EXPECT_NEAR(b.hanging_overhang_mm2, a.hanging_overhang_mm2, 1e-6);
+
+    // A wrong placement changes the split: the check is really looking at the mesh.
+    GcodeAnalysis c = analyse_gcode_on_mesh(moved.path(), mesh, {}, Vec3{0, 0, 0});
+    EXPECT_NEAR(c.hanging_inside_mm2, 0, 1e-9);
+    EXPECT_NEAR(c.hanging_overhang_mm2, inside + overhang, 0.02 * (inside + overhang));
+
+    // A mesh lying above z = 0 is put on the bed.
+    const Mesh high = boxes({{0, 0, 10, 20, 20, 14}, {24, 0, 12.05, 30, 20, 14}});
+    GcodeAnalysis d = analyse_gcode_on_mesh(file.path(), high, {});
+    EXPECT_NEAR(d.mesh_offset_mm[2], -10, 1e-9);
+    EXPECT_NEAR(d.hanging_inside_mm2, a.hanging_inside_mm2, 1e-6);
+}
+
+TEST(GcodeAnalysis, CountsRetractionsOfEveryKind) {
+    const double w = 0.45, h = 0.2;
+    Program prog;
+    prog.loop(square(0, 0, 20), h, w, h);
+    double e = prog.filament();
+    std::ostringstream extra;
+    extra << "G1 E" << e - 0.8 << " F2100\n"          // 1: plain retraction
+          << "G0 X30 Y30\nG1 E" << e << "\n"          // recovery is no retraction
+          << "G1 X31 Y30 E" << e - 0.4 << "\n"        // 2: wipe while retracting
+          << "G1 X32 Y30 E" << e - 0.8 << "\n"        // 3: and its second move
+          << "G2 X34 Y30 I1 J0 E" << e - 1.2 << "\n"  // 4: one arc, however many chords
+          << "G1 E" << e << "\n"
+          << "G10\nG0 X0 Y0\nG11\n"  // 5: firmware retraction
+          << "G10 P0 X1 Y2\n"        // tool offset (RepRapFirmware): not
+          << "G10\nG11\n";           // 6
+    prog.raw(extra.str());
+    prog.loop(square(0, 0, 20), 2 * h, w, h);
+    TempGcode file(prog.str());
+    GcodeAnalysis a = analyse_gcode(file.path());
+    EXPECT_EQ(a.retractions, 6);
+    EXPECT_EQ(a.firmware_retractions, 2);
+    ASSERT_EQ(a.per_layer.size(), 2u);
+    // Everything between the two layers' extrusions belongs to the layer it leads to.
+    EXPECT_EQ(a.per_layer[0].retractions, 0);
+    EXPECT_EQ(a.per_layer[1].retractions, 6);
+}
+
+TEST(GcodeAnalysis, TravelLeavingACShapeCrossesItsWall) {
+    const double w = 0.45, h = 0.2, tol = w / 2;
+    // A C open to +x: a bar at x 10..14 and two arms at y 10..14 and 26..30; its mouth is 12 mm.
+    const Mesh mesh =
+        boxes({{10, 10, 0, 14, 30, 1}, {14, 10, 0, 30, 14, 1}, {14, 26, 0, 30, 30, 1}});
+    Program prog;
+    prog.travel({11, 11}, h);  // from the origin, outside: not a crossing
+    prog.extrude_to({13, 11}, w, h);
+    prog.travel({28, 12}, h);  // along the lower arm: inside
+    prog.extrude_to({29, 12}, w, h);
+    prog.travel({29, 28}, h);  // straight across the mouth: a crossing
+    prog.extrude_to({28, 28}, w, h);
+    prog.travel({12, 28}, h);  // round the C, inside it: none
+    prog.travel({12, 12}, h);
+    prog.extrude_to({13, 12}, w, h);
+    // Along the arm, then out beyond the mouth and back over a vertex outside: one crossing.
+    prog.travel({28, 12}, h);
+    prog.travel({34, 20}, h);
+    prog.travel({28, 28}, h);
+    prog.extrude_to({27, 28}, w, h);
+    prog.travel({0, 28}, h);  // away at the end, never back: not a crossing
+    TempGcode file(prog.str());
+    GcodeAnalysis a = analyse_gcode_on_mesh(file.path(), mesh, {}, Vec3{0, 0, 0});
+    ASSERT_EQ(a.per_layer.size(), 1u);
+    EXPECT_NEAR(a.model_tolerance_mm, tol, 1e-6);
+    EXPECT_EQ(a.wall_crossings, 2);
+    EXPECT_EQ(a.per_layer[0].wall_crossings, 2);
+    // Outside the slice grown by the tolerance: the start up to the grown (rounded) corner, the
+    // mouth less the tolerance on both arms, the excursion (each of its 10 mm moves is outside
+    // above the lower arm's grown edge, 2 + tol mm up its 8 mm rise), the way out at the end.
+    const double start = 10 * std::numbers::sqrt2 - tol;
+    const double mouth = 12 - 2 * tol;
+    const double excursion = 2 * 10 * (1 - (2 + tol) / 8);
+    const double away = 10 - tol;
+    EXPECT_NEAR(a.travel_outside_mm, start + mouth + excursion + away, 0.02);
+    EXPECT_NEAR(a.travel_inside_mm + a.travel_outside_mm, a.travel_length_mm, 1e-6);
+    EXPECT_NEAR(a.per_layer[0].travel_length_mm, a.travel_length_mm, 1e-9);
+}
+
+TEST(GcodeAnalysis, StickTimeIsATrapezoidPerMoveFromRestToRest) {
+    const double w = 0.45, h = 0.2;
+    const double e = filament_for(10, w, h);
+    std::ostringstream g;
+    g << "G90\nM83\n"
+      << "G0 X100 Y0 Z0.2 F6000\n"                  // 100 mm at 100 mm/s, 1500 mm/s^2: cruises
+      << "G1 X110 Y0 E" << e << " F1200\n"          // 10 mm at 20 mm/s, 1000 mm/s^2: cruises
+      << "G1 X110.1 Y0 E" << e / 100 << " F6000\n"  // 0.1 mm: never reaches 100 mm/s
+      << "G1 E-1 F2100\n"                           // 1 mm of filament at 35 mm/s
+      << "G4 P500\n"                                // half a second's dwell
+      << "G10\n";                                   // a firmware retraction, fixed time
+    TempGcode file(g.str());
+    GcodeAnalysisOptions options;
+    GcodeAnalysis a = analyse_gcode(file.path(), options);
+    const double travel = std::hypot(100.0, 0.2) / 100 + 100 / 1500.0;
+    const double print = 10 / 20.0 + 20 / 1000.0;
+    const double short_move = 2 * std::sqrt(0.1 / 1000);  // triangle: accelerate half, brake half
+    const double expected =
+        travel + print + short_move + 1 / 35.0 + 0.5 + options.stick_firmware_retract_s;
+    EXPECT_NEAR(a.stick_time_s, expected, 1e-6);
+    ASSERT_EQ(a.per_layer.size(), 1u);
+    EXPECT_NEAR(a.per_layer[0].stick_time_s, expected, 1e-6);
+}
+
+TEST(GcodeAnalysis, MaterialByFeatureType) {
+    const double w = 0.45, h = 0.2;
+    Program prog(true);
+    prog.travel({0, 0}, h);
+    prog.extrude_to({1, 0}, w, h);  // before any type
+    prog.raw(";TYPE:External perimeter");
+    prog.extrude_to({21, 0}, w, h);
+    prog.raw(";TYPE:FILL");
+    prog.extrude_to({21, 60}, w, h);
+    prog.raw("G1 E-1\nG1 E1");  // retraction and recovery count for no type
+    prog.extrude_to({22, 60}, w, h);
+    TempGcode file(prog.str());
+    GcodeAnalysis a = analyse_gcode(file.path());
+    const double unit = filament_for(1, w, h) * kFilamentArea;
+    ASSERT_EQ(a.volume_by_type_mm3.size(), 3u);
+    // E is written with six digits: compare to 1e-5 relative.
+    EXPECT_NEAR(a.volume_by_type_mm3["none"], unit, 1e-5 * unit);
+    EXPECT_NEAR(a.volume_by_type_mm3["External perimeter"], 20 * unit, 2e-4 * unit);
+    EXPECT_NEAR(a.volume_by_type_mm3["FILL"], 61 * unit, 6e-4 * unit);
+    nlohmann::json j = to_json(a);
+    EXPECT_NEAR(j["material_by_type"]["FILL"]["percent"].get<double>(), 100.0 * 61 / 82, 1e-3);
 }
 
 TEST(GcodeAnalysis, MissingFileIsAnInputError) {

@@ -140,6 +140,51 @@ TEST(Cli, StatsHaveTheContractFields) {
     EXPECT_NE(r.out.find("G-code"), std::string::npos);
 }
 
+TEST(Cli, StatsCheckMeasuresTheOutputOnTheLoadedMesh) {
+    const fs::path gcode = scratch() / "fig3c.gcode", stats = scratch() / "fig3c.json";
+    const std::string mesh = model("synthetic/fig3_cube_indent.stl");
+    const CarveRun r = run_carve("slice " + mesh + " -o " + gcode.string() + " --stats " +
+                                 stats.string() + " --stats-check");
+    ASSERT_EQ(r.status, 0) << r.err;
+    const auto j = nlohmann::json::parse(read(stats));
+    for (const char* key : {"model_volume_mm3", "layers", "material_percent", "retractions",
+                            "processing_time_s", "estimated_print_time_s"})
+        EXPECT_TRUE(j.contains(key)) << key;  // the contract's keys stay where they were
+    ASSERT_TRUE(j.contains("check"));
+    const auto& c = j["check"];
+    for (const char* key : {"hanging_inside_mm2", "hanging_overhang_mm2", "material_by_type",
+                            "stick_time_s", "travel_outside_mm", "wall_crossings", "time_s"})
+        EXPECT_TRUE(c.contains(key)) << key;
+    EXPECT_EQ(c["retractions"].get<long long>(), j["retractions"].get<long long>());
+    EXPECT_EQ(c["layers"].get<int>(), j["layers"].get<int>());
+    EXPECT_EQ(c["mesh_alignment"], "given");
+    EXPECT_NEAR(c["outside_area_mm2"].get<double>(), 0, 0.5);
+    EXPECT_NE(r.out.find("hanging"), std::string::npos);
+    // `carve check --mesh` finds the same placement from the G-code alone, and the same figures.
+    const CarveRun k = run_carve("check " + gcode.string() + " --mesh " + mesh + " --json");
+    ASSERT_EQ(k.status, 0) << k.err;
+    const auto m = nlohmann::json::parse(k.out);
+    EXPECT_EQ(m["mesh_alignment"], "automatic");
+    for (int i = 0; i < 3; ++i)
+        EXPECT_NEAR(m["mesh_offset_mm"][i].get<double>(), c["mesh_offset_mm"][i].get<double>(),
+                    0.05);
+    EXPECT_NEAR(m["hanging_inside_mm2"].get<double>(), c["hanging_inside_mm2"].get<double>(), 0.5);
+    EXPECT_NEAR(m["hanging_overhang_mm2"].get<double>(), c["hanging_overhang_mm2"].get<double>(),
+                0.5);
+    // Given the offset explicitly, exactly the same.
+    const auto& o = c["mesh_offset_mm"];
+    const CarveRun g =
+        run_carve("check " + gcode.string() + " --mesh " + mesh + " --json " + "--mesh-offset " +
+                  std::to_string(o[0].get<double>()) + "," + std::to_string(o[1].get<double>()));
+    ASSERT_EQ(g.status, 0) << g.err;
+    const auto gj = nlohmann::json::parse(g.out);
+    EXPECT_NEAR(gj["hanging_inside_mm2"].get<double>(), c["hanging_inside_mm2"].get<double>(),
+                1e-3);
+    EXPECT_EQ(run_carve("check " + gcode.string() + " --mesh-offset 1,2").status, 1);
+    EXPECT_EQ(run_carve("check " + gcode.string() + " --mesh " + mesh + " --mesh-offset 1").status,
+              1);
+}
+
 TEST(Cli, InfoDescribesTheMesh) {
     const CarveRun r = run_carve("info " + model("fandisk.stl") + " --json");
     ASSERT_EQ(r.status, 0) << r.err;
