@@ -1,14 +1,5 @@
-// The one exception type that reaches the user: a bad input file or a bad option.
-// The CLI prints its message as a single line on stderr and exits with status 1.
+// The error types that reach the user now live in base/errors.hpp (with their exit codes);
+// this header stays so that the stages' includes keep working.
 #pragma once
 
-#include <stdexcept>
-#include <string>
-
-namespace carve {
-
-struct InputError : std::runtime_error {
-    using std::runtime_error::runtime_error;
-};
-
-}  // namespace carve
+#include "base/errors.hpp"

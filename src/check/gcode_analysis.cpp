@@ -555,6 +555,12 @@ class Analyser {
         }
         double step = radius > kArcSagittaMm ? 2 * std::acos(1 - kArcSagittaMm / radius) : 1.0;
         int n = std::clamp(static_cast<int>(std::ceil(std::fabs(sweep) / step)), 1, 10000);
+        // Each arc becomes up to 10,000 segments held for the layer: 100,000 hostile arcs were
+        // gigabytes. Refused past a budget no real print comes near.
+        arc_segments_ += n;
+        if (arc_segments_ > kMaxArcSegments)
+            throw InputError("the G-code's arcs (G2/G3) make more than 20 million segments; "
+                             "refusing to measure it");
         double arc_xy = std::fabs(sweep) * radius;
         stick_move(std::hypot(arc_xy, nz - z_), de, de > 0 && arc_xy > kMinMoveMm);
         double z0 = z_;
@@ -566,6 +572,9 @@ class Analyser {
             segment(px, py, z0 + (nz - z0) * t, de / n);
         }
     }
+
+    static constexpr long long kMaxArcSegments = 20'000'000;
+    long long arc_segments_ = 0;
 
     void segment(double nx, double ny, double nz, double de) {
         double length = std::hypot(nx - x_, ny - y_);
@@ -959,8 +968,11 @@ bool header_filament_diameter(std::FILE* f, double& diameter) {
         text.resize(std::fread(text.data(), 1, size, f));
         return text;
     };
-    std::fseek(f, 0, SEEK_END);
+    // A pipe (carve check - < file, /dev/stdin) cannot seek: no header look-up, the option's
+    // diameter holds, and the lines are read as they come.
+    if (std::fseek(f, 0, SEEK_END) != 0) return false;
     long size = std::ftell(f);
+    if (size < 0) return false;
     constexpr long kHead = 64 * 1024, kTail = 512 * 1024;
     std::string head = read_at(0, static_cast<size_t>(std::min(size, kHead)));
     std::string tail = size > kHead

@@ -1,20 +1,29 @@
 // carve command line: parses options into Settings and calls the library. Nothing else.
 //
-// Errors the user can act on (bad file, bad option) come out as one line on stderr and exit 1;
-// no partial output file is ever left behind (the G-code writer renames only when complete).
+// Errors come out as one line on stderr with the exit status of their kind (base/errors.hpp):
+// 1 bad input or option value, 2 usage, 3 an output not written or refused, 4 internal. No
+// partial output is ever left behind (every output goes through base/atomic_file.hpp).
+// The numeric options of `slice` are made from the settings table (core/setting_table.hpp):
+// a new numeric setting is one entry there, not an option here.
 #include <fmt/format.h>
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
+#include <cerrno>
 #include <csignal>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <iostream>
 #include <limits>
 #include <map>
 
+#include "base/atomic_file.hpp"
+#include "base/numbers.hpp"
+#include "base/output_paths.hpp"
 #include "base/error.hpp"
 #include "run/pipeline.hpp"
+#include "config/setting_table.hpp"
 #include "gcode/placeholders.hpp"
 #include "config/profiles.hpp"
 #include "mesh/mesh.hpp"
@@ -24,56 +33,54 @@
 
 namespace {
 
-int fail(const std::string& message) {
+int fail(const std::string& message, int code = carve::kExitBadInput) {
     std::fprintf(stderr, "carve: %s\n", message.c_str());
-    return 1;
+    return code;
 }
 
-// Writes a small text file atomically: to a temporary name, renamed when complete.
-void write_text_atomically(const std::string& path, const std::string& text) {
-    const std::string tmp = path + ".tmp";
-    {
-        std::ofstream out(tmp, std::ios::binary);
-        if (!out) throw carve::InputError(fmt::format("cannot write {}", path));
-        out << text;
-        if (!out.flush()) {
-            std::remove(tmp.c_str());
-            throw carve::InputError(fmt::format("cannot write {} (disk full?)", path));
-        }
-    }
-    if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-        std::remove(tmp.c_str());
-        throw carve::InputError(fmt::format("cannot write {}", path));
-    }
+// A number option checked as the table's are: decimal only, finite, in [lo, hi] (CLI11's own
+// conversion reads "nan", "inf" and "0x10", and NaN passes CLI::Range).
+CLI::Validator strict(double lo, double hi, const char* unit, bool integer = false) {
+    return CLI::Validator(
+        [=](std::string& v) { return carve::range_problem(v, lo, hi, integer, unit); },
+        fmt::format("in [{} - {}]", carve::plain_number(lo), carve::plain_number(hi)));
 }
 
-// The value of `--name VALUE` or `--name=VALUE` in argv, or empty.
-std::string find_option(int argc, char** argv, const std::string& name) {
-    for (int i = 1; i < argc; ++i) {
-        const std::string a = argv[i];
-        if (a == name && i + 1 < argc) return argv[i + 1];
-        if (a.rfind(name + "=", 0) == 0) return a.substr(name.size() + 1);
-    }
-    return {};
+// "250x210": two decimal numbers (sscanf's %lf read "0x100" as hexadecimal 256).
+bool parse_bed(const std::string& text, double& x, double& y) {
+    const size_t cross = text.find_first_of("xX");
+    if (cross == std::string::npos) return false;
+    const auto a = carve::parse_decimal(std::string_view(text).substr(0, cross));
+    const auto b = carve::parse_decimal(std::string_view(text).substr(cross + 1));
+    if (!a || !b || !(*a > 0) || !(*b > 0) || *a > 10000 || *b > 10000) return false;
+    x = *a, y = *b;
+    return true;
 }
 
-// Printer preset, profile and report preset set the defaults that explicit options override,
-// so they are applied before the options are parsed.
-std::vector<std::string> pre_apply(int argc, char** argv, carve::Settings& settings) {
-    std::vector<std::string> notes;
-    if (const std::string p = find_option(argc, argv, "--printer"); !p.empty())
-        carve::apply_printer_preset(p, settings);
-    if (const std::string f = find_option(argc, argv, "--load"); !f.empty())
-        notes = carve::load_prusa_profile(f, settings);
-    const std::string preset = find_option(argc, argv, "--preset");
-    if (preset == "2c0s") settings.covers = 2, settings.shells = 0;
-    if (preset == "3c1s") settings.covers = 3, settings.shells = 1;
-    return notes;
+// Standard output is an output too: a failed write (a full disk, a closed pipe) is exit 3,
+// never a truncated answer with exit 0.
+int checked_stdout(int code) {
+    std::cout.flush();
+    const bool ok = std::cout.good() && std::fflush(stdout) == 0 && !std::ferror(stdout);
+    if (std::fclose(stdout) != 0 || !ok) {
+        std::fprintf(stderr, "carve: cannot write standard output: %s\n", std::strerror(errno));
+        return code == 0 ? carve::kExitOutput : code;
+    }
+    return code;
 }
+
+int run(int argc, char** argv);
 
 }  // namespace
 
 int main(int argc, char** argv) {
+    carve::install_cleanup_handlers();
+    return checked_stdout(run(argc, argv));
+}
+
+namespace {
+
+int run(int argc, char** argv) {
     // Past a file size limit (ulimit -f) the write fails with EFBIG and the writer cleans up and
     // says so; the default action of SIGXFSZ would kill the process and leave its temporary file.
     std::signal(SIGXFSZ, SIG_IGN);
@@ -85,9 +92,12 @@ int main(int argc, char** argv) {
 
     carve::Settings settings;
     carve::RunOptions run;
-    std::string stats_path, cavities_text = "6", walls_text = "single", preset, profile_path,
-                            printer_name, flavor_text = "marlin", bed_text;
-    bool quiet = false, no_bed_check = false;
+    std::string cavities_text = "6", walls_text = "single", preset, profile_path, printer_name,
+                flavor_text = "marlin", bed_text;
+    bool quiet = false, no_bed_check = false, relative_e = false;
+    double timeout_s = 0;
+    // Table options as typed, applied after the printer, the profile and the preset.
+    std::vector<std::pair<const carve::SettingSpec*, std::string>> given;
 
     CLI::App* slice = app.add_subcommand("slice", "Slice MODEL into hollow G-code (the main job)");
     slice
@@ -95,7 +105,7 @@ int main(int argc, char** argv) {
                      "Mesh file: STL (binary or ASCII), OBJ or 3MF; millimetres [required]")
         ->required();
     slice->add_option("-o,--output", run.gcode_path, "G-code file to write [required]")->required();
-    slice->add_option("--stats", stats_path, "Write the run's figures as JSON to this file [none]");
+    slice->add_option("--stats", run.stats_path, "Write the run's figures as JSON to this file [none]");
     slice->add_flag("--stats-check", run.check_output,
                     "Also measure the written G-code as carve check --mesh does (hanging inside "
                     "and overhang, material per type, retractions, travel) into the stats' "
@@ -110,94 +120,19 @@ int main(int argc, char** argv) {
                      "The report's presets: 2c0s (2 covers, no shell) or "
                      "3c1s (3 covers, 1 shell) [none: 2 covers, 0 shells]")
         ->check(CLI::IsMember({"2c0s", "3c1s"}));
-    slice->add_option("--layer-height", settings.layer_height, "Layer height h, mm [0.2]")
-        ->check(CLI::Range(0.01, 2.0));
-    slice->add_option("--nozzle", settings.nozzle, "Nozzle diameter = line width w, mm [0.4]")
-        ->check(CLI::Range(0.05, 3.0));
-    slice
-        ->add_option("--max-overhang", settings.max_overhang,
-                     "Largest overhang from vertical the printer bridges, degrees; the per-layer "
-                     "dilation is r = h * tan(angle) [45]")
-        ->check(CLI::Range(5.0, 75.0));
     slice->add_option("--cavities", cavities_text,
                       "Carving iterations k, or 'auto' (stop when the remainder erodes away at "
                       "the line width); 0 = a plain hollow shell [6]");
-    slice->add_option("--covers", settings.covers, "Solid layers at tops and bottoms, layers [2]")
-        ->check(CLI::Range(0, 50));
-    slice
-        ->add_option("--shells", settings.shells,
-                     "Extra perimeters inside the outer wall, lines [0]")
-        ->check(CLI::Range(0, 20));
     slice
         ->add_option("--walls", walls_text,
                      "Cavity walls: single (one filament, report 4.3) or double (4.1) [single]")
         ->check(CLI::IsMember({"single", "double"}));
     slice->add_option("--flavor", flavor_text, "G-code flavour: marlin, reprap or klipper [marlin]")
         ->check(CLI::IsMember({"marlin", "reprap", "klipper"}));
-    slice->add_flag("--relative-e", settings.relative_e,
+    slice->add_flag("--relative-e", relative_e,
                     "Relative extrusion distances (M83) [off: absolute, M82]");
-    slice
-        ->add_option("--filament-diameter", settings.filament_diameter,
-                     "Filament diameter, mm [1.75]")
-        ->check(CLI::Range(0.5, 5.0));
     slice->add_option("--bed", bed_text, "Bed size WxH, mm; the model is centred on it [250x210]");
     slice->add_flag("--no-bed-check", no_bed_check, "Allow a model larger than the bed [off]");
-    slice
-        ->add_option("--temperature", settings.nozzle_temperature,
-                     "Nozzle temperature after the first layer, C [210]")
-        ->check(CLI::Range(0, 450));
-    slice
-        ->add_option("--bed-temperature", settings.bed_temperature,
-                     "Bed temperature after the first layer, C [60]")
-        ->check(CLI::Range(0, 150));
-    slice
-        ->add_option("--first-layer-temperature", settings.first_layer_nozzle_temperature,
-                     "Nozzle temperature on the first layer, C [215]")
-        ->check(CLI::Range(0, 450));
-    slice
-        ->add_option("--first-layer-bed-temperature", settings.first_layer_bed_temperature,
-                     "Bed temperature on the first layer, C [60]")
-        ->check(CLI::Range(0, 150));
-    slice
-        ->add_option("--filament-density", settings.filament_density,
-                     "Filament density for the weight estimate, g/cm^3 [1.24]")
-        ->check(CLI::Range(0.1, 20.0));
-    slice->add_option("--travel-speed", settings.travel_speed, "Travel speed, mm/s [150]")
-        ->check(CLI::Range(1.0, 1000.0));
-    slice->add_option("--perimeter-speed", settings.perimeter_speed, "Outer wall speed, mm/s [40]")
-        ->check(CLI::Range(1.0, 1000.0));
-    slice->add_option("--cavity-speed", settings.cavity_speed, "Cavity wall speed, mm/s [60]")
-        ->check(CLI::Range(1.0, 1000.0));
-    slice->add_option("--cover-speed", settings.cover_speed, "Cover (solid) speed, mm/s [50]")
-        ->check(CLI::Range(1.0, 1000.0));
-    slice->add_option("--bridge-speed", settings.bridge_speed, "Bridge speed, mm/s [25]")
-        ->check(CLI::Range(1.0, 1000.0));
-    slice
-        ->add_option("--first-layer-speed", settings.first_layer_speed,
-                     "First layer speed, mm/s [20]")
-        ->check(CLI::Range(1.0, 1000.0));
-    slice->add_option("--acceleration", settings.acceleration, "Print acceleration, mm/s^2 [1000]")
-        ->check(CLI::Range(10.0, 100000.0));
-    slice
-        ->add_option("--travel-acceleration", settings.travel_acceleration,
-                     "Travel acceleration, mm/s^2 [1500]")
-        ->check(CLI::Range(10.0, 100000.0));
-    slice
-        ->add_option("--max-print-speed", settings.max_print_speed,
-                     "Cap on every printing speed, mm/s [100]")
-        ->check(CLI::Range(1.0, 1000.0));
-    slice->add_option("--retract-length", settings.retract_length, "Retraction, mm [0.8]")
-        ->check(CLI::Range(0.0, 20.0));
-    slice->add_option("--retract-speed", settings.retract_speed, "Retraction speed, mm/s [35]")
-        ->check(CLI::Range(1.0, 500.0));
-    slice->add_option("--z-hop", settings.z_hop, "Lift on travel with retraction, mm [0]")
-        ->check(CLI::Range(0.0, 10.0));
-    slice
-        ->add_option("--tear-limit", settings.tear_limit,
-                     "How far a cavity may tear open along its seed per slice beyond the dilated "
-                     "cavity, mm; smaller leaves less unsupported but uses more material "
-                     "(the report proposes r/2 = 0.1) [0 = no limit]")
-        ->check(CLI::Range(0.0, 1000.0));
     slice->add_flag("!--keep-all-bridges", settings.prune_bridges,
                     "Keep bridges that the layer below already supports [off]");
     slice->add_option("--report", run.report_path,
@@ -208,38 +143,32 @@ int main(int argc, char** argv) {
         ->add_option("--svg-every", run.svg_every,
                      "With --svg-layers: every N-th layer, layers [0: eight spread over the "
                      "height]")
-        ->check(CLI::Range(0, 100000));
+        ->check(strict(0, 100000, "layers", true));
     slice->add_option("--raster", run.raster_dir,
                       "Write a PNG slice stack for resin printers, and its zip, into DIR [none]");
     slice
         ->add_option("--raster-pixel", run.raster_pixel_mm,
                      "With --raster: pixel size (the printer's XY resolution), mm [0.05]")
-        ->check(CLI::Range(0.005, 1.0));
+        ->check(strict(0.005, 1.0, "mm"));
     slice
         ->add_option("--raster-min-wall", run.raster_min_wall_mm,
                      "With --raster: thinnest wall the resin printer cures; cavity outlines are "
                      "thickened to it, mm [0.4]")
-        ->check(CLI::Range(0.01, 10.0));
+        ->check(strict(0.01, 10.0, "mm"));
+    for (const carve::SettingSpec& spec : carve::setting_table()) {
+        if (!*spec.option) continue;  // a profile key without an option of its own
+        slice
+            ->add_option_function<std::string>(
+                std::string("--") + spec.option,
+                [&given, &spec](const std::string& v) { given.emplace_back(&spec, v); }, spec.help)
+            ->type_name(fmt::format("{} in [{} - {}]", spec.integer() ? "INT" : "FLOAT",
+                                    carve::plain_number(spec.min), carve::plain_number(spec.max)));
+    }
     slice
-        ->add_option("--scale", settings.scale,
-                     "Scale the model uniformly by this factor, ratio [1]")
-        ->check(CLI::Range(0.01, 100.0));
-    slice
-        ->add_option("--threads", settings.threads,
-                     "Pipeline threads: 1 runs every stage in turn, 2 plans bridges, toolpaths "
-                     "and G-code behind the carving sweep, 3 also splits the sweep after the "
-                     "first cavity, 4 also slices ahead of it, 5 also plans toolpaths behind "
-                     "the bridges, threads [5]")
-        ->check(CLI::Range(1, 5));
-    slice
-        ->add_option("--max-bridge-length", settings.max_bridge_length,
-                     "Longest span a bridge may have, mm; longer ones are left out [10]")
-        ->check(CLI::Range(1.0, 500.0));
-    slice
-        ->add_option("--max-vertices-per-layer", settings.max_vertices_per_layer,
-                     "Give up when one slice has more contour vertices than this; 0 = no limit, "
-                     "vertices [5000000]")
-        ->check(CLI::NonNegativeNumber);
+        ->add_option("--timeout", timeout_s,
+                     "Give up after this much time, removing every output and temporary; "
+                     "0 = no limit, seconds [0]")
+        ->check(strict(0, 1e7, "seconds"));
     slice->add_flag("-q,--quiet", quiet, "Print nothing but errors [off]");
 
     std::string info_model;
@@ -257,11 +186,14 @@ int main(int argc, char** argv) {
         "PrusaSlicer's, Cura's)");
     check->add_option("gcode", check_gcode, "G-code file [required]")->required();
     check->add_option("--support-radius", check_options.support_radius_mm,
-                      "Overhang allowance r, mm [0.2]");
+                      "Overhang allowance r, mm [0.2]")
+        ->check(strict(0, 100, "mm"));
     check->add_option("--far-radius", check_options.far_radius_mm,
-                      "Distance no filament bridges, mm [2]");
+                      "Distance no filament bridges, mm [2]")
+        ->check(strict(0.01, 100, "mm"));
     check->add_option("--filament-diameter", check_options.filament_diameter_mm,
-                      "Filament diameter, mm [1.75]");
+                      "Filament diameter, mm [1.75]")
+        ->check(strict(0.5, 5, "mm"));
     check->add_flag("--json", check_json, "Machine-readable output (JSON) [off: text]");
     bool check_layers = false;
     check->add_flag("--layers", check_layers,
@@ -278,11 +210,6 @@ int main(int argc, char** argv) {
 
     std::vector<std::string> profile_notes;
     try {
-        profile_notes = pre_apply(argc, argv, settings);
-    } catch (const carve::InputError& e) {
-        return fail(e.what());
-    }
-    try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {
         return app.exit(e);
@@ -290,8 +217,12 @@ int main(int argc, char** argv) {
         return app.exit(e);
     } catch (const CLI::CallForVersion& e) {
         return app.exit(e);
-    } catch (const CLI::ParseError& e) {
+    } catch (const CLI::ValidationError& e) {
+        return fail(fmt::format("{} (see carve --help)", e.what()));  // a bad value: 1
+    } catch (const CLI::ConversionError& e) {
         return fail(fmt::format("{} (see carve --help)", e.what()));
+    } catch (const CLI::ParseError& e) {
+        return fail(fmt::format("{} (see carve --help)", e.what()), carve::kExitUsage);
     }
 
     try {
@@ -334,9 +265,15 @@ int main(int argc, char** argv) {
             return 0;
         }
 
-        // Precedence: built-in printer, then profile file, then preset, then explicit options.
-        // The first three were applied before parsing (see pre_apply); parsing only writes the
-        // options the user gave, so those win.
+        // Precedence: built-in printer, then profile file, then preset, then explicit options;
+        // the options were only collected while parsing, so they are applied last and win.
+        if (!printer_name.empty()) carve::apply_printer_preset(printer_name, settings);
+        if (!profile_path.empty()) profile_notes = carve::load_prusa_profile(profile_path, settings);
+        if (preset == "2c0s") settings.covers = 2, settings.shells = 0;
+        if (preset == "3c1s") settings.covers = 3, settings.shells = 1;
+        for (const auto& [spec, text] : given)
+            spec->set(settings, text, std::string("--") + spec->option);
+        if (relative_e) settings.relative_e = true;
         for (const std::string& n : profile_notes)
             if (!quiet) std::fprintf(stderr, "carve: note: %s\n", n.c_str());
         // Placeholders of the custom G-code that carve cannot evaluate: said once, up front.
@@ -350,17 +287,12 @@ int main(int argc, char** argv) {
 
         if (cavities_text == "auto") {
             settings.cavities_auto = true;
+        } else if (const std::string why = carve::range_problem(cavities_text, 0, 64, true, "");
+                   !why.empty()) {
+            return fail(fmt::format("--cavities: expected a number from 0 to 64 or 'auto', got '{}'",
+                                    cavities_text));
         } else {
-            try {
-                size_t used = 0;
-                settings.cavities = std::stoi(cavities_text, &used);
-                if (used != cavities_text.size() || settings.cavities < 0 || settings.cavities > 64)
-                    throw std::invalid_argument("range");
-            } catch (const std::exception&) {
-                return fail(
-                    fmt::format("--cavities: expected a number from 0 to 64 or 'auto', got '{}'",
-                                cavities_text));
-            }
+            settings.cavities = static_cast<int>(*carve::parse_decimal(cavities_text));
         }
         if (slice->count("--walls"))
             settings.walls =
@@ -369,19 +301,19 @@ int main(int argc, char** argv) {
             settings.flavor = flavor_text == "klipper"  ? carve::GcodeFlavor::Klipper
                               : flavor_text == "reprap" ? carve::GcodeFlavor::RepRap
                                                         : carve::GcodeFlavor::Marlin;
-        if (!bed_text.empty()) {
-            double bx = 0, by = 0;
-            char x = 0, extra = 0;
-            if (std::sscanf(bed_text.c_str(), "%lf%c%lf%c", &bx, &x, &by, &extra) != 3 ||
-                (x != 'x' && x != 'X') || !(bx > 0) || !(by > 0) || bx > 10000 || by > 10000)
-                return fail(fmt::format(
-                    "--bed: expected WIDTHxDEPTH in mm such as 250x210, got '{}'", bed_text));
-            settings.bed_x = bx, settings.bed_y = by;
-        }
+        if (!bed_text.empty() && !parse_bed(bed_text, settings.bed_x, settings.bed_y))
+            return fail(fmt::format(
+                "--bed: expected WIDTHxDEPTH in mm such as 250x210, got '{}'", bed_text));
         if (no_bed_check) settings.bed_check = false;
-        if (settings.layer_height > settings.nozzle)
-            return fail(fmt::format("--layer-height {} mm is thicker than the {} mm line width",
-                                    settings.layer_height, settings.nozzle));
+        carve::validate_settings(settings);
+        // Nothing the run writes may be one of its inputs, another of its outputs, or a device.
+        carve::check_output_paths({{run.model_path, "the model"}, {profile_path, "the profile"}},
+                                  {{run.gcode_path, "-o"},
+                                   {run.stats_path, "--stats"},
+                                   {run.report_path, "--report"},
+                                   {run.svg_dir, "--svg-layers", true},
+                                   {run.raster_dir, "--raster", true}});
+        if (timeout_s > 0) carve::exit_after(timeout_s);
 
         run.progress = !quiet;
         run.progress_bar = isatty(STDERR_FILENO);  // plain lines into a log or a pipe
@@ -389,22 +321,22 @@ int main(int argc, char** argv) {
             if (!quiet) std::fprintf(stderr, "carve: warning: %s\n", s.c_str());
         };
         const carve::RunResult result = carve::run_slice(settings, run);
-        if (!stats_path.empty())
-            write_text_atomically(stats_path, carve::stats_json(result, settings).dump(2) + "\n");
         if (!quiet) {
             std::cout << carve::summary_text(result, settings);
             std::cout << "G-code     " << run.gcode_path << "\n";
-            if (!stats_path.empty()) std::cout << "stats      " << stats_path << "\n";
+            if (!run.stats_path.empty()) std::cout << "stats      " << run.stats_path << "\n";
             if (!run.report_path.empty()) std::cout << "report     " << run.report_path << "\n";
             if (!run.svg_dir.empty()) std::cout << "layers     " << run.svg_dir << "/\n";
             if (!run.raster_dir.empty()) std::cout << "raster     " << run.raster_dir << "/\n";
         }
         return 0;
-    } catch (const carve::InputError& e) {
-        return fail(e.what());
+    } catch (const carve::CarveError& e) {
+        return fail(e.what(), e.exit_code());
     } catch (const std::bad_alloc&) {
-        return fail("out of memory");
+        return fail("out of memory", carve::kExitInternal);
     } catch (const std::exception& e) {
-        return fail(fmt::format("internal error: {}", e.what()));
+        return fail(fmt::format("internal error: {}", e.what()), carve::kExitInternal);
     }
 }
+
+}  // namespace

@@ -2,7 +2,6 @@
 #include "config/profiles.hpp"
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <fstream>
 #include <functional>
@@ -12,7 +11,9 @@
 
 #include <fmt/format.h>
 
+#include "base/numbers.hpp"
 #include "base/error.hpp"
+#include "config/setting_table.hpp"
 
 namespace carve {
 
@@ -71,11 +72,7 @@ std::string trim(std::string s) {
 
 // A plain decimal number: std::stod would also read "0x0" (a bed_shape point) as hexadecimal.
 std::optional<double> decimal(const std::string& v) {
-    double d = 0;
-    const auto [end, ec] = std::from_chars(v.data(), v.data() + v.size(), d);
-    if (ec != std::errc() || end != v.data() + v.size() || v.empty() || !std::isfinite(d))
-        return std::nullopt;
-    return d;
+    return parse_decimal(v);
 }
 
 double number(const std::string& key, const std::string& value) {
@@ -83,12 +80,6 @@ double number(const std::string& key, const std::string& value) {
     const std::string v = trim(value.substr(0, value.find(',')));
     if (const std::optional<double> d = decimal(v)) return *d;
     throw InputError(fmt::format("profile key '{}': '{}' is not a number", key, value));
-}
-
-double positive(const std::string& key, const std::string& value) {
-    double d = number(key, value);
-    if (d <= 0) throw InputError(fmt::format("profile key '{}': {} must be positive", key, value));
-    return d;
 }
 
 // A whole number from 0 to 50 (layers, perimeters).
@@ -136,6 +127,13 @@ void apply_printer_preset(const std::string& name, Settings& settings) {
 std::vector<std::string> load_prusa_profile(const std::string& path, Settings& s) {
     std::ifstream in(path);
     if (!in) throw InputError(fmt::format("{}: cannot open the profile", path));
+    // A real profile is tens of kilobytes (a bundle of every vendor printer a few MB); more is
+    // not a profile, and every key is held in memory for the placeholders.
+    constexpr std::streamoff kMaxProfileBytes = 16 << 20;
+    in.seekg(0, std::ios::end);
+    if (in.tellg() > kMaxProfileBytes)
+        throw InputError(fmt::format("{}: larger than 16 MB, not a printer profile", path));
+    in.seekg(0, std::ios::beg);
 
     using Setter = std::function<void(const std::string&, const std::string&)>;
     int top_bottom[2] = {0, 0};
@@ -163,42 +161,8 @@ std::vector<std::string> load_prusa_profile(const std::string& path, Settings& s
                  throw InputError(fmt::format("profile key '{}': '{}' is not a bed outline", k, v));
              s.bed_x = max_x - min_x, s.bed_y = max_y - min_y;
          }},
-        {"nozzle_diameter", [&](auto& k, auto& v) { s.nozzle = positive(k, v); }},
-        {"filament_diameter", [&](auto& k, auto& v) { s.filament_diameter = positive(k, v); }},
-        {"filament_density", [&](auto& k, auto& v) { s.filament_density = positive(k, v); }},
-        {"temperature", [&](auto& k, auto& v) { s.nozzle_temperature = int(number(k, v)); }},
-        {"first_layer_temperature",
-         [&](auto& k, auto& v) { s.first_layer_nozzle_temperature = int(number(k, v)); }},
-        {"bed_temperature", [&](auto& k, auto& v) { s.bed_temperature = int(number(k, v)); }},
-        {"first_layer_bed_temperature",
-         [&](auto& k, auto& v) { s.first_layer_bed_temperature = int(number(k, v)); }},
         {"start_gcode", [&](auto&, auto& v) { s.start_gcode = unescape(v); }},
         {"end_gcode", [&](auto&, auto& v) { s.end_gcode = unescape(v); }},
-        {"retract_length", [&](auto& k, auto& v) { s.retract_length = number(k, v); }},
-        {"retract_speed", [&](auto& k, auto& v) { s.retract_speed = positive(k, v); }},
-        {"retract_lift", [&](auto& k, auto& v) { s.z_hop = number(k, v); }},
-        {"retract_before_travel", [&](auto& k, auto& v) { s.retract_min_travel = number(k, v); }},
-        {"travel_speed", [&](auto& k, auto& v) { s.travel_speed = positive(k, v); }},
-        {"perimeter_speed", [&](auto& k, auto& v) { s.cavity_speed = positive(k, v); }},
-        {"external_perimeter_speed",
-         [&](auto& k, auto& v) {
-             if (v.find('%') == std::string::npos) s.perimeter_speed = positive(k, v);
-         }},
-        {"solid_infill_speed",
-         [&](auto& k, auto& v) {
-             if (v.find('%') == std::string::npos) s.cover_speed = positive(k, v);
-         }},
-        {"bridge_speed", [&](auto& k, auto& v) { s.bridge_speed = positive(k, v); }},
-        {"first_layer_speed",
-         [&](auto& k, auto& v) {
-             if (v.find('%') == std::string::npos) s.first_layer_speed = positive(k, v);
-         }},
-        {"layer_height", [&](auto& k, auto& v) { s.layer_height = positive(k, v); }},
-        {"max_print_speed", [&](auto& k, auto& v) { s.max_print_speed = positive(k, v); }},
-        {"machine_max_acceleration_extruding",
-         [&](auto& k, auto& v) { s.acceleration = positive(k, v); }},
-        {"machine_max_acceleration_travel",
-         [&](auto& k, auto& v) { s.travel_acceleration = positive(k, v); }},
         // Solid layers and perimeters are carve's covers and shells: a profile's own choice
         // holds unless --preset or --covers/--shells say otherwise.
         {"top_solid_layers",
@@ -242,6 +206,14 @@ std::vector<std::string> load_prusa_profile(const std::string& path, Settings& s
         const std::string value = trim(line.substr(eq + 1));
         // Kept raw for the placeholders of the profile's custom G-code ([printer_model], ...).
         s.profile_values[key] = value;
+        // Numeric keys come from the settings table, with its ranges. PrusaSlicer stores
+        // per-extruder values as comma lists; the first extruder is ours.
+        if (const SettingSpec* spec = find_setting_by_ini_key(key)) {
+            const std::string v = trim(value.substr(0, value.find(',')));
+            if (spec->profile_skips_percent && v.find('%') != std::string::npos) continue;
+            spec->set(s, v, fmt::format("{}:{}: profile key '{}'", path, line_no, key));
+            continue;
+        }
         auto it = keys.find(key);
         if (it == keys.end()) {
             ++ignored;

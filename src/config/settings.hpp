@@ -39,6 +39,9 @@ struct Settings {
     // Resource guard: a slice with more contour vertices stops the run (0 = no limit). Millions
     // of vertices per layer would make carving run for hours.
     long long max_vertices_per_layer = 5'000'000;
+    // The same over the whole model (every slice's contour vertices added up): a model whose
+    // slices stay under the per-layer limit can still be hours of work in all.
+    long long max_vertices_total = 100'000'000;
 
     // Printer and filament.
     GcodeFlavor flavor = GcodeFlavor::Marlin;

@@ -16,8 +16,10 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <iterator>
 #include <limits>
@@ -26,6 +28,7 @@
 #include <stdexcept>
 #include <string_view>
 
+#include "base/atomic_file.hpp"
 #include "base/error.hpp"
 #include "gcode/placeholders.hpp"
 #include "base/stage_timer.hpp"
@@ -39,9 +42,48 @@ namespace {
 constexpr double kZSpeed = 10.0;         // mm/s for layer changes and z-hops
 constexpr long long kEScale = 100000;    // E is written with 5 decimals
 constexpr size_t kFlushBytes = 1 << 20;  // text buffered before each fwrite
+constexpr Coord kMaxCoord = 100'000'000;  // 100 m in um: no printer's bed, a guard only
 
 [[noreturn]] void io_error(const std::string& what, const std::string& path) {
-    throw InputError("cannot write " + path + ": " + what);
+    throw OutputError("cannot write " + path + ": " + what);
+}
+
+// The last guard before a number reaches the printer: settings are validated where they are
+// read, so a value failing here is carve's own bug, reported instead of written (a NaN would
+// come out as E-92233720368547.75808 or F-9223372036854775808).
+void guard(bool ok, const char* word) {
+    if (!ok) throw std::runtime_error(std::string("G-code emitter: refusing a non-finite or "
+                                                  "out-of-range ") + word + " word");
+}
+
+// Does the expanded start G-code wait for this temperature itself ("M109 S215", "M190 R60")?
+// Only a command counts, not a comment, and not a wait for 0 (that heats nothing).
+bool waits_for(const std::string& gcode, std::string_view command) {
+    size_t at = 0;
+    while (at < gcode.size()) {
+        size_t end = gcode.find('\n', at);
+        if (end == std::string::npos) end = gcode.size();
+        std::string_view line(gcode.data() + at, end - at);
+        at = end + 1;
+        line = line.substr(0, line.find(';'));
+        while (!line.empty() && (line.front() == ' ' || line.front() == '\t')) line.remove_prefix(1);
+        if (line.size() < command.size()) continue;
+        bool same = true;
+        for (size_t i = 0; i < command.size(); ++i)
+            same = same && std::toupper(static_cast<unsigned char>(line[i])) == command[i];
+        if (!same || (line.size() > command.size() && std::isdigit(static_cast<unsigned char>(
+                                                          line[command.size()]))))
+            continue;
+        // The target: S or R followed by a number above 0.
+        for (size_t i = command.size(); i + 1 < line.size(); ++i) {
+            const char c = static_cast<char>(std::toupper(static_cast<unsigned char>(line[i])));
+            if ((c == 'S' || c == 'R') && (line[i - 1] == ' ' || line[i - 1] == '\t')) {
+                const double v = std::atof(std::string(line.substr(i + 1)).c_str());
+                if (v > 0) return true;
+            }
+        }
+    }
+    return false;
 }
 
 std::string format_duration(double seconds) {
@@ -136,15 +178,23 @@ class Emitter {
     }
 
     void start() {
+        guard(st_.first_layer_bed_temperature >= 0 && st_.first_layer_bed_temperature <= 200 &&
+                  st_.first_layer_nozzle_temperature >= 0 &&
+                  st_.first_layer_nozzle_temperature <= 500 && st_.bed_temperature >= 0 &&
+                  st_.bed_temperature <= 200 && st_.nozzle_temperature >= 0 &&
+                  st_.nozzle_temperature <= 500,
+              "S (temperature)");
+        const std::string start_text = expand_custom_gcode(st_.start_gcode, st_).text;
         const bool klipper_macro = st_.flavor == GcodeFlavor::Klipper && st_.start_gcode.empty();
         set_fan(0);
         if (klipper_macro) {
             line(fmt::format("PRINT_START BED_TEMP={} EXTRUDER_TEMP={}",
                              st_.first_layer_bed_temperature, st_.first_layer_nozzle_temperature));
         } else {
-            // Like PrusaSlicer: heat unless the user's start G-code does it itself.
-            const bool user_bed = st_.start_gcode.find("M190") != std::string::npos;
-            const bool user_nozzle = st_.start_gcode.find("M109") != std::string::npos;
+            // Like PrusaSlicer: heat unless the user's start G-code waits for it itself, judged
+            // from the text the printer will get (an M109 inside a false {if} heats nothing).
+            const bool user_bed = waits_for(start_text, "M190");
+            const bool user_nozzle = waits_for(start_text, "M109");
             if (!user_bed) line(fmt::format("M140 S{} ; bed", st_.first_layer_bed_temperature));
             if (!user_nozzle)
                 line(fmt::format("M104 S{} ; nozzle", st_.first_layer_nozzle_temperature));
@@ -153,7 +203,7 @@ class Emitter {
             if (!user_nozzle)
                 line(fmt::format("M109 S{} ; wait for nozzle", st_.first_layer_nozzle_temperature));
         }
-        raw(expand_custom_gcode(st_.start_gcode, st_).text);
+        raw(start_text);
         line("G21 ; millimetres");
         line("G90 ; absolute coordinates");
         line(st_.relative_e ? "M83 ; relative extrusion" : "M82 ; absolute extrusion");
@@ -257,6 +307,7 @@ class Emitter {
 
     // Emits " F..." when the feed rate changes (it is modal, shared by G0 and G1).
     void feed(double mm_per_s) {
+        guard(mm_per_s > 0 && mm_per_s <= 10000, "F");
         const long long f = std::llround(mm_per_s * 60.0);
         if (f == feed_) return;
         feed_ = f;
@@ -264,6 +315,7 @@ class Emitter {
     }
 
     void e_word(long long target) {
+        guard(std::isfinite(e_mm_) && std::abs(e_mm_) < 1e9, "E");
         put(" E");
         fixed(st_.relative_e ? target - e_units_ : target, 5);
     }
@@ -379,6 +431,7 @@ class Emitter {
             const double len = std::hypot(dx, dy);
             e_mm_ += len * e_per_mm;
             const long long target = std::llround(e_mm_ * kEScale);
+            guard(std::abs(q.X) < kMaxCoord && std::abs(q.Y) < kMaxCoord, "X/Y");
             put("G1 X");
             fixed(q.X, 3);
             put(" Y");
@@ -431,31 +484,25 @@ class Emitter {
 namespace {
 
 // A read-write temporary file next to `path` (same disk, and a bad directory fails early),
-// unlinked at once so that it disappears with the process whatever happens.
-std::FILE* unlinked_file(const std::string& path, const char* suffix) {
-    std::string name = path + suffix;
-    const int fd = mkstemp(name.data());
-    if (fd < 0) io_error(std::strerror(errno), path);
-    ::unlink(name.c_str());
-    std::FILE* f = fdopen(fd, "w+b");
-    if (!f) {
-        ::close(fd);
-        io_error(std::strerror(errno), path);
-    }
-    return f;
+// unlinked at once so that it disappears with the process whatever happens. Its name is
+// carve's short temporary pattern, not `path` plus a suffix: a target name near the file
+// system's limit still works.
+std::FILE* unlinked_file(const std::string& path, const char*) {
+    return unlinked_temporary(path, path);
 }
 
 }  // namespace
 
 struct GcodeWriter::Impl {
     std::string output_path;
+    std::string written;  // where the complete file is (written_path())
     Settings settings;
     Coord off_x = 0, off_y = 0;
     int layer_count = 0;
     std::FILE* spill = nullptr;
     long long spill_end = 0;
     std::vector<long long> offsets, sizes;
-    std::string temp_output;  // non-empty while a partial output exists
+    OutputGroup* group = nullptr;  // commit held back until the run's other outputs are done
     bool finished = false;
     std::mutex mutex;
 
@@ -499,7 +546,14 @@ GcodeWriter::GcodeWriter(std::string output_path, const Settings& settings, doub
 GcodeWriter::~GcodeWriter() {
     if (!impl_) return;
     if (impl_->spill) std::fclose(impl_->spill);
-    if (!impl_->temp_output.empty()) ::unlink(impl_->temp_output.c_str());
+}
+
+const std::string& GcodeWriter::written_path() const {
+    return impl_->written;
+}
+
+void GcodeWriter::commit_with(OutputGroup& group) {
+    impl_->group = &group;
 }
 
 void GcodeWriter::add_layer(const LayerToolpaths& layer) {
@@ -537,17 +591,8 @@ PrintStats GcodeWriter::finish(const std::vector<std::string>& header_comments) 
         const PrintStats s = writer.stats();
         const Bounds& b = writer.bounds();
 
-        std::string name = m.output_path + ".tmp-XXXXXX";
-        const int fd = mkstemp(name.data());
-        if (fd < 0) io_error(std::strerror(errno), m.output_path);
-        m.temp_output = name;
-        ::fchmod(fd, 0644);  // mkstemp's 0600 would be a surprise on a shared printer host
-        out = fdopen(fd, "wb");
-        if (!out) {
-            ::close(fd);
-            io_error(std::strerror(errno), m.output_path);
-        }
-        std::setvbuf(out, nullptr, _IOFBF, 1 << 16);
+        auto file = std::make_unique<AtomicFile>(m.output_path);
+        out = file->stream();
         const double volume_cm3 = s.extruded_volume_mm3 / 1000.0;
         std::vector<std::string> head;
         head.push_back("; generated by carve");
@@ -597,26 +642,22 @@ PrintStats GcodeWriter::finish(const std::vector<std::string>& header_comments) 
                             fmt::format("; filament used [g] = {:.2f}", s.filament_weight_g)});
         text.flush_all();
         const PrintStats result = s;
-        if (std::fflush(out) != 0 || std::ferror(out))
-            io_error(std::strerror(errno), m.output_path);
-        if (::fsync(fileno(out)) != 0 && errno != EINVAL)
-            io_error(std::strerror(errno), m.output_path);
-        const int closed = std::fclose(out);
         out = nullptr;
-        if (closed != 0) io_error(std::strerror(errno), m.output_path);
-        if (std::rename(m.temp_output.c_str(), m.output_path.c_str()) != 0)
-            io_error(std::strerror(errno), m.output_path);
-        m.temp_output.clear();
+        file->close();
+        if (m.group) {
+            m.written = file->temporary();
+            m.group->hold(std::move(file));
+        } else {
+            file->commit();
+            m.written = m.output_path;
+        }
         m.finished = true;
         std::fclose(m.spill);
         m.spill = nullptr;
         return result;
     } catch (...) {
         if (body) std::fclose(body);
-        if (out) std::fclose(out);
-        if (!m.temp_output.empty()) ::unlink(m.temp_output.c_str());
-        m.temp_output.clear();
-        throw;
+        throw;  // the AtomicFile removes its temporary
     }
 }
 

@@ -13,6 +13,8 @@
 
 namespace carve {
 
+class OutputGroup;
+
 struct PrintStats {
     double extruded_volume_mm3 = 0;
     double filament_length_mm = 0;
@@ -36,8 +38,14 @@ public:
 
     // Layers arrive top down (index n-1 first); each is turned into text and spilled.
     void add_layer(const LayerToolpaths& layer);
+    // finish() leaves the complete file to `group` (renamed with the run's other outputs)
+    // instead of renaming it at once.
+    void commit_with(OutputGroup& group);
     // Writes header, layers bottom up and footer, then renames into place.
     PrintStats finish(const std::vector<std::string>& header_comments);
+    // Where the complete file is after finish(): its temporary name while `group` holds it back,
+    // else the output path. Reading the G-code back before the group commits goes through here.
+    const std::string& written_path() const;
 
 private:
     struct Impl;

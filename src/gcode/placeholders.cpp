@@ -2,20 +2,33 @@
 // macro language that printer profiles use (numbers, strings, vector indices, + - * /, min/max,
 // comparisons, regex match, and/or/not, if/elsif/else/endif). Anything beyond it is reported,
 // never guessed: the affected line becomes a comment.
+//
+// Hostile profiles are bounded: expressions nest at most kMaxDepth deep (parentheses, unary
+// operators, calls: each one a level of recursion), a tag holds at most kMaxTag characters,
+// a string value at most kMaxString, the custom G-code at most kMaxText; regular expressions
+// are matched in linear time (base/linear_regex.hpp), never by backtracking std::regex.
 #include "gcode/placeholders.hpp"
 
 #include <fmt/format.h>
 
+#include "base/linear_regex.hpp"
+#include "base/numbers.hpp"
+#include "config/setting_table.hpp"
+
 #include <cctype>
 #include <cmath>
 #include <optional>
-#include <regex>
 #include <sstream>
 #include <stdexcept>
 
 namespace carve {
 
 namespace {
+
+constexpr int kMaxDepth = 100;
+constexpr size_t kMaxTag = 1 << 16;
+constexpr size_t kMaxString = 1 << 20;
+constexpr size_t kMaxText = 4 << 20;
 
 struct Value {
     bool is_number = true;
@@ -42,6 +55,11 @@ struct Unresolved : std::runtime_error {
     using std::runtime_error::runtime_error;
 };
 
+// A tag as quoted in a note: hostile ones are kilobytes long.
+std::string shorten(const std::string& tag) {
+    return tag.size() > 80 ? tag.substr(0, 77) + "..." : tag;
+}
+
 std::string trim(const std::string& s) {
     const size_t a = s.find_first_not_of(" \t");
     if (a == std::string::npos) return {};
@@ -60,12 +78,7 @@ std::optional<Value> profile_element(const std::string& raw, size_t index) {
     std::string v = items[index];
     if (v.size() >= 2 && v.front() == '"' && v.back() == '"')
         return text(v.substr(1, v.size() - 2));
-    try {
-        size_t used = 0;
-        const double d = std::stod(v, &used);
-        if (used == v.size()) return num(d);
-    } catch (const std::exception&) {
-    }
+    if (const std::optional<double> d = parse_decimal(v)) return num(*d);
     return text(v);
 }
 
@@ -76,21 +89,11 @@ class Context {
 
     std::optional<Value> lookup(const std::string& name, size_t index) const {
         // Carve's own fields first: an option given on the command line overrides the profile.
+        // The table's settings under their profile keys, and the few names PrusaSlicer
+        // defines that carve fixes (one extruder, no z offset).
+        if (const SettingSpec* spec = find_setting_by_ini_key(name)) return num(spec->get(s_));
         const std::map<std::string, double> fields = {
-            {"temperature", s_.nozzle_temperature},
-            {"first_layer_temperature", s_.first_layer_nozzle_temperature},
-            {"bed_temperature", s_.bed_temperature},
-            {"first_layer_bed_temperature", s_.first_layer_bed_temperature},
-            {"nozzle_diameter", s_.nozzle},
-            {"filament_diameter", s_.filament_diameter},
-            {"filament_density", s_.filament_density},
-            {"layer_height", s_.layer_height},
             {"first_layer_height", s_.layer_height},
-            {"travel_speed", s_.travel_speed},
-            {"retract_length", s_.retract_length},
-            {"retract_speed", s_.retract_speed},
-            {"retract_lift", s_.z_hop},
-            {"max_print_speed", s_.max_print_speed},
             {"initial_tool", 0},
             {"initial_extruder", 0},
             {"current_extruder", 0},
@@ -122,6 +125,18 @@ class Parser {
 
   private:
     [[noreturn]] void fail(const std::string& why) const { throw Unresolved(why); }
+    // One level of recursion; the parser refuses to go deeper than kMaxDepth.
+    struct Level {
+        explicit Level(Parser& p) : p_(p) {
+            if (++p_.depth_ > kMaxDepth) p_.fail("expression nested too deeply");
+        }
+        ~Level() { --p_.depth_; }
+        Parser& p_;
+    };
+    static Value checked_text(std::string s) {
+        if (s.size() > kMaxString) throw Unresolved("string longer than 1 MB");
+        return text(std::move(s));
+    }
     void skip() {
         while (i_ < s_.size() && std::isspace(static_cast<unsigned char>(s_[i_]))) ++i_;
     }
@@ -142,6 +157,7 @@ class Parser {
     }
 
     Value logic_or() {
+        const Level level(*this);
         Value v = logic_and();
         while (eat("||") || eat("or")) {
             const Value r = logic_and();
@@ -163,11 +179,17 @@ class Parser {
             const bool negate = s_[i_ - 2] == '!';
             skip();
             if (i_ >= s_.size() || s_[i_] != '/') fail("expected /regex/");
-            const size_t end = s_.find('/', i_ + 1);
-            if (end == std::string::npos) fail("unterminated /regex/");
-            const std::regex re(s_.substr(i_ + 1, end - i_ - 1));
-            i_ = end + 1;
-            return num(std::regex_match(a.str(), re) != negate);
+            // The pattern ends at the first '/' that is not escaped.
+            size_t end = i_ + 1;
+            while (end < s_.size() && s_[end] != '/') end += s_[end] == '\\' ? 2 : 1;
+            if (end >= s_.size()) fail("unterminated /regex/");
+            try {
+                const LinearRegex re(std::string_view(s_).substr(i_ + 1, end - i_ - 1));
+                i_ = end + 1;
+                return num(re.full_match(a.str()) != negate);
+            } catch (const std::invalid_argument& e) {
+                fail(e.what());
+            }
         }
         for (const char* op : {"<=", ">=", "==", "!=", "<>", "<", ">"}) {
             if (!eat(op)) continue;
@@ -188,7 +210,8 @@ class Parser {
         for (;;) {
             if (eat("+")) {
                 const Value r = product();
-                v = v.is_number && r.is_number ? num(v.number + r.number) : text(v.str() + r.str());
+                v = v.is_number && r.is_number ? num(v.number + r.number)
+                                               : checked_text(v.str() + r.str());
             } else if (eat("-")) {
                 const Value r = product();
                 v = num(need_number(v) - need_number(r));
@@ -212,6 +235,7 @@ class Parser {
         }
     }
     Value unary() {
+        const Level level(*this);
         if (eat("-")) return num(-need_number(unary()));
         if (eat("!") || eat("not")) return num(!unary().truthy());
         return primary();
@@ -234,10 +258,19 @@ class Parser {
             return v;
         }
         if (std::isdigit(static_cast<unsigned char>(c)) || c == '.') {
-            size_t used = 0;
-            const double d = std::stod(s_.substr(i_), &used);
-            i_ += used;
-            return num(d);
+            // Decimal only (std::stod read "0x10" as 16): digits, '.', an exponent.
+            size_t end = i_;
+            while (end < s_.size() &&
+                   (std::isdigit(static_cast<unsigned char>(s_[end])) || s_[end] == '.' ||
+                    ((s_[end] == 'e' || s_[end] == 'E') && end + 1 < s_.size() &&
+                     (std::isdigit(static_cast<unsigned char>(s_[end + 1])) ||
+                      ((s_[end + 1] == '-' || s_[end + 1] == '+') && end + 2 < s_.size() &&
+                       std::isdigit(static_cast<unsigned char>(s_[end + 2])))))))
+                end += (s_[end] == 'e' || s_[end] == 'E') ? 2 : 1;
+            const std::optional<double> d = parse_decimal(std::string_view(s_).substr(i_, end - i_));
+            if (!d) fail("bad number '" + s_.substr(i_, end - i_) + "'");
+            i_ = end;
+            return num(*d);
         }
         if (std::isalpha(static_cast<unsigned char>(c)) || c == '_') {
             const size_t start = i_;
@@ -252,7 +285,7 @@ class Parser {
             if (eat("[")) {
                 const double d = need_number(logic_or());
                 if (!eat("]")) fail("expected ']'");
-                if (d < 0) fail("negative index");
+                if (!(d >= 0 && d < 1e6)) fail("index out of range");
                 index = static_cast<size_t>(d);
             }
             const std::optional<Value> v = ctx_.lookup(name, index);
@@ -281,40 +314,50 @@ class Parser {
     const std::string& s_;
     const Context& ctx_;
     size_t i_ = 0;
+    int depth_ = 0;
 };
 
 constexpr char kBad = '\x01';  // marks output that holds an unexpanded placeholder
 
 // Legacy [name] and [name_N] placeholders in literal text; other brackets stay as they are.
+// Scanned by hand in one pass (a std::regex iterator recursed once per character).
 std::string expand_brackets(const std::string& in, const Context& ctx,
                             std::vector<std::string>& unresolved) {
-    static const std::regex placeholder(R"(\[([A-Za-z_][A-Za-z0-9_]*)\])");
+    auto ident_start = [](char c) { return std::isalpha(static_cast<unsigned char>(c)) || c == '_'; };
+    auto ident = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; };
     std::string out;
-    auto it = std::sregex_iterator(in.begin(), in.end(), placeholder);
-    size_t last = 0;
-    for (; it != std::sregex_iterator(); ++it) {
-        const std::smatch& m = *it;
-        out += in.substr(last, m.position(0) - last);
-        last = m.position(0) + m.length(0);
-        const std::string name = m[1];
+    size_t last = 0, line_start = 0;
+    bool in_comment = false;
+    for (size_t i = 0; i < in.size(); ++i) {
+        if (in[i] == '\n') line_start = i + 1, in_comment = false;
+        if (in[i] == ';') in_comment = true;
+        if (in[i] != '[' || i + 1 >= in.size() || !ident_start(in[i + 1])) continue;
+        size_t j = i + 1;
+        while (j < in.size() && ident(in[j])) ++j;
+        if (j >= in.size() || in[j] != ']') continue;
+        const std::string name = in.substr(i + 1, j - i - 1);
+        const std::string whole = in.substr(i, j - i + 1);
+        out += in.substr(last, i - last);
+        last = j + 1;
         std::optional<Value> v = ctx.lookup(name, 0);
-        static const std::regex indexed(R"((.*)_([0-9]+))");
-        std::smatch im;
-        if (!v && std::regex_match(name, im, indexed))
-            v = ctx.lookup(im[1], static_cast<size_t>(std::stoul(im[2])));
-        const size_t line_start = in.rfind('\n', m.position(0));
-        const bool in_comment = in.find(';', line_start == std::string::npos ? 0 : line_start) <
-                                static_cast<size_t>(m.position(0));
+        // [name_N]: element N of a list value.
+        const size_t us = name.rfind('_');
+        if (!v && us != std::string::npos && us + 1 < name.size() && us > 0 &&
+            name.find_first_not_of("0123456789", us + 1) == std::string::npos &&
+            name.size() - us - 1 <= 6)
+            v = ctx.lookup(name.substr(0, us), std::stoul(name.substr(us + 1)));
         if (v) {
             out += v->str();
         } else if (in_comment) {
-            out += m.str(0);  // "; home [all]": harmless text for the firmware
+            out += whole;  // "; home [all]": harmless text for the firmware
         } else {
             unresolved.push_back(
                 fmt::format("[{}]: unknown variable (line written as a comment)", name));
-            out += kBad + m.str(0);
+            out += kBad + whole;
         }
+        i = j;
     }
+    (void)line_start;
     return out + in.substr(last);
 }
 
@@ -324,6 +367,10 @@ ExpandedGcode expand_custom_gcode(const std::string& text, const Settings& setti
                                   const std::map<std::string, double>& runtime) {
     const Context ctx(settings, runtime);
     ExpandedGcode result;
+    if (text.size() > kMaxText) {
+        result.unresolved.push_back("custom G-code longer than 4 MB: not expanded");
+        return result;
+    }
     struct Branch {
         bool parent_active, active, taken;
     };
@@ -333,7 +380,8 @@ ExpandedGcode expand_custom_gcode(const std::string& text, const Settings& setti
         try {
             return Parser(expr, ctx).whole().truthy();
         } catch (const std::exception& e) {
-            result.unresolved.push_back(fmt::format("{{{}}}: {} (taken as false)", tag, e.what()));
+            result.unresolved.push_back(
+                fmt::format("{{{}}}: {} (taken as false)", shorten(tag), e.what()));
             return false;
         }
     };
@@ -354,6 +402,12 @@ ExpandedGcode expand_custom_gcode(const std::string& text, const Settings& setti
         }
         const std::string tag = trim(text.substr(open + 1, close - open - 1));
         i = close + 1;
+        if (tag.size() > kMaxTag) {
+            result.unresolved.push_back("a {...} longer than 64 kB (taken as false / a comment)");
+            if (tag.rfind("if", 0) == 0) branches.push_back({active(), false, false});
+            else if (active()) out += kBad;
+            continue;
+        }
         auto keyword = [&](const std::string& k) {
             return tag.rfind(k, 0) == 0 &&
                    (tag.size() == k.size() ||
@@ -390,7 +444,7 @@ ExpandedGcode expand_custom_gcode(const std::string& text, const Settings& setti
                 out += Parser(tag, ctx).whole().str();
             } catch (const std::exception& e) {
                 result.unresolved.push_back(
-                    fmt::format("{{{}}}: {} (line written as a comment)", tag, e.what()));
+                    fmt::format("{{{}}}: {} (line written as a comment)", shorten(tag), e.what()));
                 out += kBad + text.substr(open, close - open + 1);
             }
         }

@@ -168,12 +168,25 @@ std::string_view skip_space(std::string_view s) {
     return s.substr(i);
 }
 
+// No control bytes in the first 4 kB: text, not a binary STL's float data.
+bool textual(std::string_view d) {
+    for (char c : d.substr(0, 4096))
+        if (static_cast<unsigned char>(c) < 0x09) return false;
+    return true;
+}
+
+// Text editors on Windows put a UTF-8 byte order mark before the first word.
+std::string_view without_bom(std::string_view d) {
+    return d.substr(0, 3) == std::string_view("\xEF\xBB\xBF", 3) ? d.substr(3) : d;
+}
+
 // "solid <name>" on the first line, then "facet" or "endsolid": binary files whose header
 // happens to begin with "solid" fail the second test.
 bool looks_like_ascii_stl(std::string_view data) {
     std::string_view s = skip_space(data);
     if (!starts_with_word(s, "solid")) return false;
-    size_t eol = s.find('\n');
+    // Any line end: old Mac files end their lines with CR alone.
+    size_t eol = s.find_first_of("\r\n");
     if (eol == std::string_view::npos) return false;
     s = skip_space(s.substr(eol + 1));
     return starts_with_word(s, "facet") || starts_with_word(s, "endsolid");
@@ -224,11 +237,14 @@ Mesh load_mesh(const std::string& path, MeshReport& report) {
         detail::read_3mf(d, path, mesh, report);
     } else if (d.size() >= 84 && d.size() == binary_size) {
         detail::read_binary_stl(d, path, mesh, report);
-    } else if (looks_like_ascii_stl(d)) {
-        detail::read_ascii_stl(d, path, mesh, report);
-    } else if (ext == ".obj" || looks_like_obj(d)) {
-        detail::read_obj(d, path, mesh, report);
-    } else if (ext == ".stl" || starts_with_word(skip_space(d), "solid")) {
+    } else if (looks_like_ascii_stl(without_bom(d))) {
+        detail::read_ascii_stl(without_bom(d), path, mesh, report);
+    } else if (ext == ".obj" || looks_like_obj(without_bom(d))) {
+        detail::read_obj(without_bom(d), path, mesh, report);
+    } else if (starts_with_word(skip_space(without_bom(d)), "solid") && textual(d)) {
+        fail(path, "not a valid STL: it begins like ASCII STL ('solid') but no 'facet' or "
+                   "'endsolid' follows its first line, and its size does not fit a binary STL");
+    } else if (ext == ".stl") {
         if (d.size() < 84)
             fail(path, "not a valid STL: " + std::to_string(d.size()) +
                            " bytes is too short for a binary STL and it is not ASCII STL");

@@ -143,7 +143,7 @@ class Tokens {
     }
 
     void skip_line() {
-        while (pos_ < data_.size() && data_[pos_] != '\n') ++pos_;
+        while (pos_ < data_.size() && data_[pos_] != '\n' && data_[pos_] != '\r') ++pos_;
     }
 
     size_t last_position() const { return last_; }

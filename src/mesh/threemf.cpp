@@ -182,6 +182,13 @@ struct Object {
     bool referenced = false;  // used as a component of another object
 };
 
+// Limits on what a 3MF may make carve hold. A real model part is XML of ~100 bytes a triangle
+// that deflates 5 to 10 times; a zip bomb states (or streams) thousands of times its size.
+constexpr zip_uint64_t kMaxEntryBytes = 256u << 20;  // decompressed model part
+constexpr zip_uint64_t kMaxRatio = 100;              // decompressed / compressed
+constexpr size_t kMaxInstances = 100000;             // object placements (components, items)
+constexpr size_t kMaxPlacedTriangles = 20'000'000;   // triangles after placing every copy
+
 struct ZipCloser {
     void operator()(zip_t* z) const { zip_discard(z); }
 };
@@ -195,9 +202,19 @@ std::string read_entry(zip_t* zip, zip_int64_t index, const std::string& path,
         !(st.valid & ZIP_STAT_SIZE) ||
         !(file = zip_fopen_index(zip, static_cast<zip_uint64_t>(index), 0)))
         fail(path, "cannot read " + name + " inside the 3MF archive: " + zip_strerror(zip));
+    // Refused before anything is inflated: over the absolute cap, or inflating more than
+    // kMaxRatio times (a zip bomb). The stated size may lie; the loop below never reads past it.
+    const zip_uint64_t packed = (st.valid & ZIP_STAT_COMP_SIZE) ? st.comp_size : 0;
+    if (st.size > kMaxEntryBytes || (packed > 0 && st.size / kMaxRatio > packed + 4096)) {
+        zip_fclose(file);
+        fail(path, name + " inside the 3MF archive would inflate to " +
+                       std::to_string(st.size >> 20) + " MB from " + std::to_string(packed >> 10) +
+                       " kB; refusing (limits: 256 MB, 100 times the compressed size)");
+    }
     // Read in chunks as the data comes rather than trusting the stated size: a forged size in a
     // 600-byte archive would otherwise make us allocate (and zero) gigabytes.
     std::string text;
+    text.reserve(static_cast<size_t>(st.size) + 1);
     zip_int64_t got = 0;
     do {
         const size_t at = text.size();
@@ -345,14 +362,20 @@ void read_3mf(std::string_view data, const std::string& path, Mesh& mesh, MeshRe
     for (int k : {0, 4, 8}) to_mm.m[k] = scale;
     Welder welder(text.size() / 120 + 16);
     std::vector<uint32_t> welded;
+    size_t instances = 0;
     auto place = [&](auto&& self, uint32_t id, const Affine& t, int depth) -> void {
         if (depth > 32) fail(path, "3MF components nest too deeply (a cycle?)");
+        // Nested components multiply: 30 levels of two copies each are 2^30 objects.
+        if (++instances > kMaxInstances)
+            fail(path, "3MF components place more than 100000 objects; refusing");
         auto it = objects.find(id);
         if (it == objects.end())
             fail(path,
                  "the 3MF build refers to object " + std::to_string(id) + ", which does not exist");
         const Object& o = it->second;
         if (!o.triangles.empty()) {
+            if (mesh.triangles.size() + o.triangles.size() > kMaxPlacedTriangles)
+                fail(path, "3MF components place more than 20 million triangles; refusing");
             const Affine world = t.then(to_mm);
             welded.clear();
             for (const Vec3& v : o.vertices) {

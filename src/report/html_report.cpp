@@ -14,6 +14,7 @@
 #include <numbers>
 #include <utility>
 
+#include "base/atomic_file.hpp"
 #include "base/error.hpp"
 #include "geometry/polygon.hpp"
 #include "report/stats.hpp"
@@ -511,7 +512,7 @@ const char* kScript = R"JS(
 
 struct HtmlReportWriter::Impl {
     std::string path;
-    std::string tmp_path;
+    OutputGroup* group = nullptr;  // commit held back until the run's other outputs are done
     Settings settings;
     FILE* spill = nullptr;
     long spilled = 0;
@@ -574,7 +575,6 @@ std::string HtmlReportWriter::Impl::drawing(const LayerPartition& layer,
 HtmlReportWriter::HtmlReportWriter(std::string path, const Settings& settings)
     : impl_(std::make_unique<Impl>()) {
     impl_->path = std::move(path);
-    impl_->tmp_path = impl_->path + ".tmp";
     impl_->settings = settings;
     impl_->spill = std::tmpfile();
     if (!impl_->spill) throw InputError("cannot create a temporary file for the HTML report");
@@ -582,10 +582,10 @@ HtmlReportWriter::HtmlReportWriter(std::string path, const Settings& settings)
 
 HtmlReportWriter::~HtmlReportWriter() {
     if (impl_->spill) std::fclose(impl_->spill);
-    if (!impl_->finished) {
-        std::error_code ec;
-        std::filesystem::remove(impl_->tmp_path, ec);
-    }
+}
+
+void HtmlReportWriter::commit_with(OutputGroup& group) {
+    impl_->group = &group;
 }
 
 void HtmlReportWriter::set_model_name(std::string path) {
@@ -723,8 +723,11 @@ void HtmlReportWriter::finish(const RunResult& run, const nlohmann::json& stats)
         if (std::strftime(buf, sizeof buf, "%Y-%m-%d %H:%M", std::localtime(&now))) date = buf;
     }
 
-    std::ofstream out(m.tmp_path, std::ios::binary | std::ios::trunc);
-    if (!out) throw InputError("cannot write the HTML report " + m.tmp_path);
+    // The atomic writer's temporary (unique per run, removed on any error or signal), written
+    // through a stream of its own; AtomicFile::close() then fsyncs it.
+    auto file = std::make_unique<AtomicFile>(m.path);
+    std::ofstream out(file->temporary(), std::ios::binary | std::ios::trunc);
+    if (!out) throw OutputError("cannot write the HTML report " + m.path);
 
     const double grid = double(kGrid);
     const double line_w = st.nozzle * kUnitsPerMm / grid;  // stroke width in drawing units
@@ -988,11 +991,12 @@ void HtmlReportWriter::finish(const RunResult& run, const nlohmann::json& stats)
     meta["colors"] = kCavityColors;
     out << "const META = " << meta.dump() << ";\n" << kScript << "</script>\n</body>\n</html>\n";
     out.close();
-    if (!out) throw InputError("cannot write the HTML report " + m.tmp_path);
-
-    std::error_code ec;
-    std::filesystem::rename(m.tmp_path, m.path, ec);
-    if (ec) throw InputError("cannot write the HTML report " + m.path + ": " + ec.message());
+    if (!out) throw OutputError("cannot write the HTML report " + m.path);
+    file->close();
+    if (m.group)
+        m.group->hold(std::move(file));
+    else
+        file->commit();
     m.finished = true;
     std::fclose(m.spill);
     m.spill = nullptr;

@@ -51,6 +51,8 @@ struct ReportLayer {
     long offset = 0, bytes = 0;  // drawing record in the spill file
 };
 
+class OutputGroup;
+
 class HtmlReportWriter {
   public:
     HtmlReportWriter(std::string path, const Settings& settings);
@@ -63,6 +65,8 @@ class HtmlReportWriter {
     // Writes the page to a temporary name next to `path` and renames it into place. `stats` is
     // the run's stats JSON (shown as is; "model" is used for the title when present).
     void finish(const RunResult& run, const nlohmann::json& stats);
+    // finish() leaves the complete report to `group` instead of renaming it at once.
+    void commit_with(OutputGroup& group);
 
     // The model's file (its name titles the page) when the stats JSON has no "model" entry.
     void set_model_name(std::string path);

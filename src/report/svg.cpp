@@ -15,6 +15,7 @@
 #include <fstream>
 #include <numeric>
 
+#include "base/atomic_file.hpp"
 #include "base/error.hpp"
 #include "geometry/polygon.hpp"
 
@@ -288,23 +289,7 @@ std::string layer_svg(const LayerPartition& layer, const LayerToolpaths* paths,
 void write_layer_svg(const std::string& file, const LayerPartition& layer,
                      const LayerToolpaths* paths, const SvgOptions& options) {
     const std::string svg = layer_svg(layer, paths, options);
-    const std::string tmp = file + ".tmp";
-    {
-        std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-        out.write(svg.data(), std::streamsize(svg.size()));
-        out.close();
-        if (!out) {
-            std::error_code ignored;
-            std::filesystem::remove(tmp, ignored);
-            throw InputError("cannot write layer picture " + file);
-        }
-    }
-    std::error_code ec;
-    std::filesystem::rename(tmp, file, ec);
-    if (ec) {
-        std::filesystem::remove(tmp, ec);
-        throw InputError("cannot write layer picture " + file);
-    }
+    write_file_atomically(file, svg);
 }
 
 SvgLayerWriter::SvgLayerWriter(std::string dir, std::set<int> layers, int every, SvgOptions options)
@@ -315,7 +300,7 @@ SvgLayerWriter::SvgLayerWriter(std::string dir, std::set<int> layers, int every,
     std::error_code ec;
     std::filesystem::create_directories(dir_, ec);
     if (ec || !std::filesystem::is_directory(dir_))
-        throw InputError("cannot create the directory for layer pictures: " + dir_);
+        throw OutputError("cannot create the directory for layer pictures: " + dir_);
 }
 
 SvgLayerWriter::SvgLayerWriter(std::string dir, std::vector<int> layers, SvgOptions options)

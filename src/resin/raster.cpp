@@ -16,6 +16,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "base/atomic_file.hpp"
 #include "base/error.hpp"
 #include "geometry/morphology.hpp"
 #include "geometry/polygon.hpp"
@@ -72,11 +73,10 @@ bool write_png_file(FILE* file, int width, int height, const uint8_t* pixels) {
 }
 
 void write_png(const std::string& path, int width, int height, const std::vector<uint8_t>& pixels) {
-    FILE* file = std::fopen(path.c_str(), "wb");
-    if (!file) throw InputError("cannot write the raster image " + path);
-    const bool ok = write_png_file(file, width, height, pixels.data());
-    const bool closed = std::fclose(file) == 0;
-    if (!ok || !closed) throw InputError("cannot write the raster image " + path);
+    AtomicFile file(path);
+    if (!write_png_file(file.stream(), width, height, pixels.data()))
+        throw OutputError("cannot write the raster image " + path);
+    file.commit();
 }
 
 // PNGs are already deflated: they are stored as they are.
@@ -84,19 +84,19 @@ void write_zip(const std::string& zip_path, const std::filesystem::path& dir,
                const std::vector<std::string>& names) {
     int err = 0;
     zip_t* archive = zip_open(zip_path.c_str(), ZIP_CREATE | ZIP_TRUNCATE, &err);
-    if (!archive) throw InputError("cannot create " + zip_path);
+    if (!archive) throw OutputError("cannot create " + zip_path);
     for (const std::string& name : names) {
         const std::string file = (dir / name).string();
         zip_source_t* source = zip_source_file(archive, file.c_str(), 0, 0);
         if (!source) {
             zip_discard(archive);
-            throw InputError("cannot add " + file + " to " + zip_path);
+            throw OutputError("cannot add " + file + " to " + zip_path);
         }
         const zip_int64_t at = zip_file_add(archive, name.c_str(), source, ZIP_FL_ENC_UTF_8);
         if (at < 0) {
             zip_source_free(source);
             zip_discard(archive);
-            throw InputError("cannot add " + file + " to " + zip_path);
+            throw OutputError("cannot add " + file + " to " + zip_path);
         }
         const bool png = name.size() > 4 && name.compare(name.size() - 4, 4, ".png") == 0;
         zip_set_file_compression(archive, static_cast<zip_uint64_t>(at),
@@ -106,7 +106,7 @@ void write_zip(const std::string& zip_path, const std::filesystem::path& dir,
     if (zip_close(archive) != 0) {
         const std::string why = zip_strerror(archive);
         zip_discard(archive);
-        throw InputError("cannot write " + zip_path + ": " + why);
+        throw OutputError("cannot write " + zip_path + ": " + why);
     }
 }
 
@@ -210,7 +210,7 @@ RasterWriter::RasterWriter(std::string dir, const Settings& settings, BBox2 boun
     std::error_code ec;
     std::filesystem::create_directories(impl_->dir, ec);
     if (ec || !std::filesystem::is_directory(impl_->dir))
-        throw InputError("cannot create the raster directory " + dir);
+        throw OutputError("cannot create the raster directory " + dir);
     const double px = pixel_mm * kUnitsPerMm;
     RasterGrid& g = impl_->grid;
     g.pixel = px;
@@ -266,11 +266,7 @@ void RasterWriter::finish() {
     nlohmann::json pixels = nlohmann::json::array();
     for (const RasterLayerStats& s : m.stats) pixels.push_back(s.white_pixels);
     info["white_pixels"] = pixels;
-    {
-        std::ofstream out(m.dir / "raster.json");
-        out << info.dump(1) << '\n';
-        if (!out) throw InputError("cannot write " + (m.dir / "raster.json").string());
-    }
+    write_file_atomically((m.dir / "raster.json").string(), info.dump(1) + "\n");
 
     std::vector<std::string> names;
     names.reserve(m.stats.size() + 1);

@@ -9,6 +9,7 @@
 #include <cstdio>
 
 #include "carving/carving.hpp"
+#include "base/atomic_file.hpp"
 #include "base/error.hpp"
 #include "run/layer_queue.hpp"
 #include "base/stage_timer.hpp"
@@ -109,12 +110,19 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
     if (layer_count == 0)
         throw InputError(fmt::format("{}: the model is thinner than one layer ({} mm)",
                                      options.model_path, settings.layer_height));
-    if (settings.max_vertices_per_layer > 0) {
+    if (settings.max_vertices_per_layer > 0 || settings.max_vertices_total > 0) {
         // Checked as each slice is cut, before covers and carving spend hours on it.
-        slicer.on_slice([&settings, &options](const Slice& slice) {
+        slicer.on_slice([&settings, &options, total = 0LL](const Slice& slice) mutable {
             long long vertices = 0;
             for (const Path& p : slice.region) vertices += static_cast<long long>(p.size());
-            if (vertices > settings.max_vertices_per_layer)
+            total += vertices;
+            if (settings.max_vertices_total > 0 && total > settings.max_vertices_total)
+                throw InputError(fmt::format(
+                    "{}: the slices down to layer {} (z = {:.2f} mm) hold {} contour vertices, "
+                    "more than the limit of {}; simplify the mesh or raise --max-vertices "
+                    "(0 = no limit)",
+                    options.model_path, slice.index, slice.z, total, settings.max_vertices_total));
+            if (settings.max_vertices_per_layer > 0 && vertices > settings.max_vertices_per_layer)
                 throw InputError(fmt::format(
                     "{}: layer {} (z = {:.2f} mm) has {} contour vertices, more than the limit of "
                     "{}; simplify the mesh or raise --max-vertices-per-layer (0 = no limit)",
@@ -147,23 +155,36 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
     BridgeStage bridged(from(carved, other_cavities), settings);
     auto supported = queue_after(bridged, 5);
     LayerSource& supports = from(supported, bridged);
+    // Every output of the run is complete under a temporary name before any is renamed into
+    // place (group.commit_all() at the end); a run failing at any point leaves none of them,
+    // and the folders of pictures are written into temporary folders moved in at the end.
+    // The group is declared first so that it is destroyed last: the writers it holds back
+    // remove their temporaries when an error unwinds this frame.
+    OutputGroup group;
     GcodeWriter writer(options.gcode_path, settings, offset_x, offset_y, layer_count);
+    writer.commit_with(group);
+    std::unique_ptr<AtomicDir> svg_dir, raster_dir;
     std::unique_ptr<SvgLayerWriter> svg;
-    if (!options.svg_dir.empty())
+    if (!options.svg_dir.empty()) {
+        svg_dir = std::make_unique<AtomicDir>(options.svg_dir);
         svg = std::make_unique<SvgLayerWriter>(
             options.svg_every > 0
-                ? SvgLayerWriter::every(options.svg_dir, options.svg_every)
-                : SvgLayerWriter(options.svg_dir, SvgLayerWriter::spread(layer_count, 8)));
+                ? SvgLayerWriter::every(svg_dir->folder(), options.svg_every)
+                : SvgLayerWriter(svg_dir->folder(), SvgLayerWriter::spread(layer_count, 8)));
+    }
     std::unique_ptr<HtmlReportWriter> html;
-    if (!options.report_path.empty())
+    if (!options.report_path.empty()) {
         html = std::make_unique<HtmlReportWriter>(options.report_path, settings);
+        html->commit_with(group);
+    }
     if (html) html->set_model_name(options.model_path);
     std::unique_ptr<RasterWriter> raster;
     if (!options.raster_dir.empty()) {
+        raster_dir = std::make_unique<AtomicDir>(options.raster_dir);
         const BBox2 footprint{to_units(box.min.x), to_units(box.min.y), to_units(box.max.x),
                               to_units(box.max.y), false};
         raster =
-            std::make_unique<RasterWriter>(options.raster_dir, settings, footprint,
+            std::make_unique<RasterWriter>(raster_dir->folder(), settings, footprint,
                                            options.raster_pixel_mm, options.raster_min_wall_mm);
     }
 
@@ -232,7 +253,7 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
         GcodeAnalysisOptions check_options;
         check_options.filament_diameter_mm = settings.filament_diameter;
         check_options.keep_layers = false;
-        result.check = analyse_gcode_on_mesh(options.gcode_path, mesh, check_options,
+        result.check = analyse_gcode_on_mesh(writer.written_path(), mesh, check_options,
                                              Vec3{offset_x, offset_y, -box.min.z});
         result.check_time_s =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - check_start).count();
@@ -240,6 +261,12 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
     if (raster) raster->finish();
     result.peak_memory_mb = peak_memory_mb();
     if (html) html->finish(result, stats_json(result, settings));
+    if (!options.stats_path.empty())
+        write_file_atomically(options.stats_path, stats_json(result, settings).dump(2) + "\n",
+                              &group);
+    if (svg_dir) group.hold(std::move(svg_dir));
+    if (raster_dir) group.hold(std::move(raster_dir));
+    group.commit_all();
     if (profiling_enabled()) std::fputs(profile_table().c_str(), stderr);
     return result;
 }

@@ -242,7 +242,7 @@ TEST(GcodeWriter, NoFileWhenDestroyedBeforeFinish) {
         EXPECT_THROW(w.add_layer(sample_layer(5, st)), std::out_of_range);
     }
     EXPECT_TRUE(dir_entries(dir).empty());
-    EXPECT_THROW(GcodeWriter((dir / "missing" / "x.gcode").string(), st, 0, 0, 1), InputError);
+    EXPECT_THROW(GcodeWriter((dir / "missing" / "x.gcode").string(), st, 0, 0, 1), OutputError);
     fs::remove_all(dir);
 }
 

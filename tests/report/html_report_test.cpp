@@ -274,10 +274,10 @@ TEST(HtmlReport, NothingLeftBehindWithoutFinish) {
     EXPECT_FALSE(std::filesystem::exists(path.string() + ".tmp"));
 }
 
-TEST(HtmlReport, UnwritablePathIsAnInputError) {
+TEST(HtmlReport, UnwritablePathIsAnOutputError) {
     Settings st;
     HtmlReportWriter writer("/nonexistent-dir/for/sure/report.html", st);
     const HandLayer h = make_layer(st, 0, true);
     writer.add_layer(h.part, h.paths);
-    EXPECT_THROW(writer.finish(fake_run(), nlohmann::json::object()), InputError);
+    EXPECT_THROW(writer.finish(fake_run(), nlohmann::json::object()), OutputError);
 }

@@ -256,7 +256,7 @@ TEST(Svg, WriterChoosesLayersAndNamesFiles) {
     EXPECT_TRUE(SvgLayerWriter::spread(0, 8).empty());
 
     // A directory that cannot be made is a clear error.
-    EXPECT_THROW(SvgLayerWriter("/proc/carve_no_such_dir/x", {1}), InputError);
+    EXPECT_THROW(SvgLayerWriter("/proc/carve_no_such_dir/x", {1}), OutputError);
     std::filesystem::remove_all(dir.parent_path());
 }
 

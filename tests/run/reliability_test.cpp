@@ -87,12 +87,13 @@ std::string without_progress(const std::string& err) {
     return out;
 }
 
-// Expects exit 1, one line on stderr (besides progress) containing `needle`, and nothing left
-// named like `gcode`.
-void expect_refused(const CarveRun& run, const fs::path& gcode, const std::string& needle) {
+// Expects exit `status` (1: a refused input; 3: an output not written), one line on stderr
+// (besides progress) containing `needle`, and nothing left named like `gcode`.
+void expect_refused(const CarveRun& run, const fs::path& gcode, const std::string& needle,
+                    int status = 1) {
     CarveRun r = run;
     r.err = without_progress(run.err);
-    EXPECT_EQ(r.status, 1) << r.err;
+    EXPECT_EQ(r.status, status) << r.err;
     EXPECT_EQ(lines(r.err), 1) << r.err;
     EXPECT_EQ(r.err.rfind("carve: ", 0), 0u) << r.err;
     EXPECT_NE(r.err.find(needle), std::string::npos) << r.err;
@@ -226,7 +227,7 @@ TEST(DiskFull, FileSizeLimitGivesOneLineAndLeavesNoFile) {
     const fs::path gcode = dir / "full.gcode";
     const CarveRun r =
         run_carve("slice " + stl.string() + " -o " + gcode.string() + " -q", "ulimit -f 16;");
-    expect_refused(r, gcode, "cannot write");
+    expect_refused(r, gcode, "cannot write", 3);
     EXPECT_TRUE(fs::is_empty(dir)) << leftovers(dir, "").size() << " files left";
     // And the previous G-code at that path survives a failed run untouched.
     {
@@ -235,7 +236,7 @@ TEST(DiskFull, FileSizeLimitGivesOneLineAndLeavesNoFile) {
     }
     const CarveRun again =
         run_carve("slice " + stl.string() + " -o " + gcode.string() + " -q", "ulimit -f 16;");
-    EXPECT_EQ(again.status, 1);
+    EXPECT_EQ(again.status, 3);
     EXPECT_EQ(read(gcode), "; an older print\n");
     EXPECT_EQ(leftovers(dir, "").size(), 1u);
 }

@@ -1,0 +1,48 @@
+// carve's error types and the exit status each one maps to. Bottom layer: depends on nothing
+// else of carve. Every failure that reaches the user is one of these, so that main() can turn
+// it into one line on stderr and a documented exit status (README, docs/carve.1):
+//   0 success, 1 bad input or bad option value (also a refused input: over a resource guard or
+//   the --timeout), 2 usage (unknown option, missing argument), 3 an output could not be
+//   written or was refused (the input itself, another output of the run, a device), 4 internal
+//   failure (a bug, or out of memory).
+#pragma once
+
+#include <stdexcept>
+#include <string>
+
+namespace carve {
+
+enum ExitCode : int {
+    kExitOk = 0,
+    kExitBadInput = 1,
+    kExitUsage = 2,
+    kExitOutput = 3,
+    kExitInternal = 4,
+};
+
+// Base of the errors carve reports in words; what() is the whole message.
+struct CarveError : std::runtime_error {
+    using std::runtime_error::runtime_error;
+    virtual int exit_code() const = 0;
+};
+
+// A bad input file, option or profile value, or an input refused by a resource guard.
+struct InputError : CarveError {
+    using CarveError::CarveError;
+    int exit_code() const override { return kExitBadInput; }
+};
+
+// The command line itself is malformed (unknown option, missing argument).
+struct UsageError : CarveError {
+    using CarveError::CarveError;
+    int exit_code() const override { return kExitUsage; }
+};
+
+// An output could not be written (disk full, no permission) or is refused (it would replace
+// the input or another output of the run, or it is not a regular file).
+struct OutputError : CarveError {
+    using CarveError::CarveError;
+    int exit_code() const override { return kExitOutput; }
+};
+
+}  // namespace carve

@@ -1,0 +1,139 @@
+// The table of numeric settings (see setting_table.hpp). Ranges are physical bounds, wide
+// enough for every real printer and narrow enough that nothing downstream overflows: a nozzle
+// or layer of 0.001 mm or 1e20 mm reaches the micrometre integers as 0 or INT64_MIN.
+#include "config/setting_table.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <optional>
+
+#include "base/numbers.hpp"
+#include "base/error.hpp"
+
+namespace carve {
+
+namespace {
+
+using S = Settings;
+
+std::vector<SettingSpec> make_table() {
+    return {
+        {"layer-height", "layer_height", "mm", 0.01, 2.0, &S::layer_height,
+         "Layer height h, mm [0.2]"},
+        {"nozzle", "nozzle_diameter", "mm", 0.05, 3.0, &S::nozzle,
+         "Nozzle diameter = line width w, mm [0.4]"},
+        {"max-overhang", "", "degrees", 5.0, 75.0, &S::max_overhang,
+         "Largest overhang from vertical the printer bridges, degrees; the per-layer dilation "
+         "is r = h * tan(angle) [45]"},
+        {"covers", "", "layers", 0, 50, &S::covers, "Solid layers at tops and bottoms, layers [2]"},
+        {"shells", "", "lines", 0, 20, &S::shells,
+         "Extra perimeters inside the outer wall, lines [0]"},
+        {"filament-diameter", "filament_diameter", "mm", 0.5, 5.0, &S::filament_diameter,
+         "Filament diameter, mm [1.75]"},
+        {"temperature", "temperature", "C", 0, 450, &S::nozzle_temperature,
+         "Nozzle temperature after the first layer, C [210]"},
+        {"bed-temperature", "bed_temperature", "C", 0, 150, &S::bed_temperature,
+         "Bed temperature after the first layer, C [60]"},
+        {"first-layer-temperature", "first_layer_temperature", "C", 0, 450,
+         &S::first_layer_nozzle_temperature, "Nozzle temperature on the first layer, C [215]"},
+        {"first-layer-bed-temperature", "first_layer_bed_temperature", "C", 0, 150,
+         &S::first_layer_bed_temperature, "Bed temperature on the first layer, C [60]"},
+        {"filament-density", "filament_density", "g/cm^3", 0.1, 20.0, &S::filament_density,
+         "Filament density for the weight estimate, g/cm^3 [1.24]"},
+        {"travel-speed", "travel_speed", "mm/s", 1.0, 1000.0, &S::travel_speed,
+         "Travel speed, mm/s [150]"},
+        {"perimeter-speed", "external_perimeter_speed", "mm/s", 1.0, 1000.0, &S::perimeter_speed,
+         "Outer wall speed, mm/s [40]", true},
+        {"cavity-speed", "perimeter_speed", "mm/s", 1.0, 1000.0, &S::cavity_speed,
+         "Cavity wall speed, mm/s [60]"},
+        {"cover-speed", "solid_infill_speed", "mm/s", 1.0, 1000.0, &S::cover_speed,
+         "Cover (solid) speed, mm/s [50]", true},
+        {"bridge-speed", "bridge_speed", "mm/s", 1.0, 1000.0, &S::bridge_speed,
+         "Bridge speed, mm/s [25]"},
+        {"first-layer-speed", "first_layer_speed", "mm/s", 1.0, 1000.0, &S::first_layer_speed,
+         "First layer speed, mm/s [20]", true},
+        {"acceleration", "machine_max_acceleration_extruding", "mm/s^2", 10.0, 100000.0,
+         &S::acceleration, "Print acceleration, mm/s^2 [1000]"},
+        {"travel-acceleration", "machine_max_acceleration_travel", "mm/s^2", 10.0, 100000.0,
+         &S::travel_acceleration, "Travel acceleration, mm/s^2 [1500]"},
+        {"max-print-speed", "max_print_speed", "mm/s", 1.0, 1000.0, &S::max_print_speed,
+         "Cap on every printing speed, mm/s [100]"},
+        {"retract-length", "retract_length", "mm", 0.0, 20.0, &S::retract_length,
+         "Retraction, mm [0.8]"},
+        {"retract-speed", "retract_speed", "mm/s", 1.0, 500.0, &S::retract_speed,
+         "Retraction speed, mm/s [35]"},
+        {"z-hop", "retract_lift", "mm", 0.0, 10.0, &S::z_hop,
+         "Lift on travel with retraction, mm [0]"},
+        {"tear-limit", "", "mm", 0.0, 1000.0, &S::tear_limit,
+         "How far a cavity may tear open along its seed per slice beyond the dilated cavity, "
+         "mm; smaller leaves less unsupported but uses more material (the report proposes r/2 "
+         "= 0.1) [0 = no limit]"},
+        {"scale", "", "ratio", 0.01, 100.0, &S::scale,
+         "Scale the model uniformly by this factor, ratio [1]"},
+        {"threads", "", "threads", 1, 5, &S::threads,
+         "Pipeline threads: 1 runs every stage in turn, 2 plans bridges, toolpaths and G-code "
+         "behind the carving sweep, 3 also splits the sweep after the first cavity, 4 also "
+         "slices ahead of it, 5 also plans toolpaths behind the bridges, threads [5]"},
+        {"max-bridge-length", "", "mm", 1.0, 500.0, &S::max_bridge_length,
+         "Longest span a bridge may have, mm; longer ones are left out [10]"},
+        {"max-vertices-per-layer", "", "vertices", 0, 1e9, &S::max_vertices_per_layer,
+         "Give up when one slice has more contour vertices than this; 0 = no limit, vertices "
+         "[5000000]"},
+        {"max-vertices", "", "vertices", 0, 1e10, &S::max_vertices_total,
+         "Give up when the slices hold more contour vertices than this in all; 0 = no limit, "
+         "vertices [100000000]"},
+        // Profile-only keys: no option of their own, bounded all the same.
+        {"", "retract_before_travel", "mm", 0.0, 1000.0, &S::retract_min_travel, ""},
+    };
+}
+
+}  // namespace
+
+double SettingSpec::get(const Settings& s) const {
+    return std::visit([&](auto member) { return static_cast<double>(s.*member); }, field);
+}
+
+void SettingSpec::set(Settings& s, const std::string& text, const std::string& source) const {
+    const std::string problem = range_problem(text, min, max, integer(), unit);
+    if (!problem.empty()) throw InputError(source + ": " + problem);
+    const double d = *parse_decimal(text);
+    std::visit(
+        [&](auto member) {
+            using T = std::remove_reference_t<decltype(s.*member)>;
+            s.*member = static_cast<T>(d);
+        },
+        field);
+}
+
+const std::vector<SettingSpec>& setting_table() {
+    static const std::vector<SettingSpec> table = make_table();
+    return table;
+}
+
+const SettingSpec* find_setting_by_ini_key(const std::string& key) {
+    for (const SettingSpec& spec : setting_table())
+        if (!key.empty() && key == spec.ini_key) return &spec;
+    return nullptr;
+}
+
+void validate_settings(const Settings& s) {
+    for (const SettingSpec& spec : setting_table()) {
+        const double v = spec.get(s);
+        if (!(std::isfinite(v) && v >= spec.min && v <= spec.max))
+            throw InputError(fmt::format(
+                "{}: {} is out of range; expected from {} to {} {}",
+                *spec.option ? std::string("--") + spec.option
+                             : std::string("profile key '") + spec.ini_key + "'",
+                plain_number(v), plain_number(spec.min), plain_number(spec.max), spec.unit));
+    }
+    auto bed = [](double v) { return std::isfinite(v) && v > 0 && v <= 10000; };
+    if (!bed(s.bed_x) || !bed(s.bed_y))
+        throw InputError(fmt::format("bed size {} x {} mm is out of range (0 to 10000 mm)",
+                                     plain_number(s.bed_x), plain_number(s.bed_y)));
+    if (s.layer_height > s.nozzle)
+        throw InputError(fmt::format("--layer-height {} mm is thicker than the {} mm line width",
+                                     s.layer_height, s.nozzle));
+}
+
+}  // namespace carve
