@@ -291,12 +291,4 @@ BBox3 bounding_box(const Mesh& mesh) {
     return box;
 }
 
-void translate(Mesh& mesh, const Vec3& offset) {
-    for (Vec3& v : mesh.vertices) {
-        v.x += offset.x;
-        v.y += offset.y;
-        v.z += offset.z;
-    }
-}
-
 }  // namespace carve

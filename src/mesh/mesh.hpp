@@ -52,7 +52,4 @@ void analyse_and_repair(Mesh& mesh, MeshReport& report);
 double signed_volume(const Mesh& mesh);
 BBox3 bounding_box(const Mesh& mesh);
 
-// Moves the mesh in place (used to centre it on the bed and drop it onto z = 0).
-void translate(Mesh& mesh, const Vec3& offset);
-
 }  // namespace carve
