@@ -16,16 +16,14 @@
 #include "base/error.hpp"
 #include "geometry/morphology.hpp"
 #include "geometry/polygon.hpp"
+#include "support/shapes.hpp"
 
 using namespace carve;
+using carve::test::rect_region;
 
 namespace {
 
 constexpr Coord kMm = 1000;
-
-Paths rect(Coord x0, Coord y0, Coord x1, Coord y1) {
-    return {{{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}}};
-}
 
 Path circle(Coord cx, Coord cy, double r, int n) {
     Path p;
@@ -56,7 +54,7 @@ HandLayer make_layer(const Settings& st, int index, bool cover) {
     LayerPartition& l = h.part;
     l.index = index;
     l.z = (index + 0.5) * st.layer_height;
-    l.outline = rect(0, 0, 20 * kMm, 20 * kMm);
+    l.outline = rect_region(0, 0, 20 * kMm, 20 * kMm);
     l.wall_region = erode(l.outline, st.nozzle_radius());
     l.shell_paths_region = l.wall_region;
     h.paths.index = index;
@@ -78,7 +76,7 @@ HandLayer make_layer(const Settings& st, int index, bool cover) {
     }
     l.carvable = l.wall_region;
     l.cavities.push_back({circle(7 * kMm, 10 * kMm, 4 * kMm, 360)});
-    l.cavities.push_back(rect(13 * kMm, 3 * kMm, 16 * kMm, 17 * kMm));
+    l.cavities.push_back(rect_region(13 * kMm, 3 * kMm, 16 * kMm, 17 * kMm));
     l.remainder = subtract(subtract(l.carvable, l.cavities[0]), l.cavities[1]);
     for (int j = 0; j < 2; ++j) {
         Extrusion e;
@@ -90,7 +88,7 @@ HandLayer make_layer(const Settings& st, int index, bool cover) {
     }
     Bridge b;
     b.cavity = 1;
-    b.region = rect(6 * kMm, 9 * kMm, 8 * kMm, 11 * kMm);
+    b.region = rect_region(6 * kMm, 9 * kMm, 8 * kMm, 11 * kMm);
     b.lines = {{{3 * kMm, 10 * kMm}, {11 * kMm, 10 * kMm}}};
     l.bridges.push_back(b);
     Extrusion e;
@@ -176,7 +174,7 @@ TEST(SimplifyPath, StraightLineCollapses) {
 }
 
 TEST(SvgPathData, RelativeCoordinatesOnTheGrid) {
-    EXPECT_EQ(html::svg_path_data(rect(0, 0, kMm, kMm), true, 50, 10), "M0 0l100 0 0 100-100 0z");
+    EXPECT_EQ(html::svg_path_data(rect_region(0, 0, kMm, kMm), true, 50, 10), "M0 0l100 0 0 100-100 0z");
     EXPECT_EQ(html::svg_path_data(Paths{{{-1234, 5678}, {4321, -8765}}}, false, 50, 10),
               "M-123 568l555-1445");
     // Points that fall on one grid node vanish; a path reduced to one point is dropped.

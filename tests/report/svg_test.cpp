@@ -18,14 +18,12 @@
 #include "base/error.hpp"
 #include "geometry/morphology.hpp"
 #include "geometry/polygon.hpp"
+#include "support/shapes.hpp"
 
 using namespace carve;
+using carve::test::rect;
 
 namespace {
-
-Path rect(Coord x0, Coord y0, Coord x1, Coord y1) {
-    return {{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}};
-}
 
 Path circle(double cx, double cy, double r, int n = 64) {
     Path p;
