@@ -44,6 +44,8 @@ constexpr size_t kFlushBytes = 1 << 20;  // text buffered before each fwrite
     throw InputError("cannot write " + path + ": " + what);
 }
 
+}  // namespace
+
 std::string format_duration(double seconds) {
     long long s = std::llround(std::max(0.0, seconds));
     const long long d = s / 86400, h = s / 3600 % 24, m = s / 60 % 60, sec = s % 60;
@@ -52,6 +54,8 @@ std::string format_duration(double seconds) {
     if (m > 0) return fmt::format("{}m {}s", m, sec);
     return fmt::format("{}s", sec);
 }
+
+namespace {
 
 std::string_view flavor_name(GcodeFlavor f) {
     switch (f) {

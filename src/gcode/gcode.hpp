@@ -44,4 +44,8 @@ private:
     std::unique_ptr<Impl> impl_;
 };
 
+// A duration for people, as the G-code header writes it: "1d 2h 3m 4s", "2h 3m 4s", "3m 4s",
+// "4s". The summary and the HTML report use it too, so that the figures read alike.
+std::string format_duration(double seconds);
+
 }  // namespace carve

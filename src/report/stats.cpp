@@ -3,14 +3,9 @@
 
 #include <fmt/format.h>
 
-namespace carve {
+#include "gcode/gcode.hpp"
 
-std::string format_duration(double seconds) {
-    const long s = std::lround(seconds);
-    if (s >= 3600) return fmt::format("{}h {:02}m {:02}s", s / 3600, (s / 60) % 60, s % 60);
-    if (s >= 60) return fmt::format("{}m {:02}s", s / 60, s % 60);
-    return fmt::format("{}s", s);
-}
+namespace carve {
 
 nlohmann::json stats_json(const RunResult& run, const Settings& settings) {
     nlohmann::json j;

@@ -12,7 +12,6 @@ namespace carve {
 
 nlohmann::json stats_json(const RunResult& run, const Settings& settings);
 std::string summary_text(const RunResult& run, const Settings& settings);
-std::string format_duration(double seconds);  // "1h 02m 03s"
 // The figures of `carve check` for people.
 std::string describe(const GcodeAnalysis& analysis);
 

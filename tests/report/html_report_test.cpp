@@ -19,28 +19,12 @@
 #include "support/shapes.hpp"
 
 using namespace carve;
+using carve::test::circle;
 using carve::test::rect_region;
 
 namespace {
 
 constexpr Coord kMm = 1000;
-
-Path circle(Coord cx, Coord cy, double r, int n) {
-    Path p;
-    for (int k = 0; k < n; ++k) {
-        const double a = 2 * std::numbers::pi * k / n;
-        p.push_back({cx + std::llround(r * std::cos(a)), cy + std::llround(r * std::sin(a))});
-    }
-    return p;
-}
-
-double seg_dist(const Point& p, const Point& a, const Point& b) {
-    const double dx = double(b.X - a.X), dy = double(b.Y - a.Y);
-    const double len2 = dx * dx + dy * dy;
-    double t = len2 > 0 ? ((p.X - a.X) * dx + (p.Y - a.Y) * dy) / len2 : 0.0;
-    t = std::clamp(t, 0.0, 1.0);
-    return std::hypot(a.X + t * dx - p.X, a.Y + t * dy - p.Y);
-}
 
 // One hand-made layer: a 20 mm square, covers on the bottom and top layers, a round cavity C^1
 // and a slot C^2 in the middle one, with a bridge.
@@ -147,31 +131,6 @@ std::string write_report(const std::filesystem::path& path, size_t budget = 0,
 }
 
 }  // namespace
-
-TEST(SimplifyPath, CircleWithinTolerance) {
-    const Path c = circle(0, 0, 10 * kMm, 2000);
-    const Path s = html::simplify_path(c, true, 50);
-    EXPECT_LT(s.size(), size_t(200));
-    EXPECT_GT(s.size(), size_t(20));
-    // Every original point lies within the tolerance of the simplified loop.
-    double worst = 0;
-    for (const Point& p : c) {
-        double best = 1e18;
-        for (size_t i = 0; i < s.size(); ++i)
-            best = std::min(best, seg_dist(p, s[i], s[(i + 1) % s.size()]));
-        worst = std::max(worst, best);
-    }
-    EXPECT_LE(worst, 50.0 + 1e-6);
-}
-
-TEST(SimplifyPath, StraightLineCollapses) {
-    Path line;
-    for (int k = 0; k <= 100; ++k) line.push_back({k * 100, (k % 2) * 10});
-    const Path s = html::simplify_path(line, false, 50);
-    ASSERT_EQ(s.size(), size_t(2));
-    EXPECT_EQ(s.front(), line.front());
-    EXPECT_EQ(s.back(), line.back());
-}
 
 TEST(SvgPathData, RelativeCoordinatesOnTheGrid) {
     EXPECT_EQ(html::svg_path_data(rect_region(0, 0, kMm, kMm), true, 50, 10), "M0 0l100 0 0 100-100 0z");

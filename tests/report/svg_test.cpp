@@ -21,19 +21,10 @@
 #include "support/shapes.hpp"
 
 using namespace carve;
+using carve::test::circle;
 using carve::test::rect;
 
 namespace {
-
-Path circle(double cx, double cy, double r, int n = 64) {
-    Path p;
-    for (int i = 0; i < n; ++i) {
-        const double t = 2 * M_PI * i / n;
-        p.emplace_back(Coord(std::llround(cx + r * std::cos(t))),
-                       Coord(std::llround(cy + r * std::sin(t))));
-    }
-    return p;
-}
 
 // A 40 x 30 mm slice with a round hole, a cover band along its bottom, four cavities (a
 // disk, a ring around it, and two side blocks), the remainder in between, and one bridge.
