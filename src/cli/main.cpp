@@ -13,13 +13,13 @@
 #include <map>
 
 #include "base/error.hpp"
-#include "run/pipeline.hpp"
-#include "gcode/placeholders.hpp"
-#include "config/profiles.hpp"
-#include "mesh/mesh.hpp"
 #include "check/gcode_analysis.hpp"
+#include "config/profiles.hpp"
+#include "gcode/placeholders.hpp"
+#include "mesh/mesh.hpp"
 #include "report/mesh_info.hpp"
 #include "report/stats.hpp"
+#include "run/pipeline.hpp"
 
 namespace {
 

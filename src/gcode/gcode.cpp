@@ -27,9 +27,9 @@
 #include <string_view>
 
 #include "base/error.hpp"
-#include "gcode/placeholders.hpp"
 #include "base/stage_timer.hpp"
 #include "gcode/motion.hpp"
+#include "gcode/placeholders.hpp"
 #include "gcode/spill.hpp"
 
 namespace carve {

@@ -25,7 +25,7 @@ struct PrintStats {
 };
 
 class GcodeWriter {
-public:
+  public:
     // `offset_mm` is added to every XY point (centres the model on the bed); z values are nozzle
     // heights above the bed.
     GcodeWriter(std::string output_path, const Settings& settings, double offset_x_mm,
@@ -39,7 +39,7 @@ public:
     // Writes header, layers bottom up and footer, then renames into place.
     PrintStats finish(const std::vector<std::string>& header_comments);
 
-private:
+  private:
     struct Impl;
     std::unique_ptr<Impl> impl_;
 };

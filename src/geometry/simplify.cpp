@@ -32,7 +32,8 @@ void douglas_peucker(const Path& path, bool closed, double tolerance, SimplifySc
         size_t far = 0;
         double far_d = -1;
         for (size_t k = 1; k < n; ++k) {
-            const double d = std::hypot(double(path[k].X - path[0].X), double(path[k].Y - path[0].Y));
+            const double d =
+                std::hypot(double(path[k].X - path[0].X), double(path[k].Y - path[0].Y));
             if (d > far_d) far_d = d, far = k;
         }
         keep[far] = 1;

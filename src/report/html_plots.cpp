@@ -1,5 +1,6 @@
-// The HTML report's two plots (material per layer, what each slice is made of) as inline SVG,
-// and the number formatting the page shares with them.
+// The HTML report's SVG pieces: the path data of the layer drawings (simplified, on a grid,
+// relative moves), the two plots (material per layer, what each slice is made of), and the
+// number formatting the page shares with them.
 #include "report/html_plots.hpp"
 
 #include <fmt/format.h>
@@ -7,9 +8,47 @@
 #include <algorithm>
 #include <cmath>
 
+#include "geometry/simplify.hpp"
 #include "report/palette.hpp"
 
 namespace carve::html {
+
+namespace {
+
+// Numbers in path data: a minus sign separates on its own, so only positives need a space.
+void append_number(std::string& out, long long v, bool after_command) {
+    if (!after_command && v >= 0) out += ' ';
+    out += std::to_string(v);
+}
+
+}  // namespace
+
+std::string svg_path_data(const Paths& paths, bool closed, double tolerance, Coord grid) {
+    std::string out;
+    const double g = double(std::max<Coord>(grid, 1));
+    std::vector<std::pair<long long, long long>> q;
+    for (const Path& path : paths) {
+        const Path simple = douglas_peucker(path, closed, tolerance);
+        q.clear();
+        for (const Point& p : simple) {
+            const std::pair<long long, long long> v{std::llround(double(p.X) / g),
+                                                    std::llround(double(p.Y) / g)};
+            if (q.empty() || q.back() != v) q.push_back(v);
+        }
+        if (closed && q.size() > 1 && q.back() == q.front()) q.pop_back();
+        if (q.size() < 2) continue;
+        out += 'M';
+        append_number(out, q[0].first, true);
+        append_number(out, q[0].second, false);
+        out += 'l';
+        for (size_t i = 1; i < q.size(); ++i) {
+            append_number(out, q[i].first - q[i - 1].first, i == 1);
+            append_number(out, q[i].second - q[i - 1].second, false);
+        }
+        if (closed) out += 'z';
+    }
+    return out;
+}
 
 // Rounds to `digits` significant-looking decimals so the JSON stays short.
 double rounded(double v, int decimals) {
@@ -31,7 +70,6 @@ std::string tick_label(double v, double step) {
     if (step >= 0.1) return fmt::format("{:.1f}", v);
     return fmt::format("{:.2f}", v);
 }
-
 
 namespace {
 

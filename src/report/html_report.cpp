@@ -15,57 +15,15 @@
 #include <utility>
 
 #include "base/error.hpp"
+#include "gcode/gcode.hpp"
 #include "geometry/polygon.hpp"
-#include "geometry/simplify.hpp"
 #include "report/html_assets.hpp"
 #include "report/html_plots.hpp"
 #include "report/palette.hpp"
-#include "gcode/gcode.hpp"
 #include "report/stats.hpp"
 #include "report/svg.hpp"
 
 namespace carve {
-
-namespace html {
-
-namespace {
-
-// Numbers in path data: a minus sign separates on its own, so only positives need a space.
-void append_number(std::string& out, long long v, bool after_command) {
-    if (!after_command && v >= 0) out += ' ';
-    out += std::to_string(v);
-}
-
-}  // namespace
-
-std::string svg_path_data(const Paths& paths, bool closed, double tolerance, Coord grid) {
-    std::string out;
-    const double g = double(std::max<Coord>(grid, 1));
-    std::vector<std::pair<long long, long long>> q;
-    for (const Path& path : paths) {
-        const Path simple = douglas_peucker(path, closed, tolerance);
-        q.clear();
-        for (const Point& p : simple) {
-            const std::pair<long long, long long> v{std::llround(double(p.X) / g),
-                                                    std::llround(double(p.Y) / g)};
-            if (q.empty() || q.back() != v) q.push_back(v);
-        }
-        if (closed && q.size() > 1 && q.back() == q.front()) q.pop_back();
-        if (q.size() < 2) continue;
-        out += 'M';
-        append_number(out, q[0].first, true);
-        append_number(out, q[0].second, false);
-        out += 'l';
-        for (size_t i = 1; i < q.size(); ++i) {
-            append_number(out, q[i].first - q[i - 1].first, i == 1);
-            append_number(out, q[i].second - q[i - 1].second, false);
-        }
-        if (closed) out += 'z';
-    }
-    return out;
-}
-
-}  // namespace html
 
 namespace {
 
@@ -246,9 +204,9 @@ void HtmlReportWriter::add_layer(const LayerPartition& layer, const LayerToolpat
 
 // What the page shows before it is written: totals, the layer it opens on, the drawing stride.
 struct HtmlReportWriter::Impl::PageFigures {
-    size_t n = 0;       // layers, bottom up
-    int stride = 1;     // every stride-th drawing kept when the page would exceed its budget
-    size_t start = 0;   // the layer the page opens on
+    size_t n = 0;      // layers, bottom up
+    int stride = 1;    // every stride-th drawing kept when the page would exceed its budget
+    size_t start = 0;  // the layer the page opens on
     double material = 0, conventional = 0, filament_m = 0, grams = 0, conventional_g = 0;
     double model_volume = 0, carved = 0;
     int layer_count = 0, cavities = 0, bridges = 0;
@@ -279,8 +237,7 @@ HtmlReportWriter::Impl::PageFigures HtmlReportWriter::Impl::figures(
         const double score = present * 1e6 + layers[i].cavity_wall_mm + (layers[i].bridges > 0);
         if (score > best_score && f.keep_drawing(i)) best_score = score, f.start = i;
     }
-    f.material =
-        run.print.extruded_volume_mm3 > 0 ? run.print.extruded_volume_mm3 : material_sum;
+    f.material = run.print.extruded_volume_mm3 > 0 ? run.print.extruded_volume_mm3 : material_sum;
     const double filament_area = std::numbers::pi * st.filament_diameter * st.filament_diameter / 4;
     f.filament_m = run.print.filament_length_mm > 0 ? run.print.filament_length_mm / 1000
                                                     : f.material / filament_area / 1000;
@@ -321,8 +278,10 @@ void HtmlReportWriter::Impl::write_head(std::ostream& out, const PageFigures& f)
     out << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
            "<meta name=\"viewport\" content=\"width=device-width,initial-scale=1\">\n";
     out << "<title>carve report: " << xml_escape(f.model) << "</title>\n<style>" << kCss;
-    out << fmt::format("#view .o{{stroke:{};stroke-width:{:.1f}px}}\n", kOuterWallColour, 0.85 * line_w);
-    out << fmt::format("#view .s{{stroke:{};stroke-width:{:.1f}px}}\n", kShellColour, 0.85 * line_w);
+    out << fmt::format("#view .o{{stroke:{};stroke-width:{:.1f}px}}\n", kOuterWallColour,
+                       0.85 * line_w);
+    out << fmt::format("#view .s{{stroke:{};stroke-width:{:.1f}px}}\n", kShellColour,
+                       0.85 * line_w);
     out << fmt::format("#view .c{{stroke:{};stroke-width:{:.1f}px}}\n", kCoverColor, 0.7 * line_w);
     out << fmt::format("#view .w{{stroke-width:{:.1f}px}}\n", 0.75 * line_w);
     out << fmt::format("#view .g{{stroke-width:{:.1f}px}}\n", 0.6 * line_w);
@@ -332,7 +291,6 @@ void HtmlReportWriter::Impl::write_head(std::ostream& out, const PageFigures& f)
         out << fmt::format("#view .w.k{0}{{stroke:{1}}} #view .r.k{0}{{fill:{1}}}\n", k + 1,
                            kCavityColours[k]);
     out << "</style>\n</head>\n<body>\n";
-
 }
 
 void HtmlReportWriter::Impl::write_cards(std::ostream& out, const PageFigures& f,
@@ -351,9 +309,11 @@ void HtmlReportWriter::Impl::write_cards(std::ostream& out, const PageFigures& f
     // Cards.
     out << "<section class=\"cards\">\n";
     out << "<div class=\"card\"><div class=\"label\">Material</div><div class=\"big\">"
-        << fixed(f.material / 1000, 2) << "<span class=\"unit\">cm³</span></div><div class=\"small\">"
-        << (f.model_volume > 0 ? fixed(100 * f.material / f.model_volume, 1) + " % of the model's volume"
-                             : std::string("model volume unknown"))
+        << fixed(f.material / 1000, 2)
+        << "<span class=\"unit\">cm³</span></div><div class=\"small\">"
+        << (f.model_volume > 0
+                ? fixed(100 * f.material / f.model_volume, 1) + " % of the model's volume"
+                : std::string("model volume unknown"))
         << "<br>" << fixed(f.grams, 1) << " g &middot; " << fixed(f.filament_m, 2) << " m of "
         << st.filament_diameter << " mm filament</div></div>\n";
     if (f.conventional > 0) {
@@ -379,8 +339,8 @@ void HtmlReportWriter::Impl::write_cards(std::ostream& out, const PageFigures& f
     if (run.peak_memory_mb > 0) out << ", peak memory " << fixed(run.peak_memory_mb, 0) << " MB";
     if (run.print.retractions > 0) out << "<br>" << run.print.retractions << " retractions";
     out << "</div></div>\n";
-    out << "<div class=\"card\"><div class=\"label\">Cavities</div><div class=\"big\">" << f.cavities
-        << "<span class=\"unit\">nested</span></div><div class=\"small\">";
+    out << "<div class=\"card\"><div class=\"label\">Cavities</div><div class=\"big\">"
+        << f.cavities << "<span class=\"unit\">nested</span></div><div class=\"small\">";
     if (f.model_volume > 0 && f.carved > 0)
         out << fixed(100 * f.carved / f.model_volume, 1) << " % of the volume left hollow<br>";
     out << f.bridges << (f.bridges == 1 ? " bridge" : " bridges");
@@ -395,11 +355,10 @@ void HtmlReportWriter::Impl::write_cards(std::ostream& out, const PageFigures& f
         << " triangles &middot; " << f.layer_count << " layers<br>" << fixed(size.x, 1) << " × "
         << fixed(size.y, 1) << " × " << fixed(size.z, 1) << " mm</div></div>\n";
     out << "</section>\n";
-
 }
 
 std::array<double, 4> HtmlReportWriter::Impl::write_viewer(std::ostream& out,
-                                                          const PageFigures& f) const {
+                                                           const PageFigures& f) const {
     const Settings& st = settings;
     // Layer viewer.
     const double grid = double(kGrid);
@@ -558,7 +517,6 @@ void HtmlReportWriter::Impl::write_details(std::ostream& out, const PageFigures&
         << "</pre></details>\n</div></div></section>\n</main>\n"
         << "<footer>Made by carve &middot; self-contained page, nothing is loaded from the "
            "network</footer>\n";
-
 }
 
 void HtmlReportWriter::Impl::write_data(std::ostream& out, const PageFigures& f,

@@ -15,14 +15,13 @@
 #include <vector>
 
 #include "carving/partition.hpp"
-#include "report/run_result.hpp"
 #include "config/settings.hpp"
+#include "report/run_result.hpp"
 #include "toolpath/toolpath.hpp"
 
 namespace carve {
 
 namespace html {
-
 
 // SVG path data for contours or polylines, coordinates in units of `grid` micrometres (first
 // point absolute, then relative moves). Closed contours end with "z".

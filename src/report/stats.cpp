@@ -34,7 +34,8 @@ nlohmann::json stats_json(const RunResult& run, const Settings& settings) {
     s["layer_height_mm"] = settings.layer_height;
     s["nozzle_mm"] = settings.nozzle;
     s["max_overhang_deg"] = settings.max_overhang;
-    s["cavities"] = settings.cavities_auto ? nlohmann::json("auto") : nlohmann::json(settings.cavities);
+    s["cavities"] =
+        settings.cavities_auto ? nlohmann::json("auto") : nlohmann::json(settings.cavities);
     s["covers"] = settings.covers;
     s["shells"] = settings.shells;
     s["walls"] = settings.walls == WallMode::Single ? "single" : "double";
@@ -58,10 +59,12 @@ std::string summary_text(const RunResult& run, const Settings& settings) {
                        run.cavities,
                        run.mesh.volume_mm3 > 0 ? 100 * carved / run.mesh.volume_mm3 : 0.0,
                        run.bridges, run.bridge_length_mm);
-    out += fmt::format("material   {:.2f} cm3 = {:.1f} % of the model, {:.2f} m of filament, {:.1f} g\n",
-                       run.print.extruded_volume_mm3 / 1000, run.material_percent(),
-                       run.print.filament_length_mm / 1000, run.print.filament_weight_g);
-    out += fmt::format("print time {} (estimate)\n", format_duration(run.print.estimated_print_time_s));
+    out += fmt::format(
+        "material   {:.2f} cm3 = {:.1f} % of the model, {:.2f} m of filament, {:.1f} g\n",
+        run.print.extruded_volume_mm3 / 1000, run.material_percent(),
+        run.print.filament_length_mm / 1000, run.print.filament_weight_g);
+    out += fmt::format("print time {} (estimate)\n",
+                       format_duration(run.print.estimated_print_time_s));
     out += fmt::format("sliced in  {:.2f} s, peak memory {:.0f} MB\n", run.processing_time_s,
                        run.peak_memory_mb);
     return out;
@@ -80,7 +83,8 @@ std::string describe(const GcodeAnalysis& a) {
     out += fmt::format("far-unsupported  {:.3f} % (nothing below within 2 mm)\n",
                        100 * a.far_unsupported_fraction);
     if (a.estimated_time_from_header_s >= 0)
-        out += fmt::format("header time      {}\n", format_duration(a.estimated_time_from_header_s));
+        out +=
+            fmt::format("header time      {}\n", format_duration(a.estimated_time_from_header_s));
     return out;
 }
 

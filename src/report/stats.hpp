@@ -4,9 +4,9 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "check/gcode_analysis.hpp"
 #include "config/settings.hpp"
 #include "report/run_result.hpp"
-#include "check/gcode_analysis.hpp"
 
 namespace carve {
 

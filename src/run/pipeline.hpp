@@ -19,9 +19,9 @@ struct RunOptions {
     std::string raster_dir;         // resin slice stack, empty = none
     double raster_pixel_mm = 0.05;  // pixel size of the resin images
     double raster_min_wall_mm = 0.4;  // thinnest cured wall: cavity outlines are thickened to it
-    std::string report_path;        // HTML report, empty = none
-    bool progress = false;          // progress on stderr
-    bool progress_bar = true;       // a redrawn bar (terminal), else a plain line per 10 %
+    std::string report_path;          // HTML report, empty = none
+    bool progress = false;            // progress on stderr
+    bool progress_bar = true;         // a redrawn bar (terminal), else a plain line per 10 %
     std::function<void(const std::string&)> note;  // warnings for the user (stderr)
 };
 

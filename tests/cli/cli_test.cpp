@@ -16,12 +16,12 @@
 #include <sstream>
 #include <thread>
 
-#include "support/carve_run.hpp"
+#include "check/gcode_analysis.hpp"
 #include "geometry/morphology.hpp"
 #include "geometry/polygon.hpp"
 #include "mesh/mesh.hpp"
-#include "check/gcode_analysis.hpp"
 #include "slice/slicer.hpp"
+#include "support/carve_run.hpp"
 #include "support/models.hpp"
 
 namespace fs = std::filesystem;

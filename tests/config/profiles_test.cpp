@@ -15,9 +15,8 @@
 #include <sstream>
 
 #include "base/error.hpp"
-#include "gcode/placeholders.hpp"
 #include "config/settings.hpp"
-
+#include "gcode/placeholders.hpp"
 #include "support/carve_run.hpp"
 #include "support/models.hpp"
 

@@ -25,9 +25,9 @@
 #include "geometry/polygon.hpp"
 #include "mesh/mesh.hpp"
 #include "slice/slicer.hpp"
-#include "support/test_rng.hpp"
 #include "support/models.hpp"
 #include "support/shapes.hpp"
+#include "support/test_rng.hpp"
 
 using namespace carve;
 using carve::test::rect_region;
@@ -636,8 +636,9 @@ TEST(Morphology, TouchingComponentsMergeUnderDilation) {
     EXPECT_EQ(components(dilate(two, 149)).size(), 2u);
     EXPECT_EQ(components(dilate(two, 151)).size(), 1u);
     // Erosion separates a dumbbell at its neck.
-    Paths bell = unite(Paths{rect_region(0, 0, 3000, 3000)[0], rect_region(3000, 1300, 6000, 1700)[0],
-                             rect_region(6000, 0, 9000, 3000)[0]});
+    Paths bell =
+        unite(Paths{rect_region(0, 0, 3000, 3000)[0], rect_region(3000, 1300, 6000, 1700)[0],
+                    rect_region(6000, 0, 9000, 3000)[0]});
     EXPECT_EQ(components(erode(bell, 199)).size(), 1u);
     EXPECT_EQ(components(erode(bell, 201)).size(), 2u);
 }
@@ -655,7 +656,8 @@ TEST(Morphology, SmallHolesCloseUnderLargeDilation) {
         EXPECT_NEAR(area(d), double(a) * a + 4.0 * a * r + area(disk(r)), 4.0);
     }
     // A C-shaped ring whose slot and hole are both swallowed.
-    Paths c = subtract(rect_region(-3000, -3000, 3000, 3000), rect_region(-1000, -1000, 1000, 1000));
+    Paths c =
+        subtract(rect_region(-3000, -3000, 3000, 3000), rect_region(-1000, -1000, 1000, 1000));
     c = subtract(c, rect_region(-100, 0, 100, 4000));
     for (Coord r : {500, 1500, 2500}) {
         SCOPED_TRACE(r);

@@ -133,7 +133,8 @@ std::string write_report(const std::filesystem::path& path, size_t budget = 0,
 }  // namespace
 
 TEST(SvgPathData, RelativeCoordinatesOnTheGrid) {
-    EXPECT_EQ(html::svg_path_data(rect_region(0, 0, kMm, kMm), true, 50, 10), "M0 0l100 0 0 100-100 0z");
+    EXPECT_EQ(html::svg_path_data(rect_region(0, 0, kMm, kMm), true, 50, 10),
+              "M0 0l100 0 0 100-100 0z");
     EXPECT_EQ(html::svg_path_data(Paths{{{-1234, 5678}, {4321, -8765}}}, false, 50, 10),
               "M-123 568l555-1445");
     // Points that fall on one grid node vanish; a path reduced to one point is dropped.

@@ -22,10 +22,10 @@
 #include "geometry/polygon.hpp"
 #include "mesh/mesh.hpp"
 #include "slice/slicer.hpp"
-#include "supports/bridges.hpp"
-#include "toolpath/toolpath.hpp"
 #include "support/models.hpp"
 #include "support/shapes.hpp"
+#include "supports/bridges.hpp"
+#include "toolpath/toolpath.hpp"
 
 using namespace carve;
 using carve::test::rect_region;
@@ -410,9 +410,8 @@ TEST(RasterCli, PixelAndWallOptionsReachTheStack) {
         const auto dir = fresh_dir(name);
         std::filesystem::create_directories(dir);
         const std::string cmd = std::string(CARVE_BINARY) + " slice " + sphere +
-                                " --scale 0.5 --cavities 2 -q -o " +
-                                (dir / "out.gcode").string() + " --raster " +
-                                (dir / "stack").string() + " " + args;
+                                " --scale 0.5 --cavities 2 -q -o " + (dir / "out.gcode").string() +
+                                " --raster " + (dir / "stack").string() + " " + args;
         EXPECT_EQ(std::system(cmd.c_str()), 0) << cmd;
         std::ifstream in(dir / "stack" / "raster.json");
         std::stringstream ss;

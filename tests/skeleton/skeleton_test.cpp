@@ -30,9 +30,9 @@
 #include "skeleton/axis_graph.hpp"
 #include "skeleton/skeleton_detail.hpp"
 #include "slice/slicer.hpp"
-#include "support/test_rng.hpp"
 #include "support/models.hpp"
 #include "support/shapes.hpp"
+#include "support/test_rng.hpp"
 
 using namespace carve;
 using carve::test::rect;

@@ -588,7 +588,8 @@ TEST(SlicerModels, EverySharedModelSlicesIntoClosedRegionsOnEveryLayer) {
     namespace fs = std::filesystem;
     int models = 0;
     for (const char* folder : {"", "synthetic"}) {
-        for (const auto& entry : fs::directory_iterator(carve::test::shared_models_dir() / folder)) {
+        for (const auto& entry :
+             fs::directory_iterator(carve::test::shared_models_dir() / folder)) {
             if (entry.path().extension() != ".stl") continue;
             expect_closed_layers(entry.path().string(), entry.path().filename().string());
             ++models;

@@ -50,15 +50,15 @@ inline std::string any_model(const std::string& name) {
 
 // Declares `std::string var` = the path of model `name` (repository first, then the shared
 // folder), or skips the current test, naming the model, when neither holds it.
-#define CARVE_MODEL(var, name)                                                              \
-    const std::string var = ::carve::test::any_model(name);                                 \
-    if (var.empty())                                                                        \
-    GTEST_SKIP() << "model " << (name) << " not found (shared models folder "               \
+#define CARVE_MODEL(var, name)                                                \
+    const std::string var = ::carve::test::any_model(name);                   \
+    if (var.empty())                                                          \
+    GTEST_SKIP() << "model " << (name) << " not found (shared models folder " \
                  << ::carve::test::shared_models_dir().string() << ", set CARVE_SHARED_MODELS)"
 
 // Skips the current test, naming the model, when neither the repository nor the shared folder
 // holds model `name`.
-#define CARVE_NEED_MODEL(name)                                                              \
-    if (::carve::test::any_model(name).empty())                                             \
-    GTEST_SKIP() << "model " << (name) << " not found (shared models folder "               \
+#define CARVE_NEED_MODEL(name)                                                \
+    if (::carve::test::any_model(name).empty())                               \
+    GTEST_SKIP() << "model " << (name) << " not found (shared models folder " \
                  << ::carve::test::shared_models_dir().string() << ", set CARVE_SHARED_MODELS)"

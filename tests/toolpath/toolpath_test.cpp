@@ -11,11 +11,11 @@
 
 #include "geometry/morphology.hpp"
 #include "geometry/polygon.hpp"
+#include "support/shapes.hpp"
+#include "support/test_rng.hpp"
 #include "toolpath/fill.hpp"
 #include "toolpath/order.hpp"
 #include "toolpath/walls.hpp"
-#include "support/shapes.hpp"
-#include "support/test_rng.hpp"
 
 using namespace carve;
 using carve::test::rect_region;
@@ -374,8 +374,8 @@ TEST(Walls, PieceThroughTheLoopStartIsOneCurveWithExtensions) {
     // The loop starts at (0, 0), 1 mm inside the region; a notch reaches to 0.5 mm of its
     // right side, so at depth 0.5 mm a 2 mm stretch of it (y from 4 to 6 mm) is left out.
     const Paths loop = rect_region(0, 0, 10 * kMm, 10 * kMm);
-    const Paths region =
-        subtract(rect_region(-kMm, -kMm, 11 * kMm, 11 * kMm), rect_region(9500, 4500, 12 * kMm, 5500));
+    const Paths region = subtract(rect_region(-kMm, -kMm, 11 * kMm, 11 * kMm),
+                                  rect_region(9500, 4500, 12 * kMm, 5500));
     auto pieces = loops_inside_erosion(loop, region, kMm / 2, 1.0 * kMm, 800);
     ASSERT_EQ(pieces.size(), 1u);
     Extrusion e;
@@ -397,8 +397,10 @@ TEST(Walls, PieceThroughTheLoopStartIsOneCurveWithExtensions) {
     // A loop outside the region, however far from it, is left out; one wholly inside is
     // kept closed.
     EXPECT_TRUE(
-        loops_inside_erosion(rect_region(20 * kMm, 0, 30 * kMm, 10 * kMm), region, kMm / 2, 0, 0).empty());
-    pieces = loops_inside_erosion(rect_region(2 * kMm, 2 * kMm, 8 * kMm, 8 * kMm), region, kMm / 2, 0, 0);
+        loops_inside_erosion(rect_region(20 * kMm, 0, 30 * kMm, 10 * kMm), region, kMm / 2, 0, 0)
+            .empty());
+    pieces = loops_inside_erosion(rect_region(2 * kMm, 2 * kMm, 8 * kMm, 8 * kMm), region, kMm / 2,
+                                  0, 0);
     ASSERT_EQ(pieces.size(), 1u);
     EXPECT_TRUE(pieces[0].closed);
 }
@@ -567,8 +569,8 @@ TEST(Toolpath, CavityWallsOnlyNearWhatTheCavityLeavesAreAllTheWalls) {
             const BBox2 b = bounds(comp);
             if (c == 0) c1.insert(c1.end(), comp.begin(), comp.end());
             if (c == 1)
-                c1 = unite(
-                    c1, intersect(comp, rect_region(b.min_x, b.min_y, (b.min_x + b.max_x) / 2, b.max_y)));
+                c1 = unite(c1, intersect(comp, rect_region(b.min_x, b.min_y,
+                                                           (b.min_x + b.max_x) / 2, b.max_y)));
         }
         const Paths v1 = subtract(l.carvable, c1);
         const Paths c2 = intersect(v1, rect_region(-10 * kMm, -10 * kMm, 10 * kMm, 2 * kMm));
