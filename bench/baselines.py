@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """Baselines: slice the shared models with PrusaSlicer and CuraEngine, time them, and judge every
-G-code with carve's own analyser (src/report/gcode_analysis.cpp), as described in
+G-code with carve's own analyser (src/check/gcode_analysis.cpp), as described in
 shared/BASELINES.md.
 
     bench/baselines.sh                       # every model except skull_x4_400k, both slicers
@@ -178,31 +178,14 @@ def timed(cmd, log_path):
 
 
 class Analyser:
-    """`carve check FILE --json` when the CLI has it, else the stand-alone driver."""
+    """`carve check FILE --json` (build/carve; build it first)."""
 
-    def __init__(self, work):
-        self.cmd = None
+    def __init__(self):
         carve = os.path.join(ROOT, 'build', 'carve')
-        if os.path.exists(carve):
-            try:
-                helptext = subprocess.run([carve, '--help'], capture_output=True, text=True,
-                                          timeout=30)
-                if re.search(r'^\s+check\b', helptext.stdout + helptext.stderr, re.M):
-                    self.cmd = [carve, 'check']
-                    self.name = 'carve check'
-            except (OSError, subprocess.SubprocessError):
-                pass
-        if self.cmd is None:
-            exe = os.path.join(work, 'gcode_check')
-            sources = [os.path.join(ROOT, p) for p in (
-                'tools/gcode_check.cpp', 'src/report/gcode_analysis.cpp',
-                'src/report/gcode_analysis.hpp', 'src/gcode/motion.cpp')]
-            if (not os.path.exists(exe) or
-                    os.path.getmtime(exe) < max(os.path.getmtime(s) for s in sources)):
-                subprocess.check_call(['g++', '-O2', '-std=c++20', '-I' + os.path.join(ROOT, 'src'),
-                                       sources[0], sources[1], sources[3], '-lpolyclipping', '-o', exe])
-            self.cmd = [exe]
-            self.name = 'tools/gcode_check'
+        if not os.path.exists(carve):
+            raise SystemExit(f'{carve} not found: build carve first (scripts/build.sh)')
+        self.cmd = [carve, 'check']
+        self.name = 'carve check'
 
     def run(self, gcode, log_path):
         rc, wall, cpu, rss, out = timed(self.cmd + [gcode, '--json'], log_path)
@@ -280,7 +263,7 @@ def main():
         print('CuraEngine definitions missing (apt-get install cura): skipping Cura',
               file=sys.stderr)
         have['cura'] = None
-    analyser = Analyser(args.work)
+    analyser = Analyser()
     load_before = os.getloadavg()
     started = datetime.datetime.now()
 

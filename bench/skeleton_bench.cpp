@@ -22,8 +22,8 @@
 #include "geometry/polygon.hpp"
 #include "mesh/mesh.hpp"
 #include "skeleton/skeleton.hpp"
-#include "slice/slicer.hpp"
 #include "skeleton/skeleton_detail.hpp"
+#include "slice/slicer.hpp"
 
 using namespace carve;
 
@@ -77,7 +77,9 @@ carve::Mesh read_model(const std::string& path) {
     return carve::load_mesh(path, report);
 }
 
-Paths cut(const carve::Mesh& mesh, double z) { return carve::slice_at(mesh, z); }
+Paths cut(const carve::Mesh& mesh, double z) {
+    return carve::slice_at(mesh, z);
+}
 
 Paths mid_slice(const std::string& model) {
     const carve::Mesh tris = read_model(std::string(CARVE_MODELS_DIR) + "/" + model);

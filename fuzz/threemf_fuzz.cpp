@@ -58,11 +58,10 @@ std::string zip_model(std::string_view model) {
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     if (size == 0) return 0;
-    if ((data[0] & 1) == 0)
-        return carve::fuzz::run_reader(data, size, carve::detail::read_3mf);
+    if ((data[0] & 1) == 0) return carve::fuzz::run_reader(data, size, carve::detail::read_3mf);
     const std::string archive =
         zip_model(std::string_view(reinterpret_cast<const char*>(data) + 1, size - 1));
     if (archive.empty()) return 0;
-    return carve::fuzz::run_reader(reinterpret_cast<const uint8_t*>(archive.data()),
-                                   archive.size(), carve::detail::read_3mf);
+    return carve::fuzz::run_reader(reinterpret_cast<const uint8_t*>(archive.data()), archive.size(),
+                                   carve::detail::read_3mf);
 }

@@ -98,8 +98,8 @@ char g_timeout_message[128] = "carve: gave up: --timeout reached\n";
 
 void on_timeout(int) {
     remove_registered();
-    const ssize_t ignored = ::write(STDERR_FILENO, g_timeout_message,
-                                    std::strlen(g_timeout_message));
+    const ssize_t ignored =
+        ::write(STDERR_FILENO, g_timeout_message, std::strlen(g_timeout_message));
     (void)ignored;
     ::_exit(kExitBadInput);
 }
@@ -128,8 +128,7 @@ void need_regular_or_absent(const std::string& target) {
     struct stat st {};
     if (::stat(target.c_str(), &st) != 0) return;
     if (!S_ISREG(st.st_mode))
-        throw OutputError("refusing to write " + target +
-                          ": it exists and is not a regular file");
+        throw OutputError("refusing to write " + target + ": it exists and is not a regular file");
 }
 
 }  // namespace

@@ -107,15 +107,34 @@ class Parser {
             for (int k = a; k <= b; ++k) s.set(static_cast<size_t>(k));
         };
         switch (c) {
-            case 'd': range('0', '9'); break;
-            case 'w': range('0', '9'), range('a', 'z'), range('A', 'Z'), s.set('_'); break;
-            case 's': for (char w : {' ', '\t', '\n', '\r', '\f', '\v'}) s.set(static_cast<unsigned char>(w)); break;
-            case 'D': s = class_escape('d', known).flip(); break;
-            case 'W': s = class_escape('w', known).flip(); break;
-            case 'S': s = class_escape('s', known).flip(); break;
-            case 'n': s.set('\n'); break;
-            case 't': s.set('\t'); break;
-            case 'r': s.set('\r'); break;
+            case 'd':
+                range('0', '9');
+                break;
+            case 'w':
+                range('0', '9'), range('a', 'z'), range('A', 'Z'), s.set('_');
+                break;
+            case 's':
+                for (char w : {' ', '\t', '\n', '\r', '\f', '\v'})
+                    s.set(static_cast<unsigned char>(w));
+                break;
+            case 'D':
+                s = class_escape('d', known).flip();
+                break;
+            case 'W':
+                s = class_escape('w', known).flip();
+                break;
+            case 'S':
+                s = class_escape('s', known).flip();
+                break;
+            case 'n':
+                s.set('\n');
+                break;
+            case 't':
+                s.set('\t');
+                break;
+            case 'r':
+                s.set('\r');
+                break;
             default:
                 known = false;
                 if (std::isalnum(static_cast<unsigned char>(c)))
@@ -132,25 +151,41 @@ class Parser {
         switch (c) {
             case '(': {
                 if (i_ + 1 < p_.size() && peek() == '?') {
-                    if (p_[i_ + 1] != ':') fail("unsupported group (?" + std::string(1, p_[i_ + 1]));
+                    if (p_[i_ + 1] != ':')
+                        fail("unsupported group (?" + std::string(1, p_[i_ + 1]));
                     i_ += 2;
                 }
                 auto inner = alternation(depth + 1);
                 if (!more() || p_[i_++] != ')') fail("missing ')'");
                 return inner;
             }
-            case '[': bracket(n->set); return n;
-            case '.': n->set.set(); n->set.reset('\n'); return n;
-            case '^': n->kind = Node::Bol; return n;
-            case '$': n->kind = Node::Eol; return n;
+            case '[':
+                bracket(n->set);
+                return n;
+            case '.':
+                n->set.set();
+                n->set.reset('\n');
+                return n;
+            case '^':
+                n->kind = Node::Bol;
+                return n;
+            case '$':
+                n->kind = Node::Eol;
+                return n;
             case '\\': {
                 if (!more()) fail("trailing '\\'");
                 bool known = false;
                 n->set = class_escape(p_[i_++], known);
                 return n;
             }
-            case '*': case '+': case '?': case '{': fail(std::string("nothing to repeat before '") + c + "'");
-            default: n->set.set(static_cast<unsigned char>(c)); return n;
+            case '*':
+            case '+':
+            case '?':
+            case '{':
+                fail(std::string("nothing to repeat before '") + c + "'");
+            default:
+                n->set.set(static_cast<unsigned char>(c));
+                return n;
         }
     }
 
@@ -202,8 +237,12 @@ class Compiler {
                 sets_.push_back(n.set);
                 add({LinearRegex::Inst::Set, static_cast<int>(sets_.size() - 1), 0});
                 break;
-            case Node::Bol: add({LinearRegex::Inst::Bol}); break;
-            case Node::Eol: add({LinearRegex::Inst::Eol}); break;
+            case Node::Bol:
+                add({LinearRegex::Inst::Bol});
+                break;
+            case Node::Eol:
+                add({LinearRegex::Inst::Eol});
+                break;
             case Node::Concat:
                 for (const auto& k : n.kids) emit(*k);
                 break;
@@ -285,12 +324,22 @@ bool LinearRegex::full_match(std::string_view text) const {
             mark[pc] = gen;
             const Inst& in = prog_[pc];
             switch (in.op) {
-                case Inst::Jmp: stack.push_back(in.x); break;
-                case Inst::Split: stack.push_back(in.y), stack.push_back(in.x); break;
-                case Inst::Bol: if (pos == 0) stack.push_back(pc + 1); break;
-                case Inst::Eol: if (pos == text.size()) stack.push_back(pc + 1); break;
+                case Inst::Jmp:
+                    stack.push_back(in.x);
+                    break;
+                case Inst::Split:
+                    stack.push_back(in.y), stack.push_back(in.x);
+                    break;
+                case Inst::Bol:
+                    if (pos == 0) stack.push_back(pc + 1);
+                    break;
+                case Inst::Eol:
+                    if (pos == text.size()) stack.push_back(pc + 1);
+                    break;
                 case Inst::Set:
-                case Inst::Match: list.push_back(pc); break;
+                case Inst::Match:
+                    list.push_back(pc);
+                    break;
             }
         }
     };

@@ -559,8 +559,9 @@ class Analyser {
         // gigabytes. Refused past a budget no real print comes near.
         arc_segments_ += n;
         if (arc_segments_ > kMaxArcSegments)
-            throw InputError("the G-code's arcs (G2/G3) make more than 20 million segments; "
-                             "refusing to measure it");
+            throw InputError(
+                "the G-code's arcs (G2/G3) make more than 20 million segments; "
+                "refusing to measure it");
         double arc_xy = std::fabs(sweep) * radius;
         stick_move(std::hypot(arc_xy, nz - z_), de, de > 0 && arc_xy > kMinMoveMm);
         double z0 = z_;

@@ -19,17 +19,17 @@
 #include <map>
 
 #include "base/atomic_file.hpp"
+#include "base/error.hpp"
 #include "base/numbers.hpp"
 #include "base/output_paths.hpp"
-#include "base/error.hpp"
-#include "run/pipeline.hpp"
+#include "check/gcode_analysis.hpp"
+#include "config/profiles.hpp"
 #include "config/setting_table.hpp"
 #include "gcode/placeholders.hpp"
-#include "config/profiles.hpp"
 #include "mesh/mesh.hpp"
-#include "check/gcode_analysis.hpp"
 #include "report/mesh_info.hpp"
 #include "report/stats.hpp"
+#include "run/pipeline.hpp"
 
 namespace {
 
@@ -105,7 +105,8 @@ int run(int argc, char** argv) {
                      "Mesh file: STL (binary or ASCII), OBJ or 3MF; millimetres [required]")
         ->required();
     slice->add_option("-o,--output", run.gcode_path, "G-code file to write [required]")->required();
-    slice->add_option("--stats", run.stats_path, "Write the run's figures as JSON to this file [none]");
+    slice->add_option("--stats", run.stats_path,
+                      "Write the run's figures as JSON to this file [none]");
     slice->add_flag("--stats-check", run.check_output,
                     "Also measure the written G-code as carve check --mesh does (hanging inside "
                     "and overhang, material per type, retractions, travel) into the stats' "
@@ -185,14 +186,17 @@ int run(int argc, char** argv) {
         "Measure material and unsupported extrusion of any G-code file (carve's, "
         "PrusaSlicer's, Cura's)");
     check->add_option("gcode", check_gcode, "G-code file [required]")->required();
-    check->add_option("--support-radius", check_options.support_radius_mm,
-                      "Overhang allowance r, mm [0.2]")
+    check
+        ->add_option("--support-radius", check_options.support_radius_mm,
+                     "Overhang allowance r, mm [0.2]")
         ->check(strict(0, 100, "mm"));
-    check->add_option("--far-radius", check_options.far_radius_mm,
-                      "Distance no filament bridges, mm [2]")
+    check
+        ->add_option("--far-radius", check_options.far_radius_mm,
+                     "Distance no filament bridges, mm [2]")
         ->check(strict(0.01, 100, "mm"));
-    check->add_option("--filament-diameter", check_options.filament_diameter_mm,
-                      "Filament diameter, mm [1.75]")
+    check
+        ->add_option("--filament-diameter", check_options.filament_diameter_mm,
+                     "Filament diameter, mm [1.75]")
         ->check(strict(0.5, 5, "mm"));
     check->add_flag("--json", check_json, "Machine-readable output (JSON) [off: text]");
     bool check_layers = false;
@@ -268,7 +272,8 @@ int run(int argc, char** argv) {
         // Precedence: built-in printer, then profile file, then preset, then explicit options;
         // the options were only collected while parsing, so they are applied last and win.
         if (!printer_name.empty()) carve::apply_printer_preset(printer_name, settings);
-        if (!profile_path.empty()) profile_notes = carve::load_prusa_profile(profile_path, settings);
+        if (!profile_path.empty())
+            profile_notes = carve::load_prusa_profile(profile_path, settings);
         if (preset == "2c0s") settings.covers = 2, settings.shells = 0;
         if (preset == "3c1s") settings.covers = 3, settings.shells = 1;
         for (const auto& [spec, text] : given)
@@ -289,8 +294,8 @@ int run(int argc, char** argv) {
             settings.cavities_auto = true;
         } else if (const std::string why = carve::range_problem(cavities_text, 0, 64, true, "");
                    !why.empty()) {
-            return fail(fmt::format("--cavities: expected a number from 0 to 64 or 'auto', got '{}'",
-                                    cavities_text));
+            return fail(fmt::format(
+                "--cavities: expected a number from 0 to 64 or 'auto', got '{}'", cavities_text));
         } else {
             settings.cavities = static_cast<int>(*carve::parse_decimal(cavities_text));
         }
@@ -302,8 +307,8 @@ int run(int argc, char** argv) {
                               : flavor_text == "reprap" ? carve::GcodeFlavor::RepRap
                                                         : carve::GcodeFlavor::Marlin;
         if (!bed_text.empty() && !parse_bed(bed_text, settings.bed_x, settings.bed_y))
-            return fail(fmt::format(
-                "--bed: expected WIDTHxDEPTH in mm such as 250x210, got '{}'", bed_text));
+            return fail(fmt::format("--bed: expected WIDTHxDEPTH in mm such as 250x210, got '{}'",
+                                    bed_text));
         if (no_bed_check) settings.bed_check = false;
         carve::validate_settings(settings);
         // Nothing the run writes may be one of its inputs, another of its outputs, or a device.

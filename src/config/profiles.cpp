@@ -1,6 +1,8 @@
 // Built-in printers and the PrusaSlicer .ini reader.
 #include "config/profiles.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <fstream>
@@ -9,10 +11,8 @@
 #include <optional>
 #include <sstream>
 
-#include <fmt/format.h>
-
-#include "base/numbers.hpp"
 #include "base/error.hpp"
+#include "base/numbers.hpp"
 #include "config/setting_table.hpp"
 
 namespace carve {
@@ -34,8 +34,9 @@ const std::vector<Preset>& presets() {
              s.flavor = GcodeFlavor::Marlin;
              s.acceleration = 1000, s.travel_acceleration = 1250;
              s.retract_length = 0.8, s.retract_speed = 35;
-             s.start_gcode = "M115 U3.9.0\nG28 W ; home all without mesh bed level\nG80 ; mesh bed "
-                             "levelling\nG1 Y-3.0 F1000.0\nG92 E0\n";
+             s.start_gcode =
+                 "M115 U3.9.0\nG28 W ; home all without mesh bed level\nG80 ; mesh bed "
+                 "levelling\nG1 Y-3.0 F1000.0\nG92 E0\n";
          }},
         {"ender3",
          [](Settings& s) {
@@ -120,8 +121,8 @@ void apply_printer_preset(const std::string& name, Settings& settings) {
             p.apply(settings);
             return;
         }
-    throw InputError(fmt::format("unknown printer '{}'; choose one of: {}", name,
-                                 printer_preset_names()));
+    throw InputError(
+        fmt::format("unknown printer '{}'; choose one of: {}", name, printer_preset_names()));
 }
 
 std::vector<std::string> load_prusa_profile(const std::string& path, Settings& s) {
@@ -184,10 +185,14 @@ std::vector<std::string> load_prusa_profile(const std::string& path, Settings& s
         {"gcode_flavor",
          [&](auto& k, auto& v) {
              const std::string f = trim(v);
-             if (f == "klipper") s.flavor = GcodeFlavor::Klipper;
-             else if (f == "reprap" || f == "reprapfirmware") s.flavor = GcodeFlavor::RepRap;
-             else if (f.rfind("marlin", 0) == 0) s.flavor = GcodeFlavor::Marlin;
-             else throw InputError(fmt::format("profile key '{}': unsupported flavour '{}'", k, f));
+             if (f == "klipper")
+                 s.flavor = GcodeFlavor::Klipper;
+             else if (f == "reprap" || f == "reprapfirmware")
+                 s.flavor = GcodeFlavor::RepRap;
+             else if (f.rfind("marlin", 0) == 0)
+                 s.flavor = GcodeFlavor::Marlin;
+             else
+                 throw InputError(fmt::format("profile key '{}': unsupported flavour '{}'", k, f));
          }},
     };
 

@@ -8,8 +8,8 @@
 #include <cmath>
 #include <optional>
 
-#include "base/numbers.hpp"
 #include "base/error.hpp"
+#include "base/numbers.hpp"
 
 namespace carve {
 

@@ -20,7 +20,7 @@ struct SettingSpec {
     const char* unit;     // as the help states it: "mm", "mm/s", "C", "layers" ...
     double min, max;      // inclusive; the value is refused outside
     std::variant<double Settings::*, int Settings::*, long long Settings::*> field;
-    const char* help;     // the help text, ending with the default in brackets
+    const char* help;  // the help text, ending with the default in brackets
     // A profile value holding '%' (PrusaSlicer's "50%" of another speed) keeps carve's own.
     bool profile_skips_percent = false;
 

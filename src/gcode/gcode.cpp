@@ -30,18 +30,18 @@
 
 #include "base/atomic_file.hpp"
 #include "base/error.hpp"
-#include "gcode/placeholders.hpp"
 #include "base/stage_timer.hpp"
 #include "gcode/motion.hpp"
+#include "gcode/placeholders.hpp"
 #include "gcode/spill.hpp"
 
 namespace carve {
 
 namespace {
 
-constexpr double kZSpeed = 10.0;         // mm/s for layer changes and z-hops
-constexpr long long kEScale = 100000;    // E is written with 5 decimals
-constexpr size_t kFlushBytes = 1 << 20;  // text buffered before each fwrite
+constexpr double kZSpeed = 10.0;          // mm/s for layer changes and z-hops
+constexpr long long kEScale = 100000;     // E is written with 5 decimals
+constexpr size_t kFlushBytes = 1 << 20;   // text buffered before each fwrite
 constexpr Coord kMaxCoord = 100'000'000;  // 100 m in um: no printer's bed, a guard only
 
 [[noreturn]] void io_error(const std::string& what, const std::string& path) {
@@ -52,8 +52,10 @@ constexpr Coord kMaxCoord = 100'000'000;  // 100 m in um: no printer's bed, a gu
 // read, so a value failing here is carve's own bug, reported instead of written (a NaN would
 // come out as E-92233720368547.75808 or F-9223372036854775808).
 void guard(bool ok, const char* word) {
-    if (!ok) throw std::runtime_error(std::string("G-code emitter: refusing a non-finite or "
-                                                  "out-of-range ") + word + " word");
+    if (!ok)
+        throw std::runtime_error(std::string("G-code emitter: refusing a non-finite or "
+                                             "out-of-range ") +
+                                 word + " word");
 }
 
 // Does the expanded start G-code wait for this temperature itself ("M109 S215", "M190 R60")?
@@ -66,13 +68,14 @@ bool waits_for(const std::string& gcode, std::string_view command) {
         std::string_view line(gcode.data() + at, end - at);
         at = end + 1;
         line = line.substr(0, line.find(';'));
-        while (!line.empty() && (line.front() == ' ' || line.front() == '\t')) line.remove_prefix(1);
+        while (!line.empty() && (line.front() == ' ' || line.front() == '\t'))
+            line.remove_prefix(1);
         if (line.size() < command.size()) continue;
         bool same = true;
         for (size_t i = 0; i < command.size(); ++i)
             same = same && std::toupper(static_cast<unsigned char>(line[i])) == command[i];
-        if (!same || (line.size() > command.size() && std::isdigit(static_cast<unsigned char>(
-                                                          line[command.size()]))))
+        if (!same || (line.size() > command.size() &&
+                      std::isdigit(static_cast<unsigned char>(line[command.size()]))))
             continue;
         // The target: S or R followed by a number above 0.
         for (size_t i = command.size(); i + 1 < line.size(); ++i) {
@@ -86,6 +89,8 @@ bool waits_for(const std::string& gcode, std::string_view command) {
     return false;
 }
 
+}  // namespace
+
 std::string format_duration(double seconds) {
     long long s = std::llround(std::max(0.0, seconds));
     const long long d = s / 86400, h = s / 3600 % 24, m = s / 60 % 60, sec = s % 60;
@@ -94,6 +99,8 @@ std::string format_duration(double seconds) {
     if (m > 0) return fmt::format("{}m {}s", m, sec);
     return fmt::format("{}s", sec);
 }
+
+namespace {
 
 std::string_view flavor_name(GcodeFlavor f) {
     switch (f) {

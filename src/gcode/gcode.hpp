@@ -27,7 +27,7 @@ struct PrintStats {
 };
 
 class GcodeWriter {
-public:
+  public:
     // `offset_mm` is added to every XY point (centres the model on the bed); z values are nozzle
     // heights above the bed.
     GcodeWriter(std::string output_path, const Settings& settings, double offset_x_mm,
@@ -47,9 +47,13 @@ public:
     // else the output path. Reading the G-code back before the group commits goes through here.
     const std::string& written_path() const;
 
-private:
+  private:
     struct Impl;
     std::unique_ptr<Impl> impl_;
 };
+
+// A duration for people, as the G-code header writes it: "1d 2h 3m 4s", "2h 3m 4s", "3m 4s",
+// "4s". The summary and the HTML report use it too, so that the figures read alike.
+std::string format_duration(double seconds);
 
 }  // namespace carve

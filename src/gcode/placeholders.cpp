@@ -11,15 +11,15 @@
 
 #include <fmt/format.h>
 
-#include "base/linear_regex.hpp"
-#include "base/numbers.hpp"
-#include "config/setting_table.hpp"
-
 #include <cctype>
 #include <cmath>
 #include <optional>
 #include <sstream>
 #include <stdexcept>
+
+#include "base/linear_regex.hpp"
+#include "base/numbers.hpp"
+#include "config/setting_table.hpp"
 
 namespace carve {
 
@@ -267,7 +267,8 @@ class Parser {
                       ((s_[end + 1] == '-' || s_[end + 1] == '+') && end + 2 < s_.size() &&
                        std::isdigit(static_cast<unsigned char>(s_[end + 2])))))))
                 end += (s_[end] == 'e' || s_[end] == 'E') ? 2 : 1;
-            const std::optional<double> d = parse_decimal(std::string_view(s_).substr(i_, end - i_));
+            const std::optional<double> d =
+                parse_decimal(std::string_view(s_).substr(i_, end - i_));
             if (!d) fail("bad number '" + s_.substr(i_, end - i_) + "'");
             i_ = end;
             return num(*d);
@@ -323,7 +324,9 @@ constexpr char kBad = '\x01';  // marks output that holds an unexpanded placehol
 // Scanned by hand in one pass (a std::regex iterator recursed once per character).
 std::string expand_brackets(const std::string& in, const Context& ctx,
                             std::vector<std::string>& unresolved) {
-    auto ident_start = [](char c) { return std::isalpha(static_cast<unsigned char>(c)) || c == '_'; };
+    auto ident_start = [](char c) {
+        return std::isalpha(static_cast<unsigned char>(c)) || c == '_';
+    };
     auto ident = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; };
     std::string out;
     size_t last = 0, line_start = 0;
@@ -404,8 +407,10 @@ ExpandedGcode expand_custom_gcode(const std::string& text, const Settings& setti
         i = close + 1;
         if (tag.size() > kMaxTag) {
             result.unresolved.push_back("a {...} longer than 64 kB (taken as false / a comment)");
-            if (tag.rfind("if", 0) == 0) branches.push_back({active(), false, false});
-            else if (active()) out += kBad;
+            if (tag.rfind("if", 0) == 0)
+                branches.push_back({active(), false, false});
+            else if (active())
+                out += kBad;
             continue;
         }
         auto keyword = [&](const std::string& k) {

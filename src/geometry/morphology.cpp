@@ -18,8 +18,8 @@
 #include <numbers>
 #include <optional>
 
-#include "geometry/probe.hpp"
 #include "geometry/polygon.hpp"
+#include "geometry/probe.hpp"
 
 namespace carve {
 

@@ -267,23 +267,6 @@ Paths intersect_positive(const Paths& a, const PositiveRegion& b) {
     return run(ctIntersection, a, &b.contours, {pftNonZero, pftPositive});
 }
 
-Paths drop_small(const Paths& region, double min_area) {
-    PolyTree tree;
-    Clipper c;
-    c.AddPaths(region, ptSubject, true);
-    c.Execute(ctUnion, tree, pftNonZero, pftNonZero);
-    std::vector<Paths> comps;
-    collect_components(tree, comps);
-    Paths out;
-    for (Paths& comp : comps) {
-        if (std::abs(Area(comp.front())) < min_area) continue;
-        out.push_back(comp.front());
-        for (size_t i = 1; i < comp.size(); ++i)
-            if (std::abs(Area(comp[i])) >= min_area) out.push_back(comp[i]);
-    }
-    return out;
-}
-
 Paths clip_lines(const Paths& lines, const Paths& region) {
     if (lines.empty() || region.empty()) return {};
     Clipper c;
@@ -291,19 +274,6 @@ Paths clip_lines(const Paths& lines, const Paths& region) {
     c.AddPaths(region, ptClip, true);
     PolyTree tree;
     c.Execute(ctIntersection, tree, pftNonZero, pftNonZero);
-    Paths out;
-    OpenPathsFromPolyTree(tree, out);
-    return out;
-}
-
-Paths clip_lines_outside(const Paths& lines, const Paths& region) {
-    if (lines.empty()) return {};
-    if (region.empty()) return lines;
-    Clipper c;
-    c.AddPaths(lines, ptSubject, false);
-    c.AddPaths(region, ptClip, true);
-    PolyTree tree;
-    c.Execute(ctDifference, tree, pftNonZero, pftNonZero);
     Paths out;
     OpenPathsFromPolyTree(tree, out);
     return out;

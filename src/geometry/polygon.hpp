@@ -42,14 +42,8 @@ Paths subtract(const PositiveRegion& a, const Paths& b);
 Paths subtract_positive(const Paths& a, const PositiveRegion& b);
 Paths intersect_positive(const Paths& a, const PositiveRegion& b);
 
-// Drops contours whose absolute area is below min_area (square units) together with the holes
-// inside dropped outers.
-Paths drop_small(const Paths& region, double min_area);
-
 // Clips open polylines to a region: the parts of `lines` inside `region`.
 Paths clip_lines(const Paths& lines, const Paths& region);
-// Parts of open polylines outside a region.
-Paths clip_lines_outside(const Paths& lines, const Paths& region);
 
 // Removes duplicate and almost-collinear points (distance tolerance in units).
 Paths clean(const Paths& region, double tolerance = 1.415);

@@ -242,8 +242,9 @@ Mesh load_mesh(const std::string& path, MeshReport& report) {
     } else if (ext == ".obj" || looks_like_obj(without_bom(d))) {
         detail::read_obj(without_bom(d), path, mesh, report);
     } else if (starts_with_word(skip_space(without_bom(d)), "solid") && textual(d)) {
-        fail(path, "not a valid STL: it begins like ASCII STL ('solid') but no 'facet' or "
-                   "'endsolid' follows its first line, and its size does not fit a binary STL");
+        fail(path,
+             "not a valid STL: it begins like ASCII STL ('solid') but no 'facet' or "
+             "'endsolid' follows its first line, and its size does not fit a binary STL");
     } else if (ext == ".stl") {
         if (d.size() < 84)
             fail(path, "not a valid STL: " + std::to_string(d.size()) +
@@ -305,14 +306,6 @@ BBox3 bounding_box(const Mesh& mesh) {
         box.max.z = std::max(box.max.z, v.z);
     }
     return box;
-}
-
-void translate(Mesh& mesh, const Vec3& offset) {
-    for (Vec3& v : mesh.vertices) {
-        v.x += offset.x;
-        v.y += offset.y;
-        v.z += offset.z;
-    }
 }
 
 }  // namespace carve

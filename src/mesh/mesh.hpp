@@ -14,16 +14,16 @@
 namespace carve {
 
 struct Mesh {
-    std::vector<Vec3> vertices;  // millimetres
+    std::vector<Vec3> vertices;                      // millimetres
     std::vector<std::array<uint32_t, 3>> triangles;  // counter-clockwise seen from outside
 };
 
 // What loading found and fixed, in words a user understands.
 struct MeshReport {
-    std::string format;        // "binary STL", "ASCII STL", "OBJ", "3MF"
-    size_t triangles_read = 0;   // as stored in the file
-    size_t triangles = 0;        // after dropping degenerate ones
-    size_t vertices = 0;         // after merging duplicates
+    std::string format;         // "binary STL", "ASCII STL", "OBJ", "3MF"
+    size_t triangles_read = 0;  // as stored in the file
+    size_t triangles = 0;       // after dropping degenerate ones
+    size_t vertices = 0;        // after merging duplicates
     size_t degenerate_dropped = 0;
     size_t duplicate_dropped = 0;
     size_t open_edges = 0;         // edges with one incident triangle
@@ -51,8 +51,5 @@ void analyse_and_repair(Mesh& mesh, MeshReport& report);
 
 double signed_volume(const Mesh& mesh);
 BBox3 bounding_box(const Mesh& mesh);
-
-// Moves the mesh in place (used to centre it on the bed and drop it onto z = 0).
-void translate(Mesh& mesh, const Vec3& offset);
 
 }  // namespace carve

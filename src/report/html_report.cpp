@@ -16,497 +16,28 @@
 
 #include "base/atomic_file.hpp"
 #include "base/error.hpp"
+#include "gcode/gcode.hpp"
 #include "geometry/polygon.hpp"
+#include "report/html_assets.hpp"
+#include "report/html_plots.hpp"
+#include "report/palette.hpp"
 #include "report/stats.hpp"
 #include "report/svg.hpp"
 
 namespace carve {
 
-namespace html {
-
 namespace {
 
-double segment_distance(const Point& p, const Point& a, const Point& b) {
-    const double dx = double(b.X - a.X), dy = double(b.Y - a.Y);
-    const double px = double(p.X - a.X), py = double(p.Y - a.Y);
-    const double len2 = dx * dx + dy * dy;
-    double t = len2 > 0 ? (px * dx + py * dy) / len2 : 0.0;
-    t = std::clamp(t, 0.0, 1.0);
-    return std::hypot(px - t * dx, py - t * dy);
-}
-
-// Numbers in path data: a minus sign separates on its own, so only positives need a space.
-void append_number(std::string& out, long long v, bool after_command) {
-    if (!after_command && v >= 0) out += ' ';
-    out += std::to_string(v);
-}
-
-}  // namespace
-
-Path simplify_path(const Path& path, bool closed, double tolerance) {
-    if (path.size() < 3 || tolerance <= 0) return path;
-    Path pts = path;
-    if (closed) pts.push_back(path.front());
-    const size_t n = pts.size();
-    std::vector<char> keep(n, 0);
-    keep[0] = keep[n - 1] = 1;
-    std::vector<std::pair<size_t, size_t>> stack;
-    if (closed) {
-        // A loop starts and ends on the same point: split it at the point farthest from it.
-        size_t far = 1;
-        double best = -1;
-        for (size_t i = 1; i + 1 < n; ++i) {
-            const double d = std::hypot(double(pts[i].X - pts[0].X), double(pts[i].Y - pts[0].Y));
-            if (d > best) best = d, far = i;
-        }
-        keep[far] = 1;
-        stack.push_back({0, far});
-        stack.push_back({far, n - 1});
-    } else {
-        stack.push_back({0, n - 1});
-    }
-    while (!stack.empty()) {
-        const auto [a, b] = stack.back();
-        stack.pop_back();
-        if (b <= a + 1) continue;
-        size_t worst = a;
-        double worst_d = -1;
-        for (size_t i = a + 1; i < b; ++i) {
-            const double d = segment_distance(pts[i], pts[a], pts[b]);
-            if (d > worst_d) worst_d = d, worst = i;
-        }
-        if (worst_d > tolerance) {
-            keep[worst] = 1;
-            stack.push_back({a, worst});
-            stack.push_back({worst, b});
-        }
-    }
-    Path out;
-    for (size_t i = 0; i < n; ++i)
-        if (keep[i]) out.push_back(pts[i]);
-    if (closed && out.size() > 1) out.pop_back();
-    return out;
-}
-
-std::string svg_path_data(const Paths& paths, bool closed, double tolerance, Coord grid) {
-    std::string out;
-    const double g = double(std::max<Coord>(grid, 1));
-    std::vector<std::pair<long long, long long>> q;
-    for (const Path& path : paths) {
-        const Path simple = simplify_path(path, closed, tolerance);
-        q.clear();
-        for (const Point& p : simple) {
-            const std::pair<long long, long long> v{std::llround(double(p.X) / g),
-                                                    std::llround(double(p.Y) / g)};
-            if (q.empty() || q.back() != v) q.push_back(v);
-        }
-        if (closed && q.size() > 1 && q.back() == q.front()) q.pop_back();
-        if (q.size() < 2) continue;
-        out += 'M';
-        append_number(out, q[0].first, true);
-        append_number(out, q[0].second, false);
-        out += 'l';
-        for (size_t i = 1; i < q.size(); ++i) {
-            append_number(out, q[i].first - q[i - 1].first, i == 1);
-            append_number(out, q[i].second - q[i - 1].second, false);
-        }
-        if (closed) out += 'z';
-    }
-    return out;
-}
-
-}  // namespace html
-
-namespace {
+using namespace html;
 
 constexpr Coord kGrid = 10;  // drawing grid, micrometres (0.01 mm)
 // Simplification tolerances tried in turn until a layer's drawing fits its share of the budget.
 constexpr std::array<double, 4> kTolerances = {50, 100, 200, 400};
-// Cavity colours: cool hues, none close to the bridges' magenta or the covers' ochre.
-constexpr std::array<const char*, 8> kCavityColors = {"#1c7ed6", "#0ca678", "#7048e8", "#15aabf",
-                                                      "#74b816", "#364fc7", "#087f5b", "#4dabf7"};
-constexpr const char* kOuterColor = "#e8590c";
-constexpr const char* kShellColor = "#f59f00";
-constexpr const char* kCoverColor = "#d9a441";
-constexpr const char* kBridgeColor = "#ff00ff";
-constexpr const char* kRemainderColor = "#ced4da";
 
-const char* cavity_color(int j) {
-    return kCavityColors[size_t(std::max(j - 1, 0)) % kCavityColors.size()];
-}
+// The CSS class number (1..) of cavity C^j's colour.
 int cavity_class(int j) {
-    return (std::max(j - 1, 0) % int(kCavityColors.size())) + 1;
+    return int(cavity_colour_index(j)) + 1;
 }
-
-// Rounds to `digits` significant-looking decimals so the JSON stays short.
-double rounded(double v, int decimals) {
-    const double f = std::pow(10.0, decimals);
-    return std::round(v * f) / f;
-}
-
-// 1, 2 or 5 times a power of ten, so that `range` spans about `ticks` steps.
-double nice_step(double range, int ticks) {
-    if (!(range > 0)) return 1;
-    const double raw = range / ticks;
-    const double p = std::pow(10.0, std::floor(std::log10(raw)));
-    const double m = raw / p;
-    return (m < 1.5 ? 1 : m < 3.5 ? 2 : m < 7.5 ? 5 : 10) * p;
-}
-
-std::string tick_label(double v, double step) {
-    if (step >= 1) return fmt::format("{:.0f}", v);
-    if (step >= 0.1) return fmt::format("{:.1f}", v);
-    return fmt::format("{:.2f}", v);
-}
-
-// Geometry shared by the two plots (SVG user units); the page's script uses it for the cursor.
-struct PlotFrame {
-    double width = 640, height = 240, left = 56, right = 12, top = 24, bottom = 38;
-    int n = 1;
-    double inner_w() const { return width - left - right; }
-    double inner_h() const { return height - top - bottom; }
-    double x(double pos) const { return left + (pos + 0.5) * inner_w() / n; }
-};
-
-std::string plot_axes(const PlotFrame& f, const std::vector<ReportLayer>& layers, double y_max,
-                      double y_step, const std::string& y_unit) {
-    std::string s;
-    for (double v = 0; v <= y_max * 1.0001; v += y_step) {
-        const double y = f.top + f.inner_h() * (1 - v / y_max);
-        s += fmt::format(R"(<line class="grid" x1="{:.1f}" y1="{:.1f}" x2="{:.1f}" y2="{:.1f}"/>)",
-                         f.left, y, f.width - f.right, y);
-        s += fmt::format(R"(<text class="ytick" x="{:.1f}" y="{:.1f}">{}</text>)", f.left - 6,
-                         y + 4, tick_label(v, y_step));
-    }
-    s += fmt::format(R"(<text class="yunit" x="{:.1f}" y="{:.1f}">{}</text>)", f.left - 6,
-                     f.top - 9, y_unit);
-    // x ticks at round heights; layer i sits at layers[i].z.
-    if (!layers.empty()) {
-        const double z0 = layers.front().z, z1 = layers.back().z;
-        const double step = nice_step(std::max(z1 - z0, 1e-3), 6);
-        const double h = layers.size() > 1 ? (z1 - z0) / double(layers.size() - 1) : 1.0;
-        for (double z = std::ceil(z0 / step) * step; z <= z1 + 1e-9; z += step) {
-            const double x = f.x((z - z0) / h);
-            s += fmt::format(
-                R"(<line class="xtick" x1="{:.1f}" y1="{:.1f}" x2="{:.1f}" y2="{:.1f}"/>)", x,
-                f.top + f.inner_h(), x, f.top + f.inner_h() + 4);
-            s += fmt::format(R"(<text class="xlabel" x="{:.1f}" y="{:.1f}">{}</text>)", x,
-                             f.top + f.inner_h() + 17, tick_label(z, step));
-        }
-        s += fmt::format(R"(<text class="xunit" x="{:.1f}" y="{:.1f}">height z (mm)</text>)",
-                         f.left + f.inner_w() / 2, f.height - 3);
-    }
-    return s;
-}
-
-std::string plot_cursor(const PlotFrame& f) {
-    return fmt::format(R"(<line class="cursor" x1="0" y1="{:.1f}" x2="0" y2="{:.1f}"/>)", f.top,
-                       f.top + f.inner_h());
-}
-
-std::string material_plot(const std::vector<ReportLayer>& layers, const PlotFrame& f) {
-    double top = 0;
-    for (const ReportLayer& l : layers) top = std::max({top, l.material_mm3, l.conventional_mm3});
-    const double step = nice_step(top > 0 ? top : 1, 4);
-    const double y_max = std::max(step, std::ceil((top > 0 ? top : 1) / step) * step);
-    auto y = [&](double v) { return f.top + f.inner_h() * (1 - v / y_max); };
-    std::string s =
-        fmt::format(R"(<svg class="plot-svg" id="plot-m" viewBox="0 0 {} {}">)", f.width, f.height);
-    s += plot_axes(f, layers, y_max, step, "mm³");
-    std::string area = fmt::format("M{:.1f} {:.1f}", f.x(0), y(0));
-    std::string carve_line, conv_line;
-    for (size_t i = 0; i < layers.size(); ++i) {
-        const double x = f.x(double(i));
-        area += fmt::format("L{:.1f} {:.1f}", x, y(layers[i].material_mm3));
-        carve_line += fmt::format("{}{:.1f} {:.1f}", i ? "L" : "M", x, y(layers[i].material_mm3));
-        conv_line +=
-            fmt::format("{}{:.1f} {:.1f}", i ? "L" : "M", x, y(layers[i].conventional_mm3));
-    }
-    area += fmt::format("L{:.1f} {:.1f}Z", f.x(double(layers.size()) - 1), y(0));
-    s += fmt::format(R"(<path class="conv" d="{}"/>)", conv_line);
-    s += fmt::format(R"(<path class="carve-area" d="{}"/><path class="carve-line" d="{}"/>)", area,
-                     carve_line);
-    s += plot_cursor(f);
-    s += "</svg>";
-    return s;
-}
-
-// Stacked shares of each slice's area: covers, C^1..C^k, the remainder V^k; what is left up to
-// 100 % is the outer wall's band and the shells.
-std::string share_plot(const std::vector<ReportLayer>& layers, int cavities, const PlotFrame& f) {
-    auto y = [&](double pct) {
-        return f.top + f.inner_h() * (1 - std::clamp(pct, 0.0, 100.0) / 100);
-    };
-    std::string s =
-        fmt::format(R"(<svg class="plot-svg" id="plot-s" viewBox="0 0 {} {}">)", f.width, f.height);
-    s += plot_axes(f, layers, 100, 25, "%");
-    const int series = cavities + 2;
-    std::vector<double> below(layers.size(), 0.0), above(layers.size(), 0.0);
-    for (int k = 0; k < series; ++k) {
-        for (size_t i = 0; i < layers.size(); ++i) {
-            const ReportLayer& l = layers[i];
-            double v = 0;
-            if (k == 0)
-                v = l.covers_mm2;
-            else if (k <= cavities)
-                v = size_t(k - 1) < l.cavity_mm2.size() ? l.cavity_mm2[k - 1] : 0;
-            else
-                v = l.remainder_mm2;
-            above[i] = below[i] + (l.outline_mm2 > 0 ? 100 * v / l.outline_mm2 : 0);
-        }
-        std::string d;
-        for (size_t i = 0; i < layers.size(); ++i)
-            d += fmt::format("{}{:.1f} {:.1f}", i ? "L" : "M", f.x(double(i)), y(above[i]));
-        for (size_t i = layers.size(); i-- > 0;)
-            d += fmt::format("L{:.1f} {:.1f}", f.x(double(i)), y(below[i]));
-        d += "Z";
-        const char* color = k == 0          ? kCoverColor
-                            : k <= cavities ? cavity_color(k)
-                                            : kRemainderColor;
-        s += fmt::format(R"(<path d="{}" fill="{}" fill-opacity="{}"/>)", d, color,
-                         k == 0          ? 0.75
-                         : k <= cavities ? 0.55
-                                         : 0.8);
-        below.swap(above);
-    }
-    s += plot_cursor(f);
-    s += "</svg>";
-    return s;
-}
-
-std::string chip(const char* color, const std::string& label) {
-    return fmt::format(R"(<span class="chip"><i style="background:{}"></i><span>{}</span></span>)",
-                       color, label);
-}
-
-std::string fixed(double v, int decimals) {
-    return fmt::format("{:.{}f}", v, decimals);
-}
-
-// Three significant figures, for volumes from a few mm^3 to litres.
-std::string sig3(double v) {
-    const double a = std::fabs(v);
-    if (a >= 100) return fmt::format("{:.0f}", v);
-    if (a >= 10) return fmt::format("{:.1f}", v);
-    return fmt::format("{:.2f}", v);
-}
-
-const char* kCss = R"CSS(
-:root{--bg:#f3f4f6;--card:#fff;--ink:#1d2433;--muted:#6b7280;--line:#e5e7eb;--accent:#1c7ed6}
-*{box-sizing:border-box}
-body{margin:0;background:var(--bg);color:var(--ink);font:14px/1.45 system-ui,-apple-system,"Segoe UI",Roboto,"Helvetica Neue",Arial,sans-serif}
-header.top{display:flex;align-items:center;gap:18px;padding:14px 28px;background:#111827;color:#f9fafb}
-.brand{font-weight:800;font-size:20px;letter-spacing:.04em;padding:5px 12px;border-radius:8px;background:linear-gradient(135deg,#1c7ed6,#7048e8)}
-header h1{margin:0;font-size:19px;font-weight:650}
-header .sub{color:#9ca3af;font-size:13px}
-main{max-width:1400px;margin:0 auto;padding:16px 22px 36px}
-.cards{display:grid;grid-template-columns:repeat(5,minmax(0,1fr));gap:12px}
-.card,.panel{background:var(--card);border-radius:12px;box-shadow:0 1px 2px rgba(16,24,40,.05),0 1px 4px rgba(16,24,40,.08)}
-.card{padding:12px 16px 14px}
-.label{font-size:11.5px;text-transform:uppercase;letter-spacing:.07em;color:var(--muted);font-weight:650}
-.big{font-size:29px;font-weight:720;margin:2px 0 2px;font-variant-numeric:tabular-nums;white-space:nowrap}
-.unit{font-size:15px;font-weight:600;color:var(--muted);margin-left:2px}
-.small{font-size:12.5px;color:var(--muted)}
-.card.good .big{color:#087f5b}
-.bars{margin:6px 0 4px}
-.bar{display:flex;align-items:center;gap:6px;font-size:11.5px;color:var(--muted);margin:2px 0}
-.bar b{display:block;height:9px;border-radius:5px;min-width:2px}
-.bar span{white-space:nowrap}
-.panel{margin-top:14px;padding:14px 16px}
-.viewer{display:grid;grid-template-columns:minmax(0,1fr) 318px;gap:16px}
-.view-wrap{position:relative;background:#fcfcfd;border:1px solid var(--line);border-radius:10px;overflow:hidden}
-#view{display:block;width:100%;height:640px;cursor:grab;touch-action:none}
-#view.dragging{cursor:grabbing}
-.zoom{position:absolute;right:10px;top:10px;display:flex;gap:4px}
-.zoom button,.controls button{font:inherit;font-size:13px;border:1px solid var(--line);background:#fff;border-radius:7px;padding:3px 10px;cursor:pointer;color:var(--ink)}
-.zoom button:hover,.controls button:hover{background:#f3f4f6}
-.hint{position:absolute;left:12px;top:12px;font-size:11.5px;color:#9ca3af}
-.side h2{margin:0;font-size:22px;font-weight:720;font-variant-numeric:tabular-nums}
-.side .z{color:var(--muted);font-size:13px;margin-bottom:8px}
-#slider{width:100%;accent-color:var(--accent);margin:4px 0 6px}
-.controls{display:flex;gap:6px;margin-bottom:12px}
-.legend{display:grid;grid-template-columns:1fr;gap:3px;border-top:1px solid var(--line);padding-top:10px}
-.legend label{display:flex;align-items:center;gap:8px;font-size:13px;cursor:pointer;user-select:none}
-.legend input{margin:0;accent-color:#4b5563}
-.sw{display:inline-block;width:22px;height:6px;border-radius:3px}
-.sw.fill{height:12px;border-radius:3px;opacity:.55}
-.cavsw{display:inline-flex;gap:2px}.cavsw .sw{width:9px}
-dl.figs{display:grid;grid-template-columns:auto 1fr;gap:3px 12px;margin:12px 0 0;padding-top:10px;border-top:1px solid var(--line);font-size:13px}
-dl.figs dt{color:var(--muted)}dl.figs dd{margin:0;text-align:right;font-variant-numeric:tabular-nums}
-.note{font-size:12px;color:var(--muted);margin:10px 0 0}
-.plots{display:grid;grid-template-columns:1fr 1fr;gap:22px}
-.plots h3{margin:0;font-size:15px}
-.plots .cap{margin:2px 0 0;font-size:12.5px;color:var(--muted)}
-.chip{display:inline-flex;align-items:center;gap:5px;margin-right:12px;font-size:12.5px;color:var(--muted)}
-.chip i{display:inline-block;width:12px;height:12px;border-radius:3px}
-.plot-svg{width:100%;height:auto;display:block;cursor:crosshair}
-.plot-svg .grid{stroke:#eef0f3;stroke-width:1}
-.plot-svg text{font-size:11px;fill:#8b93a1}
-.plot-svg .ytick,.plot-svg .yunit{text-anchor:end}.plot-svg .xlabel,.plot-svg .xunit{text-anchor:middle}
-.plot-svg .xtick{stroke:#c4c9d2}
-.plot-svg .carve-area{fill:#1c7ed6;fill-opacity:.18}
-.plot-svg .carve-line{fill:none;stroke:#1c7ed6;stroke-width:1.6;stroke-linejoin:round}
-.plot-svg .conv{fill:none;stroke:#6b7280;stroke-width:1.4;stroke-dasharray:5 3}
-.plot-svg .cursor{stroke:#111827;stroke-width:1.2;stroke-dasharray:2 2}
-.details h2{font-size:16px;margin:0 0 8px}
-.details .cols{display:grid;grid-template-columns:1.3fr 1fr;gap:28px}
-.formula{font-family:ui-monospace,SFMono-Regular,Menlo,Consolas,monospace;background:#f6f7f9;border-radius:8px;padding:8px 10px;font-size:12.5px;overflow-x:auto}
-table.settings{border-collapse:collapse;width:100%;font-size:13px}
-table.settings td{padding:3px 6px;border-bottom:1px solid #f0f1f3}
-table.settings td:last-child{text-align:right;font-variant-numeric:tabular-nums}
-.warn{color:#b45309}
-details pre{background:#f6f7f9;border-radius:8px;padding:10px;font-size:12px;max-height:360px;overflow:auto}
-footer{text-align:center;color:#9ca3af;font-size:12px;padding:0 0 24px}
-#view path{fill:none;stroke-linecap:round;stroke-linejoin:round}
-#view path.O{fill:#eef1f4;stroke:none;fill-rule:evenodd}
-#view path.r{stroke:none;fill-rule:evenodd;fill-opacity:.16}
-#view path.g{stroke:#c9ced6}
-#view .ruler line{stroke:#6b7280}
-#view .ruler text{fill:#6b7280}
-#view.hide-O .O,#view.hide-o .o,#view.hide-o .s,#view.hide-c .c,#view.hide-w .w,#view.hide-b .b,#view.hide-r .r,#view.hide-g .g{display:none}
-@media (max-width:1100px){.cards{grid-template-columns:repeat(2,minmax(0,1fr))}.viewer,.plots,.details .cols{grid-template-columns:1fr}}
-)CSS";
-
-const char* kScript = R"JS(
-(function () {
-  'use strict';
-  const L = LAYERS, N = L.length, M = META;
-  const view = document.getElementById('view');
-  const layerG = document.getElementById('layer'), ghostG = document.getElementById('ghost');
-  const slider = document.getElementById('slider');
-  const cursors = Array.from(document.querySelectorAll('.plot-svg .cursor'));
-  let current = -1;
-  const fmt = (v, d) => (v === undefined || v === null) ? '\u2014' : Number(v).toFixed(d);
-  const drawn = k => L[k] && L[k].P !== undefined;
-  function drawnBelow(k) {
-    for (; k >= 0; k--) if (drawn(k)) return k;
-    return -1;
-  }
-  function nearestDrawn(k) {
-    for (let d = 0; d < N; d++) {
-      if (k - d >= 0 && drawn(k - d)) return k - d;
-      if (k + d < N && drawn(k + d)) return k + d;
-    }
-    return -1;
-  }
-  function paths(r, ghost) {
-    let h = '';
-    if (!r || r.P === undefined) return h;
-    if (ghost) {
-      for (const p of r.P) h += '<path class="g" d="' + p[2] + '"/>';
-      return h;
-    }
-    if (r.O) h += '<path class="O" d="' + r.O + '"/>';
-    for (const c of r.R) h += '<path class="r k' + c[0] + '" d="' + c[1] + '"/>';
-    for (const p of r.P) h += '<path class="' + p[0] + (p[0] === 'w' ? ' k' + p[1] : '') + '" d="' + p[2] + '"/>';
-    return h;
-  }
-  function row(k, v) { return '<dt>' + k + '</dt><dd>' + v + '</dd>'; }
-  function show(k) {
-    k = Math.max(0, Math.min(N - 1, k | 0));
-    current = k;
-    slider.value = k;
-    const r = L[k], d = nearestDrawn(k);
-    layerG.innerHTML = d >= 0 ? paths(L[d], false) : '';
-    const below = d > 0 ? drawnBelow(d - 1) : -1;
-    ghostG.innerHTML = below >= 0 ? paths(L[below], true) : '';
-    document.getElementById('lnum').textContent = 'Layer ' + (r.i + 1) + ' of ' + M.layers;
-    document.getElementById('lz').textContent = 'z = ' + fmt(r.z, 2) + ' mm';
-    let f = '';
-    f += row('material', fmt(r.m, 1) + ' mm\u00b3');
-    f += row('15 % infill estimate', fmt(r.v, 1) + ' mm\u00b3');
-    f += row('slice area', fmt(r.a[0], 0) + ' mm\u00b2');
-    f += row('covers', fmt(r.a[1], 0) + ' mm\u00b2');
-    let cav = 0;
-    r.C.forEach(function (c, j) {
-      if (c <= 0) return;
-      cav += c;
-      f += row('<span class="sw" style="background:' + M.colors[j % M.colors.length] + '"></span> cavity ' + (j + 1), fmt(c, c < 10 ? 1 : 0) + ' mm\u00b2');
-    });
-    f += row('hollow share', r.a[0] > 0 ? fmt(100 * cav / r.a[0], 1) + ' %' : '\u2014');
-    f += row('bridges', r.b + (r.b ? ' (' + fmt(r.l[3], 0) + ' mm)' : ''));
-    f += row('walls / covers', fmt(r.l[0] + r.l[2], 0) + ' / ' + fmt(r.l[1], 0) + ' mm');
-    document.getElementById('figs').innerHTML = f;
-    let note = '';
-    if (d !== k && d >= 0) note = 'Drawing of layer ' + (L[d].i + 1) + ' shown: only one layer in ' + M.stride + ' is drawn in this page. ';
-    if (d >= 0) note += 'Paths simplified to ' + fmt(L[d].t, 2) + ' mm.';
-    document.getElementById('note').textContent = note;
-    cursors.forEach(function (c) {
-      const x = M.plot.left + (k + 0.5) * M.plot.w / N;
-      c.setAttribute('x1', x); c.setAttribute('x2', x);
-    });
-  }
-  slider.addEventListener('input', function () { show(+slider.value); });
-  document.getElementById('up').onclick = function () { show(current + 1); };
-  document.getElementById('down').onclick = function () { show(current - 1); };
-  let timer = null;
-  const play = document.getElementById('play');
-  play.onclick = function () {
-    if (timer) { clearInterval(timer); timer = null; play.textContent = '\u25b6 play'; return; }
-    if (current >= N - 1) show(0);
-    play.textContent = '\u275a\u275a pause';
-    timer = setInterval(function () {
-      if (current >= N - 1) { play.onclick(); return; }
-      show(current + 1);
-    }, Math.max(15, Math.min(120, 6000 / N)));
-  };
-  document.addEventListener('keydown', function (e) {
-    if (e.target && e.target.tagName === 'INPUT' && e.target.type === 'range') return;
-    const step = { ArrowUp: 1, ArrowRight: 1, ArrowDown: -1, ArrowLeft: -1, PageUp: 10, PageDown: -10 }[e.key];
-    if (step) { show(current + step); e.preventDefault(); }
-    if (e.key === 'Home') show(0);
-    if (e.key === 'End') show(N - 1);
-  });
-  document.querySelectorAll('.legend input').forEach(function (box) {
-    const apply = function () { view.classList.toggle('hide-' + box.dataset.k, !box.checked); };
-    box.addEventListener('change', apply);
-    apply();
-  });
-  // Zoom about the pointer and pan by dragging; the base view box fits the whole model.
-  const vb0 = M.viewBox.slice();
-  let vb = vb0.slice();
-  const setVB = function () { view.setAttribute('viewBox', vb.join(' ')); };
-  function toUser(cx, cy) {
-    const r = view.getBoundingClientRect();
-    const s = Math.max(vb[2] / r.width, vb[3] / r.height);
-    const ox = vb[0] - (r.width * s - vb[2]) / 2, oy = vb[1] - (r.height * s - vb[3]) / 2;
-    return [ox + (cx - r.left) * s, oy + (cy - r.top) * s, s];
-  }
-  function zoom(f, cx, cy) {
-    const r = view.getBoundingClientRect();
-    if (cx === undefined) { cx = r.left + r.width / 2; cy = r.top + r.height / 2; }
-    const u = toUser(cx, cy);
-    vb = [u[0] - (u[0] - vb[0]) * f, u[1] - (u[1] - vb[1]) * f, vb[2] * f, vb[3] * f];
-    setVB();
-  }
-  view.addEventListener('wheel', function (e) { e.preventDefault(); zoom(Math.exp(e.deltaY * 0.0015), e.clientX, e.clientY); }, { passive: false });
-  let drag = null;
-  view.addEventListener('pointerdown', function (e) { drag = [e.clientX, e.clientY]; view.classList.add('dragging'); view.setPointerCapture(e.pointerId); });
-  view.addEventListener('pointermove', function (e) {
-    if (!drag) return;
-    const s = toUser(e.clientX, e.clientY)[2];
-    vb[0] -= (e.clientX - drag[0]) * s; vb[1] -= (e.clientY - drag[1]) * s;
-    drag = [e.clientX, e.clientY];
-    setVB();
-  });
-  const endDrag = function () { drag = null; view.classList.remove('dragging'); };
-  view.addEventListener('pointerup', endDrag);
-  view.addEventListener('pointercancel', endDrag);
-  view.addEventListener('dblclick', function () { vb = vb0.slice(); setVB(); });
-  document.getElementById('zin').onclick = function () { zoom(1 / 1.5); };
-  document.getElementById('zout').onclick = function () { zoom(1.5); };
-  document.getElementById('zfit').onclick = function () { vb = vb0.slice(); setVB(); };
-  document.querySelectorAll('.plot-svg').forEach(function (svg) {
-    svg.addEventListener('click', function (e) {
-      const r = svg.getBoundingClientRect();
-      const x = (e.clientX - r.left) * M.plot.width / r.width;
-      show(Math.floor((x - M.plot.left) / M.plot.w * N));
-    });
-  });
-  const fromHash = /layer=(\d+)/.exec(location.hash);
-  show(fromHash ? +fromHash[1] - 1 : M.start);
-})();
-)JS";
 
 }  // namespace
 
@@ -525,6 +56,18 @@ struct HtmlReportWriter::Impl {
     std::string model_name;
 
     std::string drawing(const LayerPartition& layer, const LayerToolpaths& paths, double tol) const;
+
+    // The steps of finish(), in the order the page is written.
+    struct PageFigures;
+    PageFigures figures(const RunResult& run, const nlohmann::json& stats) const;
+    void write_head(std::ostream& out, const PageFigures& f) const;  // <head>, style sheet
+    void write_cards(std::ostream& out, const PageFigures& f, const RunResult& run) const;
+    std::array<double, 4> write_viewer(std::ostream& out, const PageFigures& f) const;  // viewBox
+    PlotFrame write_plots(std::ostream& out) const;
+    void write_details(std::ostream& out, const PageFigures& f, const RunResult& run,
+                       const nlohmann::json& stats) const;
+    void write_data(std::ostream& out, const PageFigures& f, const std::array<double, 4>& vb,
+                    const PlotFrame& frame) const;  // the layers and META for the script
 };
 
 std::string HtmlReportWriter::Impl::drawing(const LayerPartition& layer,
@@ -659,121 +202,130 @@ void HtmlReportWriter::add_layer(const LayerPartition& layer, const LayerToolpat
     m.layers.push_back(std::move(r));
 }
 
-void HtmlReportWriter::finish(const RunResult& run, const nlohmann::json& stats) {
-    Impl& m = *impl_;
-    const Settings& st = m.settings;
-    std::vector<ReportLayer>& layers = m.layers;
-    // Bottom up for the page; remember where each layer's drawing lies in the spill file.
-    std::sort(layers.begin(), layers.end(),
-              [](const ReportLayer& a, const ReportLayer& b) { return a.index < b.index; });
-    const size_t n = layers.size();
+// What the page shows before it is written: totals, the layer it opens on, the drawing stride.
+struct HtmlReportWriter::Impl::PageFigures {
+    size_t n = 0;      // layers, bottom up
+    int stride = 1;    // every stride-th drawing kept when the page would exceed its budget
+    size_t start = 0;  // the layer the page opens on
+    double material = 0, conventional = 0, filament_m = 0, grams = 0, conventional_g = 0;
+    double model_volume = 0, carved = 0;
+    int layer_count = 0, cavities = 0, bridges = 0;
+    std::string model, date;
+    bool keep_drawing(size_t i) const { return stride == 1 || i % stride == 0 || i + 1 == n; }
+};
 
+HtmlReportWriter::Impl::PageFigures HtmlReportWriter::Impl::figures(
+    const RunResult& run, const nlohmann::json& stats) const {
+    const Settings& st = settings;
+    const size_t n = layers.size();
+    PageFigures f;
     // If the drawings still exceed the budget, keep every stride-th (and the top and bottom).
-    int stride = 1;
-    if (m.spilled > 0 && size_t(m.spilled) > m.budget + m.budget / 8)
-        stride = int(std::ceil(double(m.spilled) / double(m.budget)));
-    auto keep_drawing = [&](size_t i) { return stride == 1 || i % stride == 0 || i + 1 == n; };
+    f.n = n;
+    if (spilled > 0 && size_t(spilled) > budget + budget / 8)
+        f.stride = int(std::ceil(double(spilled) / double(budget)));
 
     // Totals.
-    double material_sum = 0, conventional = 0, best_score = -1;
-    size_t start = n / 2;
+    double material_sum = 0, best_score = -1;
+    f.start = n / 2;
     for (size_t i = 0; i < n; ++i) {
         material_sum += layers[i].material_mm3;
-        conventional += layers[i].conventional_mm3;
+        f.conventional += layers[i].conventional_mm3;
         // The page opens on the layer that shows the carving best: most cavities present, then
         // the most cavity wall, then a bridge.
         int present = 0;
         for (double a : layers[i].cavity_mm2) present += a > 1.0;
         const double score = present * 1e6 + layers[i].cavity_wall_mm + (layers[i].bridges > 0);
-        if (score > best_score && keep_drawing(i)) best_score = score, start = i;
+        if (score > best_score && f.keep_drawing(i)) best_score = score, f.start = i;
     }
-    const double material =
-        run.print.extruded_volume_mm3 > 0 ? run.print.extruded_volume_mm3 : material_sum;
+    f.material = run.print.extruded_volume_mm3 > 0 ? run.print.extruded_volume_mm3 : material_sum;
     const double filament_area = std::numbers::pi * st.filament_diameter * st.filament_diameter / 4;
-    const double filament_m = run.print.filament_length_mm > 0 ? run.print.filament_length_mm / 1000
-                                                               : material / filament_area / 1000;
-    const double grams = run.print.filament_weight_g > 0 ? run.print.filament_weight_g
-                                                         : material / 1000 * st.filament_density;
-    const double conventional_g = conventional / 1000 * st.filament_density;
-    const double model_volume = run.mesh.volume_mm3;
-    const int layer_count = run.layers > 0 ? run.layers : int(n);
-    double carved = 0;
-    for (double v : run.cavity_volume_mm3) carved += v;
-    int cavities = run.cavities > 0 ? run.cavities : m.max_cavities;
-    int bridges = run.bridges;
-    if (bridges == 0)
-        for (const ReportLayer& l : layers) bridges += l.bridges;
+    f.filament_m = run.print.filament_length_mm > 0 ? run.print.filament_length_mm / 1000
+                                                    : f.material / filament_area / 1000;
+    f.grams = run.print.filament_weight_g > 0 ? run.print.filament_weight_g
+                                              : f.material / 1000 * st.filament_density;
+    f.conventional_g = f.conventional / 1000 * st.filament_density;
+    f.model_volume = run.mesh.volume_mm3;
+    f.layer_count = run.layers > 0 ? run.layers : int(n);
+    for (double v : run.cavity_volume_mm3) f.carved += v;
+    f.cavities = run.cavities > 0 ? run.cavities : max_cavities;
+    f.bridges = run.bridges;
+    if (f.bridges == 0)
+        for (const ReportLayer& l : layers) f.bridges += l.bridges;
 
-    std::string model = m.model_name.empty()
-                            ? std::string("model")
-                            : std::filesystem::path(m.model_name).filename().string();
+    f.model = model_name.empty() ? std::string("model")
+                                 : std::filesystem::path(model_name).filename().string();
     if (stats.is_object()) {
         for (const char* key : {"model", "model_path", "input"}) {
             if (stats.contains(key) && stats[key].is_string()) {
-                model = std::filesystem::path(stats[key].get<std::string>()).filename().string();
+                f.model = std::filesystem::path(stats[key].get<std::string>()).filename().string();
                 break;
             }
         }
     }
 
-    std::string date;
     {
         const std::time_t now = std::time(nullptr);
         char buf[64];
-        if (std::strftime(buf, sizeof buf, "%Y-%m-%d %H:%M", std::localtime(&now))) date = buf;
+        if (std::strftime(buf, sizeof buf, "%Y-%m-%d %H:%M", std::localtime(&now))) f.date = buf;
     }
 
-    // The atomic writer's temporary (unique per run, removed on any error or signal), written
-    // through a stream of its own; AtomicFile::close() then fsyncs it.
-    auto file = std::make_unique<AtomicFile>(m.path);
-    std::ofstream out(file->temporary(), std::ios::binary | std::ios::trunc);
-    if (!out) throw OutputError("cannot write the HTML report " + m.path);
+    return f;
+}
 
-    const double grid = double(kGrid);
-    const double line_w = st.nozzle * kUnitsPerMm / grid;  // stroke width in drawing units
+void HtmlReportWriter::Impl::write_head(std::ostream& out, const PageFigures& f) const {
+    const Settings& st = settings;
+    const double line_w = st.nozzle * kUnitsPerMm / double(kGrid);  // stroke width, drawing units
     out << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
            "<meta name=\"viewport\" content=\"width=device-width,initial-scale=1\">\n";
-    out << "<title>carve report: " << xml_escape(model) << "</title>\n<style>" << kCss;
-    out << fmt::format("#view .o{{stroke:{};stroke-width:{:.1f}px}}\n", kOuterColor, 0.85 * line_w);
-    out << fmt::format("#view .s{{stroke:{};stroke-width:{:.1f}px}}\n", kShellColor, 0.85 * line_w);
+    out << "<title>carve report: " << xml_escape(f.model) << "</title>\n<style>" << kCss;
+    out << fmt::format("#view .o{{stroke:{};stroke-width:{:.1f}px}}\n", kOuterWallColour,
+                       0.85 * line_w);
+    out << fmt::format("#view .s{{stroke:{};stroke-width:{:.1f}px}}\n", kShellColour,
+                       0.85 * line_w);
     out << fmt::format("#view .c{{stroke:{};stroke-width:{:.1f}px}}\n", kCoverColor, 0.7 * line_w);
     out << fmt::format("#view .w{{stroke-width:{:.1f}px}}\n", 0.75 * line_w);
     out << fmt::format("#view .g{{stroke-width:{:.1f}px}}\n", 0.6 * line_w);
     out << fmt::format("#view .b{{stroke:{};stroke-width:{:.1f}px;stroke-linecap:butt}}\n",
-                       kBridgeColor, 1.3 * line_w);
-    for (size_t k = 0; k < kCavityColors.size(); ++k)
+                       kBridgeColour, 1.3 * line_w);
+    for (size_t k = 0; k < kCavityColours.size(); ++k)
         out << fmt::format("#view .w.k{0}{{stroke:{1}}} #view .r.k{0}{{fill:{1}}}\n", k + 1,
-                           kCavityColors[k]);
+                           kCavityColours[k]);
     out << "</style>\n</head>\n<body>\n";
+}
 
+void HtmlReportWriter::Impl::write_cards(std::ostream& out, const PageFigures& f,
+                                         const RunResult& run) const {
+    const Settings& st = settings;
     // Header.
     const std::string preset =
         fmt::format("{} layers of {} mm, nozzle {} mm, {} cavities, {} covers, {} shells, {} walls",
-                    layer_count, st.layer_height, st.nozzle,
+                    f.layer_count, st.layer_height, st.nozzle,
                     st.cavities_auto ? std::string("auto") : std::to_string(st.cavities), st.covers,
                     st.shells, st.walls == WallMode::Single ? "single-filament" : "double");
-    out << "<header class=\"top\"><div class=\"brand\">carve</div><div><h1>" << xml_escape(model)
-        << "</h1><div class=\"sub\">" << xml_escape(preset) << " &middot; " << xml_escape(date)
+    out << "<header class=\"top\"><div class=\"brand\">carve</div><div><h1>" << xml_escape(f.model)
+        << "</h1><div class=\"sub\">" << xml_escape(preset) << " &middot; " << xml_escape(f.date)
         << "</div></div></header>\n<main>\n";
 
     // Cards.
     out << "<section class=\"cards\">\n";
     out << "<div class=\"card\"><div class=\"label\">Material</div><div class=\"big\">"
-        << fixed(material / 1000, 2) << "<span class=\"unit\">cm³</span></div><div class=\"small\">"
-        << (model_volume > 0 ? fixed(100 * material / model_volume, 1) + " % of the model's volume"
-                             : std::string("model volume unknown"))
-        << "<br>" << fixed(grams, 1) << " g &middot; " << fixed(filament_m, 2) << " m of "
+        << fixed(f.material / 1000, 2)
+        << "<span class=\"unit\">cm³</span></div><div class=\"small\">"
+        << (f.model_volume > 0
+                ? fixed(100 * f.material / f.model_volume, 1) + " % of the model's volume"
+                : std::string("model volume unknown"))
+        << "<br>" << fixed(f.grams, 1) << " g &middot; " << fixed(f.filament_m, 2) << " m of "
         << st.filament_diameter << " mm filament</div></div>\n";
-    if (conventional > 0) {
-        const double saving = 100 * (1 - material / conventional);
-        const double frac = std::clamp(material / conventional, 0.0, 1.0);
+    if (f.conventional > 0) {
+        const double saving = 100 * (1 - f.material / f.conventional);
+        const double frac = std::clamp(f.material / f.conventional, 0.0, 1.0);
         out << "<div class=\"card good\"><div class=\"label\">Saved against 15 % infill</div>"
             << "<div class=\"big\">" << fixed(saving, 0) << "<span class=\"unit\">%</span></div>"
             << "<div class=\"bars\"><div class=\"bar\"><b style=\"width:" << fixed(70 * frac, 1)
-            << "%;background:#1c7ed6\"></b><span>carve " << sig3(material / 1000)
+            << "%;background:#1c7ed6\"></b><span>carve " << sig3(f.material / 1000)
             << " cm³</span></div><div class=\"bar\"><b style=\"width:70%;background:#9ca3af\"></b>"
-            << "<span>infill " << sig3(conventional / 1000) << " cm³</span></div></div>"
-            << "<div class=\"small\">" << fixed(conventional_g - grams, 1)
+            << "<span>infill " << sig3(f.conventional / 1000) << " cm³</span></div></div>"
+            << "<div class=\"small\">" << fixed(f.conventional_g - f.grams, 1)
             << " g less filament (estimate, see below)</div></div>\n";
     } else {
         out << "<div class=\"card\"><div class=\"label\">Saved against 15 % infill</div>"
@@ -787,30 +339,35 @@ void HtmlReportWriter::finish(const RunResult& run, const nlohmann::json& stats)
     if (run.peak_memory_mb > 0) out << ", peak memory " << fixed(run.peak_memory_mb, 0) << " MB";
     if (run.print.retractions > 0) out << "<br>" << run.print.retractions << " retractions";
     out << "</div></div>\n";
-    out << "<div class=\"card\"><div class=\"label\">Cavities</div><div class=\"big\">" << cavities
-        << "<span class=\"unit\">nested</span></div><div class=\"small\">";
-    if (model_volume > 0 && carved > 0)
-        out << fixed(100 * carved / model_volume, 1) << " % of the volume left hollow<br>";
-    out << bridges << (bridges == 1 ? " bridge" : " bridges");
+    out << "<div class=\"card\"><div class=\"label\">Cavities</div><div class=\"big\">"
+        << f.cavities << "<span class=\"unit\">nested</span></div><div class=\"small\">";
+    if (f.model_volume > 0 && f.carved > 0)
+        out << fixed(100 * f.carved / f.model_volume, 1) << " % of the volume left hollow<br>";
+    out << f.bridges << (f.bridges == 1 ? " bridge" : " bridges");
     if (run.bridge_length_mm > 0) out << ", " << fixed(run.bridge_length_mm, 0) << " mm of lines";
     out << "</div></div>\n";
     const Vec3 size{run.mesh.bbox.max.x - run.mesh.bbox.min.x,
                     run.mesh.bbox.max.y - run.mesh.bbox.min.y,
                     run.mesh.bbox.max.z - run.mesh.bbox.min.z};
     out << "<div class=\"card\"><div class=\"label\">Model</div><div class=\"big\">"
-        << (model_volume > 0 ? sig3(model_volume / 1000) : std::string("&mdash;"))
+        << (f.model_volume > 0 ? sig3(f.model_volume / 1000) : std::string("&mdash;"))
         << "<span class=\"unit\">cm³</span></div><div class=\"small\">" << run.mesh.triangles
-        << " triangles &middot; " << layer_count << " layers<br>" << fixed(size.x, 1) << " × "
+        << " triangles &middot; " << f.layer_count << " layers<br>" << fixed(size.x, 1) << " × "
         << fixed(size.y, 1) << " × " << fixed(size.z, 1) << " mm</div></div>\n";
     out << "</section>\n";
+}
 
+std::array<double, 4> HtmlReportWriter::Impl::write_viewer(std::ostream& out,
+                                                           const PageFigures& f) const {
+    const Settings& st = settings;
     // Layer viewer.
+    const double grid = double(kGrid);
     const double pad =
         std::max(2.0 * kUnitsPerMm,
-                 0.04 * double(std::max(m.box.max_x - m.box.min_x, m.box.max_y - m.box.min_y))) /
+                 0.04 * double(std::max(box.max_x - box.min_x, box.max_y - box.min_y))) /
         grid;
-    const double bx0 = double(m.box.min_x) / grid, bx1 = double(m.box.max_x) / grid;
-    const double by0 = double(m.box.min_y) / grid, by1 = double(m.box.max_y) / grid;
+    const double bx0 = double(box.min_x) / grid, bx1 = double(box.max_x) / grid;
+    const double by0 = double(box.min_y) / grid, by1 = double(box.max_y) / grid;
     const std::array<double, 4> vb = {std::floor(bx0 - pad), std::floor(-by1 - pad),
                                       std::ceil(bx1 - bx0 + 2 * pad),
                                       std::ceil(by1 - by0 + 2.6 * pad)};
@@ -837,8 +394,8 @@ void HtmlReportWriter::finish(const RunResult& run, const nlohmann::json& stats)
         << "<div class=\"hint\">scroll to zoom &middot; drag to pan &middot; double-click to fit "
            "&middot; arrow keys change layer</div></div>\n";
     out << "<aside class=\"side\"><h2 id=\"lnum\">Layer</h2><div class=\"z\" id=\"lz\"></div>"
-        << "<input type=\"range\" id=\"slider\" min=\"0\" max=\"" << (n ? n - 1 : 0)
-        << "\" value=\"" << start << "\" aria-label=\"layer\">"
+        << "<input type=\"range\" id=\"slider\" min=\"0\" max=\"" << (f.n ? f.n - 1 : 0)
+        << "\" value=\"" << f.start << "\" aria-label=\"layer\">"
         << "<div class=\"controls\"><button id=\"down\" title=\"layer below\">&#9660;</button>"
            "<button id=\"play\">&#9654; play</button><button id=\"up\" title=\"layer above\">"
            "&#9650;</button></div>\n<div class=\"legend\">";
@@ -847,40 +404,51 @@ void HtmlReportWriter::finish(const RunResult& run, const nlohmann::json& stats)
         out << "<label><input type=\"checkbox\" data-k=\"" << key << "\"" << (on ? " checked" : "")
             << ">" << swatch << label << "</label>";
     };
-    auto sw = [](const char* color, bool fill = false) {
+    auto sw = [](const std::string& color, bool fill = false) {
         return fmt::format("<span class=\"sw{}\" style=\"background:{}\"></span>",
                            fill ? " fill" : "", color);
     };
-    toggle("o", sw(kOuterColor), st.shells > 0 ? "outer wall and shells" : "outer wall", true);
+    toggle("o", sw(kOuterWallColour), st.shells > 0 ? "outer wall and shells" : "outer wall", true);
     toggle("c", sw(kCoverColor), "covers (solid top and bottom)", true);
     std::string cav_sw = "<span class=\"cavsw\">";
-    for (int j = 1; j <= std::max(1, std::min(m.max_cavities, int(kCavityColors.size()))); ++j)
-        cav_sw += sw(cavity_color(j));
+    for (int j = 1; j <= std::max(1, std::min(max_cavities, int(kCavityColours.size()))); ++j)
+        cav_sw += sw(cavity_colour(j));
     cav_sw += "</span>";
     toggle("w", cav_sw, "cavity walls, one colour per cavity", true);
-    toggle("b", sw(kBridgeColor), "bridges", true);
-    toggle("r", sw(kCavityColors[0], true), "cavity regions", true);
+    toggle("b", sw(kBridgeColour), "bridges", true);
+    toggle("r", sw(kCavityColours[0], true), "cavity regions", true);
     toggle("O", sw("#dfe3e8"), "slice of the model", true);
     toggle("g", sw("#c9ced6"), "layer below", false);
     out << "</div>\n<dl class=\"figs\" id=\"figs\"></dl><p class=\"note\" id=\"note\"></p>"
         << "</aside>\n</section>\n";
 
+    return vb;
+}
+
+PlotFrame HtmlReportWriter::Impl::write_plots(std::ostream& out) const {
     // Plots.
     PlotFrame frame;
-    frame.n = int(std::max<size_t>(n, 1));
+    frame.n = int(std::max<size_t>(layers.size(), 1));
     out << "<section class=\"panel plots\">\n<div><h3>Material per layer</h3><p class=\"cap\">"
         << chip("#1c7ed6", "carve") << chip("#6b7280", "ordinary 15 % infill (estimate)")
         << "</p><p class=\"cap\">volume extruded in each layer; click a plot to show that layer"
         << "</p>" << material_plot(layers, frame) << "</div>\n";
     out << "<div><h3>What each slice is made of</h3><p class=\"cap\">"
         << chip(kCoverColor, "covers");
-    for (int j = 1; j <= m.max_cavities; ++j)
-        out << chip(cavity_color(j), fmt::format("C<sup>{}</sup>", j));
+    for (int j = 1; j <= max_cavities; ++j)
+        out << chip(cavity_colour(j), fmt::format("C<sup>{}</sup>", j));
     out << chip(kRemainderColor, "remainder V<sup>k</sup>")
         << "</p><p class=\"cap\">share of each slice's area; the rest up to 100 % is the "
-        << "outer wall's band</p>" << share_plot(layers, m.max_cavities, frame)
+        << "outer wall's band</p>" << share_plot(layers, max_cavities, frame)
         << "</div>\n</section>\n";
 
+    return frame;
+}
+
+void HtmlReportWriter::Impl::write_details(std::ostream& out, const PageFigures& f,
+                                           const RunResult& run,
+                                           const nlohmann::json& stats) const {
+    const Settings& st = settings;
     // How the figures are computed.
     double covers_mm3 = 0, carvable_mm3 = 0, perimeter_mm3 = 0;
     for (const ReportLayer& l : layers) {
@@ -911,18 +479,18 @@ void HtmlReportWriter::finish(const RunResult& run, const nlohmann::json& stats)
            "bottom surfaces, standing in for a conventional slicer's 3 top and 3 bottom layers); "
            "A<sub>interior</sub>: the carvable area. Over the whole model: perimeters "
         << sig3(perimeter_mm3 / 1000) << " cm³ + solid " << sig3(covers_mm3 / 1000)
-        << " cm³ + infill " << sig3(carvable_mm3 / 1000) << " cm³ = " << sig3(conventional / 1000)
-        << " cm³ (" << fixed(conventional_g, 1)
+        << " cm³ + infill " << sig3(carvable_mm3 / 1000) << " cm³ = " << sig3(f.conventional / 1000)
+        << " cm³ (" << fixed(f.conventional_g, 1)
         << " g). It is an estimate: a real slicer's figure differs with its overlaps, gap "
            "fill and infill pattern.</p>\n"
         << "<p class=\"small\">Layer drawings: paths simplified (Douglas&ndash;Peucker) to "
         << fixed(kTolerances[0] / kUnitsPerMm, 2) << " mm and rounded to 0.01 mm";
     if (max_tol > kTolerances[0] / kUnitsPerMm + 1e-9)
-        out << "; " << (n - size_t(min_tol_layers))
+        out << "; " << (f.n - size_t(min_tol_layers))
             << " busy layers were simplified further, up to " << fixed(max_tol, 2)
             << " mm, to keep this page small";
-    if (stride > 1)
-        out << "; only one layer in " << stride << " is drawn (the figures cover every layer)";
+    if (f.stride > 1)
+        out << "; only one layer in " << f.stride << " is drawn (the figures cover every layer)";
     out << ". Lines are drawn at " << 0.75 * st.nozzle << "&ndash;" << 0.85 * st.nozzle
         << " mm so that neighbours stay apart; bridges at " << 1.3 * st.nozzle << " mm.</p>\n";
     if (!run.mesh.warnings.empty()) {
@@ -949,11 +517,15 @@ void HtmlReportWriter::finish(const RunResult& run, const nlohmann::json& stats)
         << "</pre></details>\n</div></div></section>\n</main>\n"
         << "<footer>Made by carve &middot; self-contained page, nothing is loaded from the "
            "network</footer>\n";
+}
 
+void HtmlReportWriter::Impl::write_data(std::ostream& out, const PageFigures& f,
+                                        const std::array<double, 4>& vb,
+                                        const PlotFrame& frame) const {
     // Data: one entry per layer, bottom up, the numbers then the drawing.
     out << "<script>\nconst LAYERS = [\n";
     std::string buf;
-    for (size_t i = 0; i < n; ++i) {
+    for (size_t i = 0; i < f.n; ++i) {
         const ReportLayer& l = layers[i];
         nlohmann::ordered_json num;
         num["i"] = l.index;
@@ -969,27 +541,47 @@ void HtmlReportWriter::finish(const RunResult& run, const nlohmann::json& stats)
         num["l"] = {rounded(l.wall_mm, 1), rounded(l.cover_mm, 1), rounded(l.cavity_wall_mm, 1),
                     rounded(l.bridge_mm, 1)};
         std::string entry = num.dump();
-        if (keep_drawing(i) && l.bytes > 0) {
+        if (f.keep_drawing(i) && l.bytes > 0) {
             buf.resize(size_t(l.bytes));
-            if (std::fseek(m.spill, l.offset, SEEK_SET) != 0 ||
-                std::fread(buf.data(), 1, buf.size(), m.spill) != buf.size())
+            if (std::fseek(spill, l.offset, SEEK_SET) != 0 ||
+                std::fread(buf.data(), 1, buf.size(), spill) != buf.size())
                 throw InputError("cannot read back the HTML report's temporary file");
             entry.pop_back();
             entry += ',';
             entry += buf;
             entry += '}';
         }
-        out << entry << (i + 1 < n ? ",\n" : "\n");
+        out << entry << (i + 1 < f.n ? ",\n" : "\n");
     }
     out << "];\n";
     nlohmann::json meta;
-    meta["layers"] = layer_count;
-    meta["start"] = start;
-    meta["stride"] = stride;
+    meta["layers"] = f.layer_count;
+    meta["start"] = f.start;
+    meta["stride"] = f.stride;
     meta["viewBox"] = vb;
     meta["plot"] = {{"left", frame.left}, {"w", frame.inner_w()}, {"width", frame.width}};
-    meta["colors"] = kCavityColors;
+    meta["colors"] = kCavityColours;
     out << "const META = " << meta.dump() << ";\n" << kScript << "</script>\n</body>\n</html>\n";
+}
+
+void HtmlReportWriter::finish(const RunResult& run, const nlohmann::json& stats) {
+    Impl& m = *impl_;
+    // Bottom up for the page; each layer's drawing is found in the spill file by its offset.
+    std::sort(m.layers.begin(), m.layers.end(),
+              [](const ReportLayer& a, const ReportLayer& b) { return a.index < b.index; });
+    const Impl::PageFigures f = m.figures(run, stats);
+
+    // The atomic writer's temporary (unique per run, removed on any error or signal), written
+    // through a stream of its own; AtomicFile::close() then fsyncs it.
+    auto file = std::make_unique<AtomicFile>(m.path);
+    std::ofstream out(file->temporary(), std::ios::binary | std::ios::trunc);
+    if (!out) throw OutputError("cannot write the HTML report " + m.path);
+    m.write_head(out, f);
+    m.write_cards(out, f, run);
+    const std::array<double, 4> vb = m.write_viewer(out, f);
+    const PlotFrame frame = m.write_plots(out);
+    m.write_details(out, f, run, stats);
+    m.write_data(out, f, vb, frame);
     out.close();
     if (!out) throw OutputError("cannot write the HTML report " + m.path);
     file->close();

@@ -15,17 +15,13 @@
 #include <vector>
 
 #include "carving/partition.hpp"
-#include "report/run_result.hpp"
 #include "config/settings.hpp"
+#include "report/run_result.hpp"
 #include "toolpath/toolpath.hpp"
 
 namespace carve {
 
 namespace html {
-
-// Douglas-Peucker simplification of a polyline (closed: the loop through its first point),
-// keeping points further than `tolerance` units from the simplified curve.
-Path simplify_path(const Path& path, bool closed, double tolerance);
 
 // SVG path data for contours or polylines, coordinates in units of `grid` micrometres (first
 // point absolute, then relative moves). Closed contours end with "z".

@@ -5,16 +5,10 @@
 
 #include <cmath>
 
+#include "gcode/gcode.hpp"
 #include "slice/slicer.hpp"
 
 namespace carve {
-
-std::string format_duration(double seconds) {
-    const long s = std::lround(seconds);
-    if (s >= 3600) return fmt::format("{}h {:02}m {:02}s", s / 3600, (s / 60) % 60, s % 60);
-    if (s >= 60) return fmt::format("{}m {:02}s", s / 60, s % 60);
-    return fmt::format("{}s", s);
-}
 
 nlohmann::json stats_json(const RunResult& run, const Settings& settings) {
     nlohmann::json j;
@@ -48,7 +42,8 @@ nlohmann::json stats_json(const RunResult& run, const Settings& settings) {
     s["layer_height_mm"] = settings.layer_height;
     s["nozzle_mm"] = settings.nozzle;
     s["max_overhang_deg"] = settings.max_overhang;
-    s["cavities"] = settings.cavities_auto ? nlohmann::json("auto") : nlohmann::json(settings.cavities);
+    s["cavities"] =
+        settings.cavities_auto ? nlohmann::json("auto") : nlohmann::json(settings.cavities);
     s["covers"] = settings.covers;
     s["shells"] = settings.shells;
     s["walls"] = settings.walls == WallMode::Single ? "single" : "double";
@@ -72,10 +67,12 @@ std::string summary_text(const RunResult& run, const Settings& settings) {
                        run.cavities,
                        run.mesh.volume_mm3 > 0 ? 100 * carved / run.mesh.volume_mm3 : 0.0,
                        run.bridges, run.bridge_length_mm);
-    out += fmt::format("material   {:.2f} cm3 = {:.1f} % of the model, {:.2f} m of filament, {:.1f} g\n",
-                       run.print.extruded_volume_mm3 / 1000, run.material_percent(),
-                       run.print.filament_length_mm / 1000, run.print.filament_weight_g);
-    out += fmt::format("print time {} (estimate)\n", format_duration(run.print.estimated_print_time_s));
+    out += fmt::format(
+        "material   {:.2f} cm3 = {:.1f} % of the model, {:.2f} m of filament, {:.1f} g\n",
+        run.print.extruded_volume_mm3 / 1000, run.material_percent(),
+        run.print.filament_length_mm / 1000, run.print.filament_weight_g);
+    out += fmt::format("print time {} (estimate)\n",
+                       format_duration(run.print.estimated_print_time_s));
     if (run.check)
         out += fmt::format(
             "hanging    {:.1f} mm2 inside the model, {:.1f} mm2 overhang (checked in {:.2f} s)\n",
@@ -99,16 +96,17 @@ std::string describe(const GcodeAnalysis& a) {
                        100 * a.far_unsupported_fraction);
     out += fmt::format("hanging          {:.1f} mm2 far-unsupported", a.far_unsupported_area_mm2);
     if (a.model_checked)
-        out += fmt::format(": {:.1f} mm2 inside (over the model's slice below), {:.1f} mm2 overhang",
-                           a.hanging_inside_mm2, a.hanging_overhang_mm2);
+        out +=
+            fmt::format(": {:.1f} mm2 inside (over the model's slice below), {:.1f} mm2 overhang",
+                        a.hanging_inside_mm2, a.hanging_overhang_mm2);
     out += "\n";
     out += fmt::format("retractions      {}", a.retractions);
     if (a.firmware_retractions > 0) out += fmt::format(" ({} G10)", a.firmware_retractions);
     out += "\n";
     out += fmt::format("travel           {:.0f} mm", a.travel_length_mm);
     if (a.model_checked)
-        out += fmt::format(" ({:.0f} mm outside the model, {} wall crossings)",
-                           a.travel_outside_mm, a.wall_crossings);
+        out += fmt::format(" ({:.0f} mm outside the model, {} wall crossings)", a.travel_outside_mm,
+                           a.wall_crossings);
     out += "\n";
     if (a.model_checked) {
         out += fmt::format("outside model    {:.1f} mm2 (farthest {:.2f} mm)\n", a.outside_area_mm2,
@@ -132,7 +130,8 @@ std::string describe(const GcodeAnalysis& a) {
     out += fmt::format("stick time       {} (no look-ahead, same stick for every slicer)\n",
                        format_duration(a.stick_time_s));
     if (a.estimated_time_from_header_s >= 0)
-        out += fmt::format("header time      {}\n", format_duration(a.estimated_time_from_header_s));
+        out +=
+            fmt::format("header time      {}\n", format_duration(a.estimated_time_from_header_s));
     return out;
 }
 
@@ -146,16 +145,19 @@ std::string describe_layers(const GcodeAnalysis& a) {
         out += fmt::format("{:9.2f}  {:13.1f}  {:7.2f}", l.z_mm, l.footprint_area_mm2,
                            l.far_unsupported_area_mm2);
         if (a.model_checked)
-            out += fmt::format("  {:10.2f}  {:12.2f}", l.hanging_inside_mm2, l.hanging_overhang_mm2);
+            out +=
+                fmt::format("  {:10.2f}  {:12.2f}", l.hanging_inside_mm2, l.hanging_overhang_mm2);
         out += fmt::format("  {:11}  {:9.1f}", l.retractions, l.travel_length_mm);
-        if (a.model_checked) out += fmt::format("  {:10.1f}  {:9}", l.travel_outside_mm, l.wall_crossings);
+        if (a.model_checked)
+            out += fmt::format("  {:10.1f}  {:9}", l.travel_outside_mm, l.wall_crossings);
         out += fmt::format("  {:7.1f}\n", l.stick_time_s);
     }
     return out;
 }
 
 GcodeAnalysis analyse_gcode_on_mesh(const std::string& gcode_path, const Mesh& mesh,
-                                    GcodeAnalysisOptions options, const std::optional<Vec3>& offset) {
+                                    GcodeAnalysisOptions options,
+                                    const std::optional<Vec3>& offset) {
     const BBox3 box = bounding_box(mesh);
     Vec3 shift;
     std::string how = "given";

@@ -5,15 +5,14 @@
 #include <optional>
 #include <string>
 
+#include "check/gcode_analysis.hpp"
 #include "config/settings.hpp"
 #include "report/run_result.hpp"
-#include "check/gcode_analysis.hpp"
 
 namespace carve {
 
 nlohmann::json stats_json(const RunResult& run, const Settings& settings);
 std::string summary_text(const RunResult& run, const Settings& settings);
-std::string format_duration(double seconds);  // "1h 02m 03s"
 // The figures of `carve check` for people.
 std::string describe(const GcodeAnalysis& analysis);
 // `carve check --layers` without --json: one line per layer.

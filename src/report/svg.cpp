@@ -23,18 +23,13 @@ namespace carve {
 
 namespace {
 
-// Report figures 1 and 3: C^1 red, C^2 blue, C^3 yellow, C^4 green; then hues that stay apart
-// from those and from the grey of the remainder and the magenta of the bridges.
-constexpr std::array<const char*, 12> kCavityColours = {"#e03131", "#1971c2", "#fcc419", "#2f9e44",
-                                                        "#f76707", "#7048e8", "#15aabf", "#8d5524",
-                                                        "#e64980", "#82a000", "#0b7285", "#364fc7"};
 constexpr const char* kOutlineFill = "#e9e9e9";
 constexpr const char* kOutlineStroke = "#b4b4b4";
 constexpr const char* kCoverFill = "#d8ccb4";  // sand: neutral, apart from every cavity hue
 constexpr const char* kRemainderFill = "#9a9a9a";
-constexpr const char* kBridge = "#ff00ff";
-constexpr const char* kOuterWall = "#000000";
-constexpr const char* kShell = "#3b3b3b";
+constexpr const char* kBridge = kBridgeColour;
+constexpr const char* kOuterWall = kOuterWallColour;
+constexpr const char* kShell = kShellColour;
 constexpr const char* kCoverLine = "#ffffff";
 
 // The cavity's colour darkened, for its wall lines: dark enough to read on its own fill.
@@ -120,10 +115,6 @@ std::string line_swatch(const std::string& colour, double width) {
 }
 
 }  // namespace
-
-std::string cavity_colour(int j) {
-    return kCavityColours[size_t(std::max(j - 1, 0)) % kCavityColours.size()];
-}
 
 std::string layer_svg(const LayerPartition& layer, const LayerToolpaths* paths,
                       const SvgOptions& options) {

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "carving/partition.hpp"
+#include "report/palette.hpp"
 #include "toolpath/toolpath.hpp"
 
 namespace carve {
@@ -25,8 +26,6 @@ struct SvgOptions {
     std::string title;           // empty: "layer i, z = .. mm"
 };
 
-// Colour of cavity C^j (j >= 1), as "#rrggbb". The first four follow the report's figures.
-std::string cavity_colour(int j);
 // Text made safe inside XML/HTML markup and attributes.
 std::string xml_escape(std::string_view text);
 

@@ -8,17 +8,17 @@
 #include <chrono>
 #include <cstdio>
 
-#include "carving/carving.hpp"
 #include "base/atomic_file.hpp"
 #include "base/error.hpp"
-#include "run/layer_queue.hpp"
 #include "base/stage_timer.hpp"
+#include "carving/carving.hpp"
 #include "geometry/polygon.hpp"
 #include "geometry/probe.hpp"
 #include "report/html_report.hpp"
-#include "resin/raster.hpp"
 #include "report/stats.hpp"
 #include "report/svg.hpp"
+#include "resin/raster.hpp"
+#include "run/layer_queue.hpp"
 #include "slice/slicer.hpp"
 #include "supports/bridges.hpp"
 #include "toolpath/toolpath.hpp"
@@ -65,11 +65,10 @@ double toolpath_volume_mm3(const LayerToolpaths& paths, const Settings& settings
 // Geometry sits below the stage timer and times its booleans and morphology through a probe;
 // the profile shows them as stages of their own.
 void profile_geometry() {
-    static const GeometryProbe probe{thread_cpu_ns, [](GeometryOp op, int64_t ns) {
-                                         add_stage_time(op == GeometryOp::kBoolean ? Stage::kBoolean
-                                                                                   : Stage::kMorphology,
-                                                        ns);
-                                     }};
+    static const GeometryProbe probe{
+        thread_cpu_ns, [](GeometryOp op, int64_t ns) {
+            add_stage_time(op == GeometryOp::kBoolean ? Stage::kBoolean : Stage::kMorphology, ns);
+        }};
     set_geometry_probe(&probe);
 }
 

@@ -20,10 +20,10 @@ struct RunOptions {
     std::string raster_dir;         // resin slice stack, empty = none
     double raster_pixel_mm = 0.05;  // pixel size of the resin images
     double raster_min_wall_mm = 0.4;  // thinnest cured wall: cavity outlines are thickened to it
-    std::string report_path;        // HTML report, empty = none
-    std::string stats_path;         // stats JSON, empty = none
-    bool progress = false;          // progress on stderr
-    bool progress_bar = true;       // a redrawn bar (terminal), else a plain line per 10 %
+    std::string report_path;          // HTML report, empty = none
+    std::string stats_path;           // stats JSON, empty = none
+    bool progress = false;            // progress on stderr
+    bool progress_bar = true;         // a redrawn bar (terminal), else a plain line per 10 %
     std::function<void(const std::string&)> note;  // warnings for the user (stderr)
     // Measure the written G-code as `carve check --mesh` does, with the loaded mesh at its
     // exact place. Off by default: it costs as much again as the slicing (cat: 3.1 s on top of

@@ -9,6 +9,8 @@
 #include <utility>
 #include <vector>
 
+#include "geometry/simplify.hpp"
+
 namespace carve::skel {
 
 namespace {
@@ -30,58 +32,6 @@ void collect(const ClipperLib::PolyNode& node, std::vector<Paths>& out) {
     }
 }
 
-double segment_distance(const Point& p, const Point& a, const Point& b) {
-    const double dx = double(b.X - a.X), dy = double(b.Y - a.Y);
-    const double l2 = dx * dx + dy * dy;
-    double t = l2 > 0 ? (double(p.X - a.X) * dx + double(p.Y - a.Y) * dy) / l2 : 0.0;
-    t = std::clamp(t, 0.0, 1.0);
-    return std::hypot(double(p.X) - (double(a.X) + t * dx), double(p.Y) - (double(a.Y) + t * dy));
-}
-
-// Douglas-Peucker on a closed contour: every dropped vertex is within `tolerance` of the
-// result. Boost's builder costs some 30 us per segment (most circle events of a finely
-// tessellated smooth contour fall back to its multiprecision path), so vertices that move the
-// axis by less than the allowed error are not worth their cost.
-void simplify(const Path& c, double tolerance, std::vector<std::pair<size_t, size_t>>& stack,
-              std::vector<uint8_t>& keep, Path& out) {
-    const size_t n = c.size();
-    out.clear();
-    if (n <= 3) {
-        out = c;
-        return;
-    }
-    size_t far = 0;
-    double far_d = -1;
-    for (size_t k = 1; k < n; ++k) {
-        const double d = std::hypot(double(c[k].X - c[0].X), double(c[k].Y - c[0].Y));
-        if (d > far_d) far_d = d, far = k;
-    }
-    keep.assign(n, 0);
-    keep[0] = keep[far] = 1;
-    stack.clear();
-    stack.push_back({0, far});
-    stack.push_back({far, n});  // n stands for vertex 0 closing the contour
-    while (!stack.empty()) {
-        const auto [i, j] = stack.back();
-        stack.pop_back();
-        const Point& a = c[i];
-        const Point& b = c[j % n];
-        double best = -1;
-        size_t at = 0;
-        for (size_t k = i + 1; k < j; ++k) {
-            const double d = segment_distance(c[k], a, b);
-            if (d > best) best = d, at = k;
-        }
-        if (best > tolerance) {
-            keep[at] = 1;
-            stack.push_back({i, at});
-            stack.push_back({at, j});
-        }
-    }
-    for (size_t k = 0; k < n; ++k)
-        if (keep[k]) out.push_back(c[k]);
-}
-
 }  // namespace
 
 std::vector<Paths> prepare_components(const Paths& region, double tolerance, int* mended) {
@@ -91,12 +41,14 @@ std::vector<Paths> prepare_components(const Paths& region, double tolerance, int
     // with a material triangle turned into a hole (winding -1). The plain union orients
     // correctly; what it leaves touching, mend_component() takes care of.
     ClipperLib::Clipper clipper;
-    std::vector<std::pair<size_t, size_t>> stack;
-    std::vector<uint8_t> keep;
+    // Douglas-Peucker: Boost's builder costs some 30 us per segment (most circle events of a
+    // finely tessellated smooth contour fall back to its multiprecision path), so vertices that
+    // move the axis by less than the allowed error are not worth their cost.
+    SimplifyScratch scratch;
     Path simple;
     for (const Path& p : cleaned) {
         if (p.size() < 3) continue;
-        simplify(p, tolerance, stack, keep, simple);
+        douglas_peucker(p, true, tolerance, scratch, simple);
         if (simple.size() >= 3) clipper.AddPath(simple, ClipperLib::ptSubject, true);
     }
     ClipperLib::PolyTree tree;

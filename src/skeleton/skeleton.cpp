@@ -11,8 +11,6 @@
 // in last_stats()); nothing throws.
 #include "skeleton/skeleton.hpp"
 
-#include "base/stage_timer.hpp"
-
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -21,6 +19,7 @@
 #include <utility>
 #include <vector>
 
+#include "base/stage_timer.hpp"
 #include "geometry/morphology.hpp"
 #include "geometry/polygon.hpp"
 #include "skeleton/axis_graph.hpp"

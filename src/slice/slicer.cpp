@@ -7,8 +7,6 @@
 // exact in topology whatever the rounding of the coordinates.
 #include "slice/slicer.hpp"
 
-#include "base/stage_timer.hpp"
-
 #include <algorithm>
 #include <array>
 #include <bit>
@@ -17,6 +15,7 @@
 #include <vector>
 
 #include "base/error.hpp"
+#include "base/stage_timer.hpp"
 
 namespace carve {
 

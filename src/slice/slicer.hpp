@@ -15,13 +15,13 @@
 namespace carve {
 
 struct Slice {
-    int index = 0;     // i, bottom-up
-    double z = 0;      // cut height in mm, in the mesh's own coordinates
-    Paths region;      // O_i, outer contours counter-clockwise, holes clockwise
+    int index = 0;  // i, bottom-up
+    double z = 0;   // cut height in mm, in the mesh's own coordinates
+    Paths region;   // O_i, outer contours counter-clockwise, holes clockwise
 };
 
 class TopDownSlicer {
-public:
+  public:
     // The mesh must outlive the slicer.
     TopDownSlicer(const Mesh& mesh, double layer_height);
     ~TopDownSlicer();
@@ -35,7 +35,7 @@ public:
     // uses it for the --max-vertices-per-layer guard).
     void on_slice(std::function<void(const Slice&)> check);
 
-private:
+  private:
     struct Impl;
     std::unique_ptr<Impl> impl_;
 };

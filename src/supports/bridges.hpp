@@ -40,12 +40,12 @@ Bridge plan_bridge(const Paths& need, const Paths& span, const BridgeOptions& op
 void add_bridges(LayerPartition& layer, const LayerPartition* below, const BridgeOptions& options);
 
 class BridgeStage : public LayerSource {
-public:
+  public:
     BridgeStage(LayerSource& input, const Settings& settings);
     // The next layer going down, with its bridges filled in.
     std::optional<LayerPartition> next() override;
 
-private:
+  private:
     LayerSource& input_;
     BridgeOptions options_;
     std::optional<LayerPartition> pending_;  // slice i, waiting for slice i - 1

@@ -9,13 +9,14 @@
 #include "geometry/morphology.hpp"
 #include "geometry/polygon.hpp"
 #include "mesh/mesh.hpp"
+#include "support/models.hpp"
 
 using namespace carve;
 
 namespace {
 
 std::string model(const std::string& name) {
-    return std::string(CARVE_MODELS_DIR) + "/" + name;
+    return carve::test::any_model(name);
 }
 
 struct SweepFigures {
@@ -116,6 +117,7 @@ SweepFigures sweep(const std::string& path, Settings settings) {
 }  // namespace
 
 TEST(Carving, FigureThreeCubeTwoIterations) {
+    CARVE_NEED_MODEL("synthetic/fig3_cube_indent.stl");
     Settings s;
     s.cavities = 2;
     const SweepFigures f = sweep(model("synthetic/fig3_cube_indent.stl"), s);
@@ -129,6 +131,7 @@ TEST(Carving, FigureThreeCubeTwoIterations) {
 }
 
 TEST(Carving, SphereSixIterationsLeavesLittle) {
+    CARVE_NEED_MODEL("synthetic/sphere_40mm.stl");
     Settings s;
     s.cavities = 6;
     const SweepFigures f = sweep(model("synthetic/sphere_40mm.stl"), s);
@@ -159,6 +162,7 @@ TEST(Carving, FandiskEveryLayerIsAnExactSelfSupportingPartition) {
 }
 
 TEST(Carving, ZeroCavitiesIsAPlainShell) {
+    CARVE_NEED_MODEL("synthetic/tall_box_30x30x80.stl");
     Settings s;
     s.cavities = 0;
     const SweepFigures f = sweep(model("synthetic/tall_box_30x30x80.stl"), s);
@@ -167,6 +171,7 @@ TEST(Carving, ZeroCavitiesIsAPlainShell) {
 }
 
 TEST(Carving, CoversKeepTopAndBottomSolid) {
+    CARVE_NEED_MODEL("synthetic/tall_box_30x30x80.stl");
     Settings s;
     s.covers = 3;
     MeshReport report;
@@ -191,6 +196,7 @@ TEST(Carving, CoversKeepTopAndBottomSolid) {
 // cavity front runs far ahead of the dilation; limited, every piece stays within
 // r + t + s of the cavity above and new tears start no wider than a seed's width plus 2t.
 TEST(Carving, TearLimitBoundsHowFastCavitiesOpen) {
+    CARVE_NEED_MODEL("synthetic/fig3_cube_indent.stl");
     Settings open;
     open.cavities = 2;
     const SweepFigures free = sweep(model("synthetic/fig3_cube_indent.stl"), open);

@@ -16,12 +16,13 @@
 #include <sstream>
 #include <thread>
 
-#include "support/carve_run.hpp"
+#include "check/gcode_analysis.hpp"
 #include "geometry/morphology.hpp"
 #include "geometry/polygon.hpp"
 #include "mesh/mesh.hpp"
-#include "check/gcode_analysis.hpp"
 #include "slice/slicer.hpp"
+#include "support/carve_run.hpp"
+#include "support/models.hpp"
 
 namespace fs = std::filesystem;
 using namespace carve;
@@ -30,7 +31,7 @@ using namespace carve::test;
 namespace {
 
 std::string model(const std::string& name) {
-    return std::string(CARVE_MODELS_DIR) + "/" + name;
+    return carve::test::any_model(name);
 }
 
 // `carve slice` of a shared model with --stats; the stats are parsed only if it succeeded.
@@ -52,6 +53,9 @@ StatsRun slice_with_stats(const std::string& name, const std::string& stem) {
 }  // namespace
 
 TEST(Cli, EveryUnreadableFileGivesOneLineAndExitOneAndNoOutput) {
+    CARVE_NEED_MODEL("bad/empty.stl");
+    CARVE_NEED_MODEL("bad/truncated.stl");
+    CARVE_NEED_MODEL("bad/nan_coords.stl");
     for (const char* bad : {"empty.stl", "truncated.stl", "nan_coords.stl"}) {
         const fs::path gcode = scratch() / (std::string(bad) + ".gcode");
         const CarveRun r =
@@ -67,6 +71,11 @@ TEST(Cli, EveryUnreadableFileGivesOneLineAndExitOneAndNoOutput) {
 }
 
 TEST(Cli, RepairableFilesSliceWithAWarning) {
+    CARVE_NEED_MODEL("bad/flipped_all_inward.stl");
+    CARVE_NEED_MODEL("bad/flipped_some.stl");
+    CARVE_NEED_MODEL("bad/open_cube_missing_top.stl");
+    CARVE_NEED_MODEL("bad/degenerate_collapsed.stl");
+    CARVE_NEED_MODEL("bad/nonmanifold_two_cubes_shared_edge.stl");
     for (const char* name :
          {"flipped_all_inward.stl", "flipped_some.stl", "open_cube_missing_top.stl",
           "degenerate_collapsed.stl", "nonmanifold_two_cubes_shared_edge.stl"}) {
@@ -83,6 +92,7 @@ TEST(Cli, RepairableFilesSliceWithAWarning) {
 // A cube missing its top has a signed volume of 2/3 of the cube, but it is sliced closed: the
 // model volume (and so the material and carved percentages) must be the sliced one.
 TEST(Cli, OpenMeshVolumeIsTheSlicedVolume) {
+    CARVE_NEED_MODEL("bad/open_cube_missing_top.stl");
     const auto [r, j, gcode, stats] = slice_with_stats("bad/open_cube_missing_top.stl", "open");
     ASSERT_EQ(r.status, 0) << r.err;
     EXPECT_NEAR(j["model_volume_mm3"].get<double>(), 8000.0, 80.0);
@@ -96,6 +106,7 @@ TEST(Cli, OpenMeshVolumeIsTheSlicedVolume) {
 }
 
 TEST(Cli, NonsenseOptionsAreRejectedInOneLine) {
+    CARVE_NEED_MODEL("synthetic/fig3_cube_indent.stl");
     const fs::path gcode = scratch() / "opt.gcode";
     for (const char* opts :
          {"--cavities lots", "--layer-height -1", "--walls triple", "--preset 9z9s", "--bed 10by10",
@@ -110,6 +121,7 @@ TEST(Cli, NonsenseOptionsAreRejectedInOneLine) {
 }
 
 TEST(Cli, ModelLargerThanTheBedIsRefusedUnlessAsked) {
+    CARVE_NEED_MODEL("synthetic/tall_box_30x30x80.stl");
     const fs::path gcode = scratch() / "bed.gcode";
     const std::string base =
         "slice " + model("synthetic/tall_box_30x30x80.stl") + " -o " + gcode.string();
@@ -121,6 +133,7 @@ TEST(Cli, ModelLargerThanTheBedIsRefusedUnlessAsked) {
 }
 
 TEST(Cli, StatsHaveTheContractFields) {
+    CARVE_NEED_MODEL("synthetic/fig3_cube_indent.stl");
     const auto [r, j, gcode, stats] = slice_with_stats("synthetic/fig3_cube_indent.stl", "fig3");
     ASSERT_EQ(r.status, 0) << r.err;
     for (const char* key :
@@ -196,6 +209,7 @@ TEST(Cli, InfoDescribesTheMesh) {
 }
 
 TEST(Cli, SameInputSameBytesWithOneToFiveThreads) {
+    CARVE_NEED_MODEL("synthetic/sphere_40mm.stl");
     const std::string base = "slice " + model("synthetic/sphere_40mm.stl") + " -q";
     std::string one;
     for (int threads = 1; threads <= 5; ++threads) {
@@ -212,6 +226,7 @@ TEST(Cli, SameInputSameBytesWithOneToFiveThreads) {
 }
 
 TEST(Cli, KilledMidRunLeavesNoOutput) {
+    CARVE_NEED_MODEL("skull.stl");
     const fs::path gcode = scratch() / "killed.gcode";
     const pid_t pid = fork();
     if (pid == 0) {
@@ -271,6 +286,7 @@ TEST(Cli, FandiskPrintsHollowSupportedAndInsideTheModel) {
 // The outer wall is complete on every layer: the length of the external perimeter printed at
 // each layer matches the perimeter of the model's slice shrunk by half a line width.
 TEST(Cli, OuterWallIsCompleteOnEveryLayer) {
+    CARVE_NEED_MODEL("cat.stl");
     const fs::path gcode = scratch() / "cat_wall.gcode";
     ASSERT_EQ(run_carve("slice " + model("cat.stl") + " -o " + gcode.string() + " -q --cavities 1")
                   .status,
@@ -317,6 +333,7 @@ TEST(Cli, OuterWallIsCompleteOnEveryLayer) {
 // Progress: on a file or a pipe, plain lines (one per tenth of the layers, no carriage
 // returns); on a terminal, a bar redrawn in place; nothing at all with --quiet.
 TEST(Cli, ProgressIsPlainLinesWithoutATerminalAndABarOnOne) {
+    CARVE_NEED_MODEL("synthetic/sphere_40mm.stl");
     const std::string gcode = (scratch() / "progress.gcode").string();
     const std::string args =
         "slice " + model("synthetic/sphere_40mm.stl") + " --scale 0.5 --cavities 2 -o " + gcode;

@@ -15,10 +15,10 @@
 #include <sstream>
 
 #include "base/error.hpp"
-#include "gcode/placeholders.hpp"
 #include "config/settings.hpp"
-
+#include "gcode/placeholders.hpp"
 #include "support/carve_run.hpp"
+#include "support/models.hpp"
 
 namespace fs = std::filesystem;
 using namespace carve;
@@ -278,7 +278,7 @@ namespace {
 std::map<std::string, std::string> run_config(const std::string& args) {
     static int n = 0;
     const fs::path gcode = scratch() / ("p" + std::to_string(++n) + ".gcode");
-    const std::string model = std::string(CARVE_MODELS_DIR) + "/synthetic/tall_box_30x30x80.stl";
+    const std::string model = carve::test::repo_model("fandisk.stl");
     const std::string cmd = std::string(CARVE_BINARY) + " slice " + model + " -o " +
                             gcode.string() + " --scale 0.25 --cavities 1 -q " + args +
                             " >/dev/null 2>" + (scratch() / "err.txt").string();

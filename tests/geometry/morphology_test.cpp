@@ -25,9 +25,12 @@
 #include "geometry/polygon.hpp"
 #include "mesh/mesh.hpp"
 #include "slice/slicer.hpp"
+#include "support/models.hpp"
+#include "support/shapes.hpp"
 #include "support/test_rng.hpp"
 
 using namespace carve;
+using carve::test::rect_region;
 
 namespace {
 
@@ -41,10 +44,6 @@ using carve::test::Rng;
 
 Point at(double x, double y) {
     return Point(Coord(std::llround(x)), Coord(std::llround(y)));
-}
-
-Paths rect(Coord x0, Coord y0, Coord x1, Coord y1) {
-    return {{{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}}};
 }
 
 Path rotated_rect(double cx, double cy, double len, double width, double angle) {
@@ -84,10 +83,10 @@ Path reversed(Path p) {
 // A comb: a bar with teeth, so that the outline has many reflex and convex right angles.
 Paths comb(Coord tooth, Coord gap, int teeth, Coord height) {
     const Coord total = teeth * tooth + (teeth - 1) * gap;
-    Paths parts = rect(0, 0, total, height / 3);
+    Paths parts = rect_region(0, 0, total, height / 3);
     for (int i = 0; i < teeth; ++i) {
         const Coord x = i * (tooth + gap);
-        parts.push_back(rect(x, 0, x + tooth, height)[0]);
+        parts.push_back(rect_region(x, 0, x + tooth, height)[0]);
     }
     return unite(parts);
 }
@@ -115,13 +114,13 @@ std::vector<Shape> zoo() {
         add("holed_star" + std::to_string(k), r);
     }
     {  // several holes, two of them 150 um apart so that erosion merges them
-        Paths r = rect(0, 0, 12000, 8000);
-        r.push_back(reversed(rect(1000, 1000, 4000, 7000)[0]));
-        r.push_back(reversed(rect(4150, 1000, 6000, 3000)[0]));
+        Paths r = rect_region(0, 0, 12000, 8000);
+        r.push_back(reversed(rect_region(1000, 1000, 4000, 7000)[0]));
+        r.push_back(reversed(rect_region(4150, 1000, 6000, 3000)[0]));
         r.push_back(reversed(star(rng, 9000, 4000, 12, 500, 1800)));
         add("many_holes", r);
     }
-    add("thin_strip", rect(0, 0, 20000, 300));
+    add("thin_strip", rect_region(0, 0, 20000, 300));
     add("thin_strip_tilted", {rotated_rect(0, 0, 15000, 350, 0.3)});
     add("thin_ring",
         {noisy_circle(rng, 0, 0, 5000, 200, 0), reversed(noisy_circle(rng, 0, 0, 4700, 200, 0))});
@@ -130,12 +129,12 @@ std::vector<Shape> zoo() {
     add("noisy_circle", {noisy_circle(rng, 0, 0, 10000, 400, 60)});
     {  // far apart components plus two that a dilation merges
         Paths r{star(rng, 0, 0, 20, 1500, 3000), star(rng, 12000, 0, 20, 1500, 3000)};
-        r.push_back(rect(0, 5000, 4000, 6000)[0]);
-        r.push_back(rect(0, 6100, 4000, 7000)[0]);
+        r.push_back(rect_region(0, 5000, 4000, 6000)[0]);
+        r.push_back(rect_region(0, 6100, 4000, 7000)[0]);
         add("components", r);
     }
     add("tiny_triangle", {{{0, 0}, {6, 0}, {2, 5}}});
-    add("tiny_square", rect(0, 0, 3, 3));
+    add("tiny_square", rect_region(0, 0, 3, 3));
     add("small_disk", {noisy_circle(rng, 0, 0, 120, 40, 0)});
     add("needle", {{{0, 0}, {10000, 40}, {0, 80}}});
     return shapes;
@@ -287,17 +286,17 @@ const std::vector<Coord> kRadii{50, 200, 1000};
 // Helpers of the test itself.
 
 TEST(MorphologyHelpers, HausdorffOfShiftedSquareIsTheShift) {
-    Paths a = rect(0, 0, 1000, 1000), b = rect(7, 0, 1007, 1000);
+    Paths a = rect_region(0, 0, 1000, 1000), b = rect_region(7, 0, 1007, 1000);
     EXPECT_NEAR(hausdorff(a, b), 7.0, 1e-9);
     EXPECT_EQ(hausdorff({}, {}), 0.0);
     EXPECT_TRUE(std::isinf(hausdorff(a, {})));
 }
 
 TEST(MorphologyHelpers, InsideDetectsAMissingPart) {
-    Paths a = rect(0, 0, 1000, 1000);
+    Paths a = rect_region(0, 0, 1000, 1000);
     EXPECT_TRUE(inside(a, a, 0));
-    EXPECT_FALSE(inside(rect(0, 0, 1000, 1100), a, 0));
-    EXPECT_TRUE(inside(rect(0, 0, 1000, 1003), a, 5));
+    EXPECT_FALSE(inside(rect_region(0, 0, 1000, 1100), a, 0));
+    EXPECT_TRUE(inside(rect_region(0, 0, 1000, 1003), a, 5));
 }
 
 TEST(MorphologyHelpers, ZooShapesAreValid) {
@@ -341,7 +340,7 @@ TEST(Morphology, DiskIsAConvexCentrallySymmetricIntegerPolygon) {
 
 TEST(Morphology, DilateSquareAddsBandAndRoundedCorners) {
     const Coord a = 10000, r = 1000;
-    Paths d = dilate(rect(0, 0, a, a), r);
+    Paths d = dilate(rect_region(0, 0, a, a), r);
     double expected = double(a) * a + 4.0 * a * r + area(Paths{disk(r)});
     EXPECT_NEAR(area(d), expected, 2.0);
     EXPECT_TRUE(normalised(d));
@@ -349,10 +348,10 @@ TEST(Morphology, DilateSquareAddsBandAndRoundedCorners) {
 
 TEST(Morphology, ErodeSquareShrinksBySharpInset) {
     const Coord a = 10000, r = 1000;
-    Paths e = erode(rect(0, 0, a, a), r);
+    Paths e = erode(rect_region(0, 0, a, a), r);
     double expected = double(a - 2 * r) * (a - 2 * r);
     EXPECT_NEAR(area(e), expected, 1.0);
-    EXPECT_LE(hausdorff(e, rect(r, r, a - r, a - r)), 0.01);
+    EXPECT_LE(hausdorff(e, rect_region(r, r, a - r, a - r)), 0.01);
 }
 
 TEST(Morphology, DiskDilatedByDiskIsTheBiggerDisk) {
@@ -576,7 +575,7 @@ TEST(MorphologyProperties, ErosionIsTheComplementOfTheDilatedComplement) {
             const BBox2 b = bounds(s.region);
             const Coord margin = 3 * a + 1000;
             const Paths box =
-                rect(b.min_x - margin, b.min_y - margin, b.max_x + margin, b.max_y + margin);
+                rect_region(b.min_x - margin, b.min_y - margin, b.max_x + margin, b.max_y + margin);
             const Paths complement = subtract(box, s.region);
             const Paths dual = subtract(s.region, dilate(complement, a));
             EXPECT_LE(hausdorff(erode(s.region, a), dual), 2.0);
@@ -590,13 +589,13 @@ TEST(MorphologyProperties, ErosionIsTheComplementOfTheDilatedComplement) {
 // Topology: vanishing shapes and holes.
 
 TEST(Morphology, ErosionThatRemovesEverythingIsEmpty) {
-    EXPECT_TRUE(erode(rect(0, 0, 1000, 1000), 600).empty());
-    EXPECT_TRUE(erode(rect(0, 0, 20000, 300), 200).empty());  // strip narrower than 2r
-    EXPECT_TRUE(erode(rect(0, 0, 20000, 400), 200).empty() ||
-                area(erode(rect(0, 0, 20000, 400), 200)) < 1.0);  // exactly 2r: degenerate
+    EXPECT_TRUE(erode(rect_region(0, 0, 1000, 1000), 600).empty());
+    EXPECT_TRUE(erode(rect_region(0, 0, 20000, 300), 200).empty());  // strip narrower than 2r
+    EXPECT_TRUE(erode(rect_region(0, 0, 20000, 400), 200).empty() ||
+                area(erode(rect_region(0, 0, 20000, 400), 200)) < 1.0);  // exactly 2r: degenerate
     EXPECT_TRUE(erode(Paths{disk(500)}, 501).empty());
-    EXPECT_TRUE(erode(rect(0, 0, 3, 3), 2).empty());
-    EXPECT_TRUE(open(rect(0, 0, 20000, 300), 200).empty());
+    EXPECT_TRUE(erode(rect_region(0, 0, 3, 3), 2).empty());
+    EXPECT_TRUE(open(rect_region(0, 0, 20000, 300), 200).empty());
     Rng rng(7);
     EXPECT_TRUE(erode(Paths{star(rng, 0, 0, 30, 2000, 3000)}, 3001).empty());
 }
@@ -605,7 +604,7 @@ TEST(Morphology, EmptyAndZeroRadius) {
     EXPECT_TRUE(dilate({}, 100).empty());
     EXPECT_TRUE(erode({}, 100).empty());
     EXPECT_TRUE(dilate_lines({}, 100).empty());
-    const Paths sq = rect(0, 0, 1000, 1000);
+    const Paths sq = rect_region(0, 0, 1000, 1000);
     EXPECT_EQ(area(dilate(sq, 0)), area(sq));
     EXPECT_EQ(area(erode(sq, 0)), area(sq));
     // A negative radius means the other operation.
@@ -615,8 +614,8 @@ TEST(Morphology, EmptyAndZeroRadius) {
 
 TEST(Morphology, HolesGrowUnderErosionAndCloseUnderDilation) {
     const Coord h = 2000, r = 300;
-    Paths s = rect(0, 0, 10000, 10000);
-    s.push_back(reversed(rect(4000, 4000, 4000 + h, 4000 + h)[0]));
+    Paths s = rect_region(0, 0, 10000, 10000);
+    s.push_back(reversed(rect_region(4000, 4000, 4000 + h, 4000 + h)[0]));
     const Paths e = erode(s, r);
     ASSERT_EQ(e.size(), 2u);
     const Paths holes = empty_holes(e);
@@ -633,12 +632,13 @@ TEST(Morphology, HolesGrowUnderErosionAndCloseUnderDilation) {
 }
 
 TEST(Morphology, TouchingComponentsMergeUnderDilation) {
-    Paths two{rect(0, 0, 1000, 1000)[0], rect(1300, 0, 2300, 1000)[0]};
+    Paths two{rect_region(0, 0, 1000, 1000)[0], rect_region(1300, 0, 2300, 1000)[0]};
     EXPECT_EQ(components(dilate(two, 149)).size(), 2u);
     EXPECT_EQ(components(dilate(two, 151)).size(), 1u);
     // Erosion separates a dumbbell at its neck.
-    Paths bell = unite(Paths{rect(0, 0, 3000, 3000)[0], rect(3000, 1300, 6000, 1700)[0],
-                             rect(6000, 0, 9000, 3000)[0]});
+    Paths bell =
+        unite(Paths{rect_region(0, 0, 3000, 3000)[0], rect_region(3000, 1300, 6000, 1700)[0],
+                    rect_region(6000, 0, 9000, 3000)[0]});
     EXPECT_EQ(components(erode(bell, 199)).size(), 1u);
     EXPECT_EQ(components(erode(bell, 201)).size(), 2u);
 }
@@ -647,8 +647,8 @@ TEST(Morphology, SmallHolesCloseUnderLargeDilation) {
     // Regression: with the report's backward walk at reflex vertices, a hole smaller than the
     // element left an inverted loop of winding -1 and the dilation kept a phantom hole.
     const Coord a = 10000;
-    Paths s = rect(0, 0, a, a);
-    s.push_back(reversed(rect(4000, 4000, 6000, 6000)[0]));
+    Paths s = rect_region(0, 0, a, a);
+    s.push_back(reversed(rect_region(4000, 4000, 6000, 6000)[0]));
     for (Coord r : {1001, 1500, 3000, 8000}) {
         SCOPED_TRACE(r);
         const Paths d = dilate(s, r);
@@ -656,8 +656,9 @@ TEST(Morphology, SmallHolesCloseUnderLargeDilation) {
         EXPECT_NEAR(area(d), double(a) * a + 4.0 * a * r + area(disk(r)), 4.0);
     }
     // A C-shaped ring whose slot and hole are both swallowed.
-    Paths c = subtract(rect(-3000, -3000, 3000, 3000), rect(-1000, -1000, 1000, 1000));
-    c = subtract(c, rect(-100, 0, 100, 4000));
+    Paths c =
+        subtract(rect_region(-3000, -3000, 3000, 3000), rect_region(-1000, -1000, 1000, 1000));
+    c = subtract(c, rect_region(-100, 0, 100, 4000));
     for (Coord r : {500, 1500, 2500}) {
         SCOPED_TRACE(r);
         const Paths d = dilate(c, r);
@@ -696,12 +697,12 @@ TEST(Morphology, NoisyContourDilationHasNoPhantomHoles) {
 }
 
 TEST(Morphology, ClockwiseInputIsNormalised) {
-    const Paths sq = rect(0, 0, 5000, 5000);
+    const Paths sq = rect_region(0, 0, 5000, 5000);
     const Paths cw{reversed(sq[0])};
     EXPECT_NEAR(area(dilate(cw, 200)), area(dilate(sq, 200)), 1e-6);
     EXPECT_NEAR(area(erode(cw, 200)), area(erode(sq, 200)), 1e-6);
     // Overlapping outers under non-zero fill dilate like their union.
-    const Paths overlapping{rect(0, 0, 5000, 5000)[0], rect(3000, 0, 8000, 5000)[0]};
+    const Paths overlapping{rect_region(0, 0, 5000, 5000)[0], rect_region(3000, 0, 8000, 5000)[0]};
     EXPECT_LE(hausdorff(dilate(overlapping, 300), dilate(unite(overlapping), 300)), 0.01);
 }
 
@@ -760,17 +761,21 @@ TEST(Morphology, RepeatedErosionAndDilationStayClose) {
 // ---------------------------------------------------------------------------------------------
 // Real slices: scanned organic contours with thousands of short edges, thin limbs and holes.
 
-TEST(MorphologyProperties, RealSlicesOfTheModels) {
-    struct Cut {
-        const char* model;
-        double z;
-    };
-    for (const Cut& cut : {Cut{"cat.stl", 20.1}, Cut{"cat.stl", 95.1}, Cut{"skull.stl", 40.1},
-                           Cut{"skull.stl", 75.1}, Cut{"man.stl", 60.1}}) {
-        MeshReport report;
-        const Mesh mesh = load_mesh(std::string(CARVE_MODELS_DIR) + "/" + cut.model, report);
-        const Paths s = slice_at(mesh, cut.z);
-        SCOPED_TRACE(std::string(cut.model) + " z=" + std::to_string(cut.z));
+// One test per model, so that a model missing from the shared folder is skipped by name.
+struct RealCuts {
+    const char* model;
+    std::vector<double> z;
+};
+
+class MorphologyRealSlices : public ::testing::TestWithParam<RealCuts> {};
+
+TEST_P(MorphologyRealSlices, DilationAndErosionBracketTheReference) {
+    CARVE_MODEL(path, GetParam().model);
+    MeshReport report;
+    const Mesh mesh = load_mesh(path, report);
+    for (const double z : GetParam().z) {
+        const Paths s = slice_at(mesh, z);
+        SCOPED_TRACE(std::string(GetParam().model) + " z=" + std::to_string(z));
         ASSERT_FALSE(s.empty());
         ASSERT_TRUE(normalised(s));
         for (Coord a : {200, 600}) {
@@ -788,6 +793,15 @@ TEST(MorphologyProperties, RealSlicesOfTheModels) {
         }
     }
 }
+
+INSTANTIATE_TEST_SUITE_P(Models, MorphologyRealSlices,
+                         ::testing::Values(RealCuts{"cat.stl", {20.1, 95.1}},
+                                           RealCuts{"skull.stl", {40.1, 75.1}},
+                                           RealCuts{"man.stl", {60.1}}),
+                         [](const auto& info) {
+                             const std::string m = info.param.model;
+                             return m.substr(0, m.find('.'));
+                         });
 
 // The erosion before its union (PositiveRegion) must mean the same region to a boolean that
 // reads it with the positive fill rule: the bridge stage subtracts from it directly.

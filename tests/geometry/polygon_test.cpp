@@ -107,35 +107,13 @@ TEST(Polygon, UnitePositiveKeepsOnlyPositiveWinding) {
     EXPECT_DOUBLE_EQ(area(unite_positive(Paths{square(0, 0, 1000), square(500, 0, 1000)})), 1.5e6);
 }
 
-TEST(Polygon, DropSmallRemovesSpecksAndTinyHoles) {
-    Paths r = ring_with_island();
-    r.push_back(square(20000, 0, 10));  // a speck of 100 um^2
-    r[0] = square(0, 0, 10000);
-    Paths with_pinhole = r;
-    with_pinhole.push_back(reversed(square(500, 500, 5)));  // a pinhole in the ring
-    const Paths kept = drop_small(with_pinhole, 1000);
-    EXPECT_DOUBLE_EQ(area(kept), area(ring_with_island()));
-    EXPECT_EQ(kept.size(), 3u);
-    // A threshold between the island (4 mm^2) and the hole (36 mm^2) drops only the island.
-    const Paths no_island = drop_small(ring_with_island(), 5e6);
-    EXPECT_EQ(no_island.size(), 2u);
-    EXPECT_DOUBLE_EQ(area(no_island), 1e8 - 36e6);
-    // Dropping an outer drops its holes with it.
-    const Paths small_ring{square(0, 0, 100), reversed(square(40, 40, 20))};
-    EXPECT_TRUE(drop_small(small_ring, 1e5).empty());
-    EXPECT_DOUBLE_EQ(area(drop_small(ring_with_island(), 3e6)), area(ring_with_island()));
-}
-
-TEST(Polygon, ClipLinesInsideAndOutside) {
+TEST(Polygon, ClipLinesKeepsThePartsInside) {
     const Paths region{square(0, 0, 1000)};
     const Paths lines{{{-500, 500}, {1500, 500}}, {{200, -100}, {200, 2000}}};
     const Paths in = clip_lines(lines, region);
-    const Paths out = clip_lines_outside(lines, region);
     EXPECT_DOUBLE_EQ(length(in, false), 2000.0);
-    EXPECT_DOUBLE_EQ(length(out, false), 1000.0 + 100.0 + 1000.0);
-    EXPECT_EQ(out.size(), 4u);
+    EXPECT_EQ(in.size(), 2u);
     EXPECT_TRUE(clip_lines(lines, Paths{}).empty());
-    EXPECT_EQ(clip_lines_outside(lines, Paths{}).size(), 2u);
     // A line across a hole is cut in two.
     const Paths holed = subtract(Paths{square(0, 0, 3000)}, Paths{square(1000, 1000, 1000)});
     const Paths across = clip_lines(Paths{{{-1, 1500}, {3001, 1500}}}, holed);

@@ -19,13 +19,14 @@
 
 #include "base/error.hpp"
 #include "report/mesh_info.hpp"
+#include "support/models.hpp"
 
 using namespace carve;
 namespace fs = std::filesystem;
 
 namespace {
 
-const std::string kModels = CARVE_MODELS_DIR;
+const std::string kModels = carve::test::shared_models_dir().string();
 
 std::string bad(const std::string& name) {
     return kModels + "/bad/" + name;
@@ -135,18 +136,22 @@ MeshReport load_ok(const std::string& path, Mesh* out = nullptr) {
 // ---- models/bad ----
 
 TEST(MeshBad, EmptyFileIsAnInputError) {
+    CARVE_NEED_MODEL("bad/empty.stl");
     expect_input_error(bad("empty.stl"), {"empty"});
 }
 
 TEST(MeshBad, TruncatedBinaryIsAnInputError) {
+    CARVE_NEED_MODEL("bad/truncated.stl");
     expect_input_error(bad("truncated.stl"), {"truncated", "12 triangles", "459 bytes"});
 }
 
 TEST(MeshBad, NanCoordinatesAreAnInputError) {
+    CARVE_NEED_MODEL("bad/nan_coords.stl");
     expect_input_error(bad("nan_coords.stl"), {"NaN", "triangle 3"});
 }
 
 TEST(MeshBad, AsciiCubeLoads) {
+    CARVE_NEED_MODEL("bad/ascii_cube.stl");
     MeshReport r = load_ok(bad("ascii_cube.stl"));
     EXPECT_EQ(r.format, "ASCII STL");
     EXPECT_EQ(r.triangles, 12u);
@@ -157,6 +162,7 @@ TEST(MeshBad, AsciiCubeLoads) {
 }
 
 TEST(MeshBad, FlippedAllInwardIsTurnedOut) {
+    CARVE_NEED_MODEL("bad/flipped_all_inward.stl");
     MeshReport r = load_ok(bad("flipped_all_inward.stl"));
     EXPECT_NEAR(r.volume_mm3, 8000.0, 1e-6);
     EXPECT_TRUE(r.inverted);
@@ -165,6 +171,7 @@ TEST(MeshBad, FlippedAllInwardIsTurnedOut) {
 }
 
 TEST(MeshBad, FlippedSomeAreFixed) {
+    CARVE_NEED_MODEL("bad/flipped_some.stl");
     MeshReport r = load_ok(bad("flipped_some.stl"));
     EXPECT_NEAR(r.volume_mm3, 8000.0, 1e-6);
     EXPECT_EQ(r.flipped_triangles, 3u);
@@ -174,6 +181,7 @@ TEST(MeshBad, FlippedSomeAreFixed) {
 }
 
 TEST(MeshBad, WrongNormalsOnlyNeedNoFlip) {
+    CARVE_NEED_MODEL("bad/wrong_normals_only.stl");
     MeshReport r = load_ok(bad("wrong_normals_only.stl"));
     EXPECT_NEAR(r.volume_mm3, 8000.0, 1e-6);
     EXPECT_EQ(r.flipped_triangles, 0u);
@@ -182,6 +190,7 @@ TEST(MeshBad, WrongNormalsOnlyNeedNoFlip) {
 }
 
 TEST(MeshBad, DegenerateSliverIsDroppedAndTheCubeStaysClosed) {
+    CARVE_NEED_MODEL("bad/degenerate_sliver.stl");
     MeshReport r = load_ok(bad("degenerate_sliver.stl"));
     EXPECT_EQ(r.triangles_read, 14u);
     EXPECT_EQ(r.degenerate_dropped, 1u);
@@ -193,6 +202,7 @@ TEST(MeshBad, DegenerateSliverIsDroppedAndTheCubeStaysClosed) {
 }
 
 TEST(MeshBad, DegenerateCollapsedIsDropped) {
+    CARVE_NEED_MODEL("bad/degenerate_collapsed.stl");
     MeshReport r = load_ok(bad("degenerate_collapsed.stl"));
     EXPECT_EQ(r.triangles_read, 13u);
     EXPECT_EQ(r.degenerate_dropped, 1u);
@@ -203,6 +213,7 @@ TEST(MeshBad, DegenerateCollapsedIsDropped) {
 }
 
 TEST(MeshBad, OpenCubeReportsFourOpenEdges) {
+    CARVE_NEED_MODEL("bad/open_cube_missing_top.stl");
     MeshReport r = load_ok(bad("open_cube_missing_top.stl"));
     EXPECT_EQ(r.triangles, 10u);
     EXPECT_EQ(r.open_edges, 4u);
@@ -214,6 +225,7 @@ TEST(MeshBad, OpenCubeReportsFourOpenEdges) {
 }
 
 TEST(MeshBad, CubesSharingAnEdgeHaveOneNonManifoldEdge) {
+    CARVE_NEED_MODEL("bad/nonmanifold_two_cubes_shared_edge.stl");
     MeshReport r = load_ok(bad("nonmanifold_two_cubes_shared_edge.stl"));
     EXPECT_EQ(r.triangles, 24u);
     EXPECT_EQ(r.nonmanifold_edges, 1u);
@@ -224,6 +236,7 @@ TEST(MeshBad, CubesSharingAnEdgeHaveOneNonManifoldEdge) {
 }
 
 TEST(MeshBad, CubesSharingAVertexLoad) {
+    CARVE_NEED_MODEL("bad/nonmanifold_two_cubes_shared_vertex.stl");
     MeshReport r = load_ok(bad("nonmanifold_two_cubes_shared_vertex.stl"));
     EXPECT_EQ(r.triangles, 24u);
     EXPECT_EQ(r.vertices, 15u);
@@ -235,6 +248,18 @@ TEST(MeshBad, CubesSharingAVertexLoad) {
 }
 
 TEST(MeshBad, EveryFileInTheFolderIsCovered) {
+    CARVE_NEED_MODEL("bad/empty.stl");
+    CARVE_NEED_MODEL("bad/truncated.stl");
+    CARVE_NEED_MODEL("bad/nan_coords.stl");
+    CARVE_NEED_MODEL("bad/ascii_cube.stl");
+    CARVE_NEED_MODEL("bad/flipped_all_inward.stl");
+    CARVE_NEED_MODEL("bad/flipped_some.stl");
+    CARVE_NEED_MODEL("bad/wrong_normals_only.stl");
+    CARVE_NEED_MODEL("bad/degenerate_sliver.stl");
+    CARVE_NEED_MODEL("bad/degenerate_collapsed.stl");
+    CARVE_NEED_MODEL("bad/open_cube_missing_top.stl");
+    CARVE_NEED_MODEL("bad/nonmanifold_two_cubes_shared_edge.stl");
+    CARVE_NEED_MODEL("bad/nonmanifold_two_cubes_shared_vertex.stl");
     // A new file in bad/ needs a test here.
     const std::set<std::string> known = {"empty.stl",
                                          "truncated.stl",
@@ -266,7 +291,8 @@ class RealModels : public ::testing::TestWithParam<RealModel> {};
 
 TEST_P(RealModels, LoadClosedWithThePublishedVolume) {
     const RealModel& m = GetParam();
-    MeshReport r = load_ok(kModels + "/" + m.file);
+    CARVE_MODEL(path, m.file);
+    MeshReport r = load_ok(path);
     EXPECT_EQ(r.format, "binary STL");
     EXPECT_EQ(r.triangles, m.triangles);
     EXPECT_TRUE(r.closed());
@@ -292,6 +318,7 @@ INSTANTIATE_TEST_SUITE_P(
 // ---- synthetic models ----
 
 TEST(MeshSynthetic, BoxWithInternalVoidKeepsTheVoid) {
+    CARVE_NEED_MODEL("synthetic/box_with_internal_void.stl");
     MeshReport r = load_ok(kModels + "/synthetic/box_with_internal_void.stl");
     EXPECT_EQ(r.triangles, 4104u);
     EXPECT_EQ(r.shells, 2u);
@@ -303,6 +330,11 @@ TEST(MeshSynthetic, BoxWithInternalVoidKeepsTheVoid) {
 }
 
 TEST(MeshSynthetic, OtherShapesHaveTheirPublishedVolumes) {
+    CARVE_NEED_MODEL("synthetic/fig3_cube_indent.stl");
+    CARVE_NEED_MODEL("synthetic/sphere_40mm.stl");
+    CARVE_NEED_MODEL("synthetic/torus.stl");
+    CARVE_NEED_MODEL("synthetic/tall_box_30x30x80.stl");
+    CARVE_NEED_MODEL("synthetic/two_spheres_overlapping.stl");
     struct Case {
         const char* file;
         double cm3;
@@ -325,6 +357,7 @@ TEST(MeshSynthetic, OtherShapesHaveTheirPublishedVolumes) {
 // ---- orientation repair on meshes built here ----
 
 TEST(MeshRepair, VoidFacingOutwardsIsTurnedToFaceIntoTheVoid) {
+    CARVE_NEED_MODEL("synthetic/box_with_internal_void.stl");
     MeshReport first;
     Mesh m = load_mesh(kModels + "/synthetic/box_with_internal_void.stl", first);
     // Turn every triangle of the inner (void) shell outwards: those within the sphere's radius.
@@ -341,6 +374,7 @@ TEST(MeshRepair, VoidFacingOutwardsIsTurnedToFaceIntoTheVoid) {
 }
 
 TEST(MeshRepair, WholeVoidBoxInsideOutIsTurnedAround) {
+    CARVE_NEED_MODEL("synthetic/box_with_internal_void.stl");
     MeshReport first;
     Mesh m = load_mesh(kModels + "/synthetic/box_with_internal_void.stl", first);
     for (auto& t : m.triangles) std::swap(t[1], t[2]);
@@ -386,17 +420,14 @@ TEST(MeshRepair, DuplicateTrianglesAreDropped) {
     EXPECT_TRUE(has_warning(r, "dropped 3 duplicate triangles")) << all_warnings(r);
 }
 
-TEST(MeshRepair, MeasuresAndMoves) {
-    Mesh m = cube_mesh(10, {5, -5, 2});
+TEST(MeshRepair, Measures) {
+    const Mesh m = cube_mesh(10, {5, -5, 2});
     EXPECT_NEAR(signed_volume(m), 1000.0, 1e-9);
-    BBox3 b = bounding_box(m);
+    const BBox3 b = bounding_box(m);
     EXPECT_DOUBLE_EQ(b.min.x, 5);
     EXPECT_DOUBLE_EQ(b.max.y, 5);
-    translate(m, {-5, 5, -2});
-    b = bounding_box(m);
-    EXPECT_DOUBLE_EQ(b.min.x, 0);
-    EXPECT_DOUBLE_EQ(b.min.y, 0);
-    EXPECT_DOUBLE_EQ(b.min.z, 0);
+    EXPECT_DOUBLE_EQ(b.min.z, 2);
+    EXPECT_DOUBLE_EQ(b.max.z, 12);
 }
 
 // ---- other formats and awkward files written here ----
@@ -411,6 +442,7 @@ TEST(MeshFormats, BinaryStlWhoseHeaderSaysSolid) {
 }
 
 TEST(MeshFormats, ObjWithQuadsNegativeIndicesAndSlashes) {
+    CARVE_NEED_MODEL("bad/ascii_cube.stl");
     MeshReport stl = load_ok(bad("ascii_cube.stl"));
     std::string obj = "# cube\nmtllib none.mtl\no cube\n";
     for (const auto& c : kCorner)
@@ -504,6 +536,7 @@ void write_3mf(const std::string& path, const std::string& model) {
 }  // namespace
 
 TEST(MeshFormats, ThreeMfCube) {
+    CARVE_NEED_MODEL("bad/ascii_cube.stl");
     MeshReport stl = load_ok(bad("ascii_cube.stl"));
     const std::string path = temp().file("cube.3mf");
     write_3mf(path, model_xml("<item objectid=\"1\" transform=\"1 0 0 0 1 0 0 0 1 5 6 7\"/>\n"));
@@ -592,6 +625,7 @@ TEST(MeshErrors, RandomBytes) {
 }
 
 TEST(MeshErrors, TruncatedAsciiStl) {
+    CARVE_NEED_MODEL("bad/ascii_cube.stl");
     std::ifstream in(bad("ascii_cube.stl"));
     std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
     write_file(temp().file("ascii_cut.stl"), text.substr(0, text.size() - 40));
@@ -616,6 +650,7 @@ TEST(MeshErrors, CoordinatesBeyondAKilometre) {
 // ---- mesh_info ----
 
 TEST(MeshInfo, JsonAndText) {
+    CARVE_NEED_MODEL("bad/open_cube_missing_top.stl");
     MeshReport r = load_ok(bad("open_cube_missing_top.stl"));
     nlohmann::json j = to_json(r);
     for (const char* key :

@@ -16,33 +16,15 @@
 #include "base/error.hpp"
 #include "geometry/morphology.hpp"
 #include "geometry/polygon.hpp"
+#include "support/shapes.hpp"
 
 using namespace carve;
+using carve::test::circle;
+using carve::test::rect_region;
 
 namespace {
 
 constexpr Coord kMm = 1000;
-
-Paths rect(Coord x0, Coord y0, Coord x1, Coord y1) {
-    return {{{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}}};
-}
-
-Path circle(Coord cx, Coord cy, double r, int n) {
-    Path p;
-    for (int k = 0; k < n; ++k) {
-        const double a = 2 * std::numbers::pi * k / n;
-        p.push_back({cx + std::llround(r * std::cos(a)), cy + std::llround(r * std::sin(a))});
-    }
-    return p;
-}
-
-double seg_dist(const Point& p, const Point& a, const Point& b) {
-    const double dx = double(b.X - a.X), dy = double(b.Y - a.Y);
-    const double len2 = dx * dx + dy * dy;
-    double t = len2 > 0 ? ((p.X - a.X) * dx + (p.Y - a.Y) * dy) / len2 : 0.0;
-    t = std::clamp(t, 0.0, 1.0);
-    return std::hypot(a.X + t * dx - p.X, a.Y + t * dy - p.Y);
-}
 
 // One hand-made layer: a 20 mm square, covers on the bottom and top layers, a round cavity C^1
 // and a slot C^2 in the middle one, with a bridge.
@@ -56,7 +38,7 @@ HandLayer make_layer(const Settings& st, int index, bool cover) {
     LayerPartition& l = h.part;
     l.index = index;
     l.z = (index + 0.5) * st.layer_height;
-    l.outline = rect(0, 0, 20 * kMm, 20 * kMm);
+    l.outline = rect_region(0, 0, 20 * kMm, 20 * kMm);
     l.wall_region = erode(l.outline, st.nozzle_radius());
     l.shell_paths_region = l.wall_region;
     h.paths.index = index;
@@ -78,7 +60,7 @@ HandLayer make_layer(const Settings& st, int index, bool cover) {
     }
     l.carvable = l.wall_region;
     l.cavities.push_back({circle(7 * kMm, 10 * kMm, 4 * kMm, 360)});
-    l.cavities.push_back(rect(13 * kMm, 3 * kMm, 16 * kMm, 17 * kMm));
+    l.cavities.push_back(rect_region(13 * kMm, 3 * kMm, 16 * kMm, 17 * kMm));
     l.remainder = subtract(subtract(l.carvable, l.cavities[0]), l.cavities[1]);
     for (int j = 0; j < 2; ++j) {
         Extrusion e;
@@ -90,7 +72,7 @@ HandLayer make_layer(const Settings& st, int index, bool cover) {
     }
     Bridge b;
     b.cavity = 1;
-    b.region = rect(6 * kMm, 9 * kMm, 8 * kMm, 11 * kMm);
+    b.region = rect_region(6 * kMm, 9 * kMm, 8 * kMm, 11 * kMm);
     b.lines = {{{3 * kMm, 10 * kMm}, {11 * kMm, 10 * kMm}}};
     l.bridges.push_back(b);
     Extrusion e;
@@ -150,33 +132,9 @@ std::string write_report(const std::filesystem::path& path, size_t budget = 0,
 
 }  // namespace
 
-TEST(SimplifyPath, CircleWithinTolerance) {
-    const Path c = circle(0, 0, 10 * kMm, 2000);
-    const Path s = html::simplify_path(c, true, 50);
-    EXPECT_LT(s.size(), size_t(200));
-    EXPECT_GT(s.size(), size_t(20));
-    // Every original point lies within the tolerance of the simplified loop.
-    double worst = 0;
-    for (const Point& p : c) {
-        double best = 1e18;
-        for (size_t i = 0; i < s.size(); ++i)
-            best = std::min(best, seg_dist(p, s[i], s[(i + 1) % s.size()]));
-        worst = std::max(worst, best);
-    }
-    EXPECT_LE(worst, 50.0 + 1e-6);
-}
-
-TEST(SimplifyPath, StraightLineCollapses) {
-    Path line;
-    for (int k = 0; k <= 100; ++k) line.push_back({k * 100, (k % 2) * 10});
-    const Path s = html::simplify_path(line, false, 50);
-    ASSERT_EQ(s.size(), size_t(2));
-    EXPECT_EQ(s.front(), line.front());
-    EXPECT_EQ(s.back(), line.back());
-}
-
 TEST(SvgPathData, RelativeCoordinatesOnTheGrid) {
-    EXPECT_EQ(html::svg_path_data(rect(0, 0, kMm, kMm), true, 50, 10), "M0 0l100 0 0 100-100 0z");
+    EXPECT_EQ(html::svg_path_data(rect_region(0, 0, kMm, kMm), true, 50, 10),
+              "M0 0l100 0 0 100-100 0z");
     EXPECT_EQ(html::svg_path_data(Paths{{{-1234, 5678}, {4321, -8765}}}, false, 50, 10),
               "M-123 568l555-1445");
     // Points that fall on one grid node vanish; a path reduced to one point is dropped.

@@ -18,24 +18,13 @@
 #include "base/error.hpp"
 #include "geometry/morphology.hpp"
 #include "geometry/polygon.hpp"
+#include "support/shapes.hpp"
 
 using namespace carve;
+using carve::test::circle;
+using carve::test::rect;
 
 namespace {
-
-Path rect(Coord x0, Coord y0, Coord x1, Coord y1) {
-    return {{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}};
-}
-
-Path circle(double cx, double cy, double r, int n = 64) {
-    Path p;
-    for (int i = 0; i < n; ++i) {
-        const double t = 2 * M_PI * i / n;
-        p.emplace_back(Coord(std::llround(cx + r * std::cos(t))),
-                       Coord(std::llround(cy + r * std::sin(t))));
-    }
-    return p;
-}
 
 // A 40 x 30 mm slice with a round hole, a cover band along its bottom, four cavities (a
 // disk, a ring around it, and two side blocks), the remainder in between, and one bridge.

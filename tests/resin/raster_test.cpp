@@ -22,25 +22,24 @@
 #include "geometry/polygon.hpp"
 #include "mesh/mesh.hpp"
 #include "slice/slicer.hpp"
+#include "support/models.hpp"
+#include "support/shapes.hpp"
 #include "supports/bridges.hpp"
 #include "toolpath/toolpath.hpp"
 
 using namespace carve;
+using carve::test::rect_region;
 
 namespace {
 
 constexpr Coord kMm = 1000;
-
-Paths rect(Coord x0, Coord y0, Coord x1, Coord y1) {
-    return {{{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}}};
-}
 
 // A 20 mm square slice with no covers: every cavity lies in the wall region.
 LayerPartition square_layer(const Settings& st, int index) {
     LayerPartition l;
     l.index = index;
     l.z = (index + 0.5) * st.layer_height;
-    l.outline = rect(0, 0, 20 * kMm, 20 * kMm);
+    l.outline = rect_region(0, 0, 20 * kMm, 20 * kMm);
     l.wall_region = erode(l.outline, st.nozzle_radius());
     l.shell_paths_region = l.wall_region;
     l.carvable = l.wall_region;
@@ -50,7 +49,7 @@ LayerPartition square_layer(const Settings& st, int index) {
 
 LayerPartition centred_cavity(const Settings& st, int index) {
     LayerPartition l = square_layer(st, index);
-    l.cavities.push_back(rect(5 * kMm, 5 * kMm, 15 * kMm, 15 * kMm));
+    l.cavities.push_back(rect_region(5 * kMm, 5 * kMm, 15 * kMm, 15 * kMm));
     l.remainder = subtract(l.carvable, l.cavities[0]);
     return l;
 }
@@ -83,9 +82,12 @@ std::filesystem::path fresh_dir(const std::string& name) {
 
 // The 40 mm sphere through every stage up to bridges, layer by layer (members in stage order:
 // each holds a reference to the one before).
+// Shared model (tests using it skip without it).
+constexpr const char* kSphere = "synthetic/sphere_40mm.stl";
+
 struct SphereLayers {
     explicit SphereLayers(const Settings& st)
-        : mesh(load_mesh(std::string(CARVE_MODELS_DIR) + "/synthetic/sphere_40mm.stl", report)),
+        : mesh(load_mesh(carve::test::any_model(kSphere), report)),
           slicer(mesh, st.layer_height),
           covers(slicer, st),
           sweep(covers, st),
@@ -103,7 +105,7 @@ struct SphereLayers {
 TEST(Rasterize, SquareCoversExactPixels) {
     const RasterGrid g = grid_over(0, 0, 2 * kMm, 2 * kMm, 50);
     std::vector<uint8_t> image;
-    rasterize(rect(0, 0, kMm, kMm), g, image);
+    rasterize(rect_region(0, 0, kMm, kMm), g, image);
     ASSERT_EQ(image.size(), size_t(40 * 40));
     EXPECT_EQ(count_white(image), 20 * 20);
     // The square is the lower-left quarter: row 0 (top) is empty, the bottom-left pixel is set.
@@ -115,16 +117,16 @@ TEST(Rasterize, HolesAndOverlaps) {
     const RasterGrid g = grid_over(0, 0, 2 * kMm, 2 * kMm, 50);
     std::vector<uint8_t> image;
     // Outer counter-clockwise, hole clockwise: 400 - 100 pixels.
-    Paths ring = rect(0, 0, kMm, kMm);
-    Path hole = rect(250, 250, 750, 750)[0];
+    Paths ring = rect_region(0, 0, kMm, kMm);
+    Path hole = rect_region(250, 250, 750, 750)[0];
     std::reverse(hole.begin(), hole.end());
     ring.push_back(hole);
     rasterize(ring, g, image);
     EXPECT_EQ(count_white(image), 400 - 100);
     // Two overlapping counter-clockwise squares fill their union (non-zero winding).
     image.assign(image.size(), 0);
-    Paths two = rect(0, 0, kMm, kMm);
-    two.push_back(rect(500, 500, 1500, 1500)[0]);
+    Paths two = rect_region(0, 0, kMm, kMm);
+    two.push_back(rect_region(500, 500, 1500, 1500)[0]);
     rasterize(two, g, image);
     EXPECT_EQ(count_white(image), 400 + 400 - 100);
 }
@@ -160,8 +162,8 @@ TEST(ResinSolid, SquareWithOneCavity) {
 TEST(ResinSolid, TouchingCavitiesKeepAWallBetweenThem) {
     Settings st;
     LayerPartition l = square_layer(st, 0);
-    l.cavities.push_back(intersect(l.carvable, rect(0, 0, 10 * kMm, 20 * kMm)));
-    l.cavities.push_back(intersect(l.carvable, rect(10 * kMm, 0, 20 * kMm, 20 * kMm)));
+    l.cavities.push_back(intersect(l.carvable, rect_region(0, 0, 10 * kMm, 20 * kMm)));
+    l.cavities.push_back(intersect(l.carvable, rect_region(10 * kMm, 0, 20 * kMm, 20 * kMm)));
     l.remainder.clear();
     const Paths solid = resin_solid(l, st.line_width(), st.line_width(), st.nozzle_radius());
     // Each half shrinks to 9.4 x 19.2 mm: the outer shell is w wide, the middle wall w too.
@@ -181,7 +183,7 @@ TEST(ResinSolid, BridgesAreSolidStrips) {
     LayerPartition l = centred_cavity(st, 0);
     Bridge b;
     b.cavity = 1;
-    b.region = rect(8 * kMm, 8 * kMm, 12 * kMm, 12 * kMm);
+    b.region = rect_region(8 * kMm, 8 * kMm, 12 * kMm, 12 * kMm);
     b.lines = {{{5 * kMm, 10 * kMm}, {15 * kMm, 10 * kMm}}};
     l.bridges.push_back(b);
     const Paths with = resin_solid(l, st.line_width(), st.line_width(), st.nozzle_radius());
@@ -264,6 +266,7 @@ TEST(RasterWriter, ThickerMinimalWall) {
 // width. They differ where the FDM paths leave a thin cover band to the outer wall (the raster
 // cures it) and at corners, so single layers wander; over the whole object they agree.
 TEST(RasterWriter, WallPixelsMatchPrintPathLengths) {
+    CARVE_NEED_MODEL(kSphere);
     Settings st;
     SphereLayers sphere(st);
     BridgeStage& bridges = sphere.bridges;
@@ -368,6 +371,7 @@ TEST(RasterWriter, WallPixelsFollowWallLengthTimesThickness) {
 // (within 3 % over the sampled layers), and stays consistent with the print paths' length x
 // line width as in WallPixelsMatchPrintPathLengths.
 TEST(RasterWriter, WallAreaOfARealModelDoesNotDependOnPixelSize) {
+    CARVE_NEED_MODEL(kSphere);
     Settings st;
     SphereLayers sphere(st);
     BridgeStage& bridges = sphere.bridges;
@@ -401,13 +405,13 @@ TEST(RasterWriter, WallAreaOfARealModelDoesNotDependOnPixelSize) {
 // End to end through the carve executable: --raster-pixel and --raster-min-wall reach the
 // images and raster.json.
 TEST(RasterCli, PixelAndWallOptionsReachTheStack) {
-    const auto run = [](const std::string& name, const std::string& args) {
+    CARVE_MODEL(sphere, kSphere);
+    const auto run = [&sphere](const std::string& name, const std::string& args) {
         const auto dir = fresh_dir(name);
         std::filesystem::create_directories(dir);
-        const std::string cmd = std::string(CARVE_BINARY) + " slice " + CARVE_MODELS_DIR +
-                                "/synthetic/sphere_40mm.stl --scale 0.5 --cavities 2 -q -o " +
-                                (dir / "out.gcode").string() + " --raster " +
-                                (dir / "stack").string() + " " + args;
+        const std::string cmd = std::string(CARVE_BINARY) + " slice " + sphere +
+                                " --scale 0.5 --cavities 2 -q -o " + (dir / "out.gcode").string() +
+                                " --raster " + (dir / "stack").string() + " " + args;
         EXPECT_EQ(std::system(cmd.c_str()), 0) << cmd;
         std::ifstream in(dir / "stack" / "raster.json");
         std::stringstream ss;

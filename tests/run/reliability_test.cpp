@@ -18,10 +18,10 @@
 #include <string>
 #include <vector>
 
-#include "support/carve_run.hpp"
 #include "geometry/polygon.hpp"
 #include "mesh/mesh.hpp"
 #include "slice/slicer.hpp"
+#include "support/carve_run.hpp"
 
 namespace fs = std::filesystem;
 using namespace carve;

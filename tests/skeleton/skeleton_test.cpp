@@ -30,19 +30,18 @@
 #include "skeleton/axis_graph.hpp"
 #include "skeleton/skeleton_detail.hpp"
 #include "slice/slicer.hpp"
+#include "support/models.hpp"
+#include "support/shapes.hpp"
 #include "support/test_rng.hpp"
 
 using namespace carve;
+using carve::test::rect;
 
 namespace {
 
 constexpr double kPi = std::numbers::pi;
 
 using carve::test::Rng;
-
-Path rect(Coord x0, Coord y0, Coord x1, Coord y1) {
-    return {Point(x0, y0), Point(x1, y0), Point(x1, y1), Point(x0, y1)};
-}
 
 // Splits every edge into pieces of about `step` and moves every new vertex by up to `jitter`
 // units in x and y (corners stay put so the shape's extent is known).
@@ -464,10 +463,15 @@ Paths cut(const carve::Mesh& mesh, double z) {
     return carve::slice_at(mesh, z);
 }
 
-TEST(MedialAxis, RealSlicesAndTheirRemainders) {
+// One test per model, so that a model missing from the shared folder is skipped by name.
+class MedialAxisRealSlices : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(MedialAxisRealSlices, AndTheirRemainders) {
+    const char* model = GetParam();
+    CARVE_MODEL(path, model);
     int calls = 0, retries = 0;
-    for (const char* model : {"elephant.stl", "skull.stl", "man.stl", "cat.stl", "fandisk.stl"}) {
-        const carve::Mesh tris = read_model(std::string(CARVE_MODELS_DIR) + "/" + model);
+    {
+        const carve::Mesh tris = read_model(path);
         ASSERT_FALSE(tris.triangles.empty()) << model;
         const carve::BBox3 box = carve::bounding_box(tris);
         const double lo = box.min.z, hi = box.max.z;
@@ -492,8 +496,16 @@ TEST(MedialAxis, RealSlicesAndTheirRemainders) {
             }
         }
     }
-    std::cout << "real slices: " << calls << " calls, " << retries << " retries\n";
+    std::cout << model << " real slices: " << calls << " calls, " << retries << " retries\n";
 }
+
+INSTANTIATE_TEST_SUITE_P(Models, MedialAxisRealSlices,
+                         ::testing::Values("elephant.stl", "skull.stl", "man.stl", "cat.stl",
+                                           "fandisk.stl"),
+                         [](const auto& info) {
+                             const std::string m = info.param;
+                             return m.substr(0, m.find('.'));
+                         });
 
 // ---------------------------------------------------------------------------------------------
 // Regression inputs.

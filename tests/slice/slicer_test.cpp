@@ -9,10 +9,11 @@
 #include <filesystem>
 #include <map>
 #include <numbers>
-#include <random>
 
 #include "base/error.hpp"
 #include "geometry/polygon.hpp"
+#include "support/models.hpp"
+#include "support/test_rng.hpp"
 
 using namespace carve;
 
@@ -221,7 +222,7 @@ Mesh read_model(const std::string& path) {
 }
 
 std::string model(const std::string& name) {
-    return std::string(CARVE_MODELS_DIR) + "/" + name;
+    return carve::test::any_model(name);
 }
 
 }  // namespace
@@ -511,14 +512,14 @@ void expect_sane_region(const Paths& region, Coord extent) {
 TEST(Slicer, RandomTriangleSoupsNeverCrash) {
     // Non-manifold edges, duplicated and opposite triangles, vertices on the planes: whatever
     // comes in, closed polygons inside the footprint come out.
-    std::mt19937 rng(12345);
-    std::uniform_int_distribution<int> coord(-5, 5);
+    carve::test::Rng rng(12345);
+    const auto coord = [](carve::test::Rng& r) { return r.integer(-5, 5); };
     for (int soup = 0; soup < 300; ++soup) {
         Mesh m;
         const int nv = 4 + soup % 20;
         for (int i = 0; i < nv; ++i)
             m.vertices.push_back({double(coord(rng)), double(coord(rng)), 0.5 * coord(rng)});
-        std::uniform_int_distribution<uint32_t> pick(0, uint32_t(nv - 1));
+        const auto pick = [nv](carve::test::Rng& r) { return uint32_t(r.integer(0, nv - 1)); };
         for (int t = 0; t < 3 * nv; ++t) {
             const uint32_t a = pick(rng), b = pick(rng), c = pick(rng);
             if (a != b && b != c && a != c) m.triangles.push_back({a, b, c});
@@ -539,43 +540,58 @@ TEST(Slicer, SliceAreasIntegrateToTheVolume) {
 
 // ---- the developer set of real models ----
 
-TEST(SlicerModels, EveryModelSlicesIntoClosedRegionsOnEveryLayer) {
+namespace {
+
+// Slices a model of the developer set and checks every layer; `name` for the overlap rule.
+void expect_closed_layers(const std::string& path, const std::string& name) {
+    SCOPED_TRACE(name);
+    const Mesh m = read_model(path);
+    // Overlapping shells count their overlap twice in signed measures.
+    const bool overlapping = name == "two_spheres_overlapping.stl";
+    TopDownSlicer slicer(m, 0.2);
+    int layers = 0, empty = 0;
+    double volume = 0;
+    while (auto s = slicer.next()) {
+        ++layers;
+        if (s->region.empty() || area(s->region) <= 0) ++empty;
+        for (const Path& p : s->region) ASSERT_GE(p.size(), 3u);
+        EXPECT_GT(count_outers(s->region), 0) << "layer " << s->index;
+        volume += area_mm2(s->region) * 0.2;
+        if (s->index % 37 == 0) {
+            // Same region as the slow reference's loops united, up to the 1 um
+            // cleaning; and no more than the signed cross-section, which counts twice
+            // where the surface runs into itself (man.stl's hands, two_spheres).
+            const double tol = length(s->region, true) * 1.5e-6;
+            const double a = area_mm2(s->region);
+            EXPECT_NEAR(a, area_mm2(unite(reference_loops(m, s->z))), tol) << "layer " << s->index;
+            EXPECT_LE(a, exact_section_area(m, s->z) + tol) << "layer " << s->index;
+        }
+    }
+    EXPECT_EQ(layers, slicer.layer_count());
+    EXPECT_GT(layers, 0);
+    EXPECT_EQ(empty, 0);
+    if (!overlapping) {
+        EXPECT_NEAR(volume, mesh_volume(m), 0.01 * mesh_volume(m));
+    }
+}
+
+}  // namespace
+
+TEST(SlicerModels, EveryRepositoryModelSlicesIntoClosedRegionsOnEveryLayer) {
+    for (const char* name : {"fandisk.stl", "elephant.stl", "man.stl"})
+        expect_closed_layers(carve::test::repo_model(name), name);
+}
+
+// The whole shared folder (the real models and the synthetic shapes), whatever it holds.
+TEST(SlicerModels, EverySharedModelSlicesIntoClosedRegionsOnEveryLayer) {
+    CARVE_NEED_MODEL("synthetic/two_spheres_overlapping.stl");
     namespace fs = std::filesystem;
     int models = 0;
     for (const char* folder : {"", "synthetic"}) {
-        for (const auto& entry : fs::directory_iterator(fs::path(CARVE_MODELS_DIR) / folder)) {
+        for (const auto& entry :
+             fs::directory_iterator(carve::test::shared_models_dir() / folder)) {
             if (entry.path().extension() != ".stl") continue;
-            const std::string name = entry.path().filename().string();
-            SCOPED_TRACE(name);
-            const Mesh m = read_model(entry.path().string());
-            // Overlapping shells count their overlap twice in signed measures.
-            const bool overlapping = name == "two_spheres_overlapping.stl";
-            TopDownSlicer slicer(m, 0.2);
-            int layers = 0, empty = 0;
-            double volume = 0;
-            while (auto s = slicer.next()) {
-                ++layers;
-                if (s->region.empty() || area(s->region) <= 0) ++empty;
-                for (const Path& p : s->region) ASSERT_GE(p.size(), 3u);
-                EXPECT_GT(count_outers(s->region), 0) << "layer " << s->index;
-                volume += area_mm2(s->region) * 0.2;
-                if (s->index % 37 == 0) {
-                    // Same region as the slow reference's loops united, up to the 1 um
-                    // cleaning; and no more than the signed cross-section, which counts twice
-                    // where the surface runs into itself (man.stl's hands, two_spheres).
-                    const double tol = length(s->region, true) * 1.5e-6;
-                    const double a = area_mm2(s->region);
-                    EXPECT_NEAR(a, area_mm2(unite(reference_loops(m, s->z))), tol)
-                        << "layer " << s->index;
-                    EXPECT_LE(a, exact_section_area(m, s->z) + tol) << "layer " << s->index;
-                }
-            }
-            EXPECT_EQ(layers, slicer.layer_count());
-            EXPECT_GT(layers, 0);
-            EXPECT_EQ(empty, 0);
-            if (!overlapping) {
-                EXPECT_NEAR(volume, mesh_volume(m), 0.01 * mesh_volume(m));
-            }
+            expect_closed_layers(entry.path().string(), entry.path().filename().string());
             ++models;
         }
     }
@@ -583,6 +599,9 @@ TEST(SlicerModels, EveryModelSlicesIntoClosedRegionsOnEveryLayer) {
 }
 
 TEST(SlicerModels, SyntheticShapes) {
+    CARVE_NEED_MODEL("synthetic/box_with_internal_void.stl");
+    CARVE_NEED_MODEL("synthetic/two_spheres_overlapping.stl");
+    CARVE_NEED_MODEL("synthetic/fig3_cube_indent.stl");
     const Mesh voided = read_model(model("synthetic/box_with_internal_void.stl"));
     const Paths mid = slice_at(voided, 0.0);
     EXPECT_EQ(count_outers(mid), 1);

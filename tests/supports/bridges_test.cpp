@@ -11,14 +11,13 @@
 #include "geometry/polygon.hpp"
 #include "mesh/mesh.hpp"
 #include "slice/slicer.hpp"
+#include "support/models.hpp"
+#include "support/shapes.hpp"
 
 using namespace carve;
+using carve::test::rect;
 
 namespace {
-
-Path rect(Coord x0, Coord y0, Coord x1, Coord y1) {
-    return {{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}};
-}
 
 double distance_to_boundary(const Point& p, const Paths& region) {
     double best = 1e18;
@@ -186,7 +185,7 @@ TEST(Bridges, WhatEachIterationLeftFollowsTheMinimaOnARealModel) {
     // cavities and the remainder a partition of the carvable region.
     Settings settings;
     MeshReport report;
-    Mesh mesh = load_mesh(std::string(CARVE_MODELS_DIR) + "/fandisk.stl", report);
+    Mesh mesh = load_mesh(carve::test::repo_model("fandisk.stl"), report);
     TopDownSlicer slicer(mesh, settings.layer_height);
     CarvableStream carvable(slicer, settings);
     CarvingSweep carving(carvable, settings);

@@ -8,30 +8,28 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
-#include <random>
 
 #include "geometry/morphology.hpp"
 #include "geometry/polygon.hpp"
+#include "support/shapes.hpp"
+#include "support/test_rng.hpp"
 #include "toolpath/fill.hpp"
 #include "toolpath/order.hpp"
 #include "toolpath/walls.hpp"
 
 using namespace carve;
+using carve::test::rect_region;
 
 namespace {
 
 constexpr Coord kMm = 1000;
-
-Paths rect(Coord x0, Coord y0, Coord x1, Coord y1) {
-    return {{{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}}};
-}
 
 // A 20 mm square slice centred on the origin, no covers, no shells.
 LayerPartition square_layer(const Settings& st) {
     LayerPartition l;
     l.index = 5;
     l.z = 1.1;
-    l.outline = rect(-10 * kMm, -10 * kMm, 10 * kMm, 10 * kMm);
+    l.outline = rect_region(-10 * kMm, -10 * kMm, 10 * kMm, 10 * kMm);
     l.wall_region = erode(l.outline, st.nozzle_radius());
     l.shell_paths_region = l.wall_region;
     l.carvable = l.wall_region;
@@ -43,8 +41,8 @@ LayerPartition square_layer(const Settings& st) {
 // V^1 touching the outer wall on its right side.
 LayerPartition two_cavities(const Settings& st) {
     LayerPartition l = square_layer(st);
-    l.cavities.push_back(intersect(l.carvable, rect(-10 * kMm, -10 * kMm, 0, 10 * kMm)));
-    l.cavities.push_back(intersect(l.carvable, rect(3 * kMm, -5 * kMm, 10 * kMm, 5 * kMm)));
+    l.cavities.push_back(intersect(l.carvable, rect_region(-10 * kMm, -10 * kMm, 0, 10 * kMm)));
+    l.cavities.push_back(intersect(l.carvable, rect_region(3 * kMm, -5 * kMm, 10 * kMm, 5 * kMm)));
     l.remainder = subtract(subtract(l.carvable, l.cavities[0]), l.cavities[1]);
     return l;
 }
@@ -134,7 +132,7 @@ TEST(Toolpath, CoverLinesFillTheRegionAtLineSpacingAlternatingByParity) {
         LayerPartition l = square_layer(st);
         l.index = index;
         // A cover with a hole: the carvable middle is left to the cavities.
-        l.carvable = rect(-4 * kMm, -4 * kMm, 4 * kMm, 4 * kMm);
+        l.carvable = rect_region(-4 * kMm, -4 * kMm, 4 * kMm, 4 * kMm);
         l.covers = subtract(l.shell_paths_region, l.carvable);
         LayerToolpaths t = plan_layer(l, st);
         auto covers = of_feature(t, Feature::Cover);
@@ -241,7 +239,7 @@ TEST(Toolpath, SingleFilamentWallsKeepClearOfPrintedWallsExceptExtensions) {
 TEST(Toolpath, SingleFilamentInnerCavityIsAClosedLoop) {
     Settings st;
     LayerPartition l = square_layer(st);
-    l.cavities.push_back(rect(-3 * kMm, -3 * kMm, 3 * kMm, 3 * kMm));
+    l.cavities.push_back(rect_region(-3 * kMm, -3 * kMm, 3 * kMm, 3 * kMm));
     LayerToolpaths t = plan_layer(l, st);
     auto walls = of_feature(t, Feature::CavityWall);
     ASSERT_EQ(walls.size(), 1u);
@@ -272,10 +270,10 @@ TEST(Toolpath, PrintOrderFollowsTheReport) {
     st.shells = 1;
     LayerPartition l = square_layer(st);
     l.shell_paths_region = erode(l.wall_region, st.line_width());
-    l.carvable = rect(-6 * kMm, -6 * kMm, 6 * kMm, 6 * kMm);
+    l.carvable = rect_region(-6 * kMm, -6 * kMm, 6 * kMm, 6 * kMm);
     l.covers = subtract(l.shell_paths_region, l.carvable);
-    l.cavities.push_back(rect(-6 * kMm, -6 * kMm, 0, 6 * kMm));
-    l.cavities.push_back(rect(1 * kMm, -3 * kMm, 6 * kMm, 3 * kMm));
+    l.cavities.push_back(rect_region(-6 * kMm, -6 * kMm, 0, 6 * kMm));
+    l.cavities.push_back(rect_region(1 * kMm, -3 * kMm, 6 * kMm, 3 * kMm));
     l.remainder.clear();  // fully carved: no solid fill after the cavity walls
     Bridge b;
     b.cavity = 2;
@@ -319,8 +317,9 @@ TEST(Toolpath, FeatureNamesArePrusaSlicerWords) {
 }
 
 TEST(Ordering, GridNearestNeighbourMatchesBruteForce) {
-    std::mt19937 rng(7);
-    std::uniform_int_distribution<Coord> coord(0, 100 * kMm), step(-2 * kMm, 2 * kMm);
+    carve::test::Rng rng(7);
+    const auto coord = [](carve::test::Rng& r) { return Coord(r.integer(0, 100 * kMm)); };
+    const auto step = [](carve::test::Rng& r) { return Coord(r.integer(-2 * kMm, 2 * kMm)); };
     std::vector<Extrusion> paths;
     for (int i = 0; i < 3000; ++i) {
         Extrusion e;
@@ -374,9 +373,9 @@ TEST(Ordering, GridNearestNeighbourMatchesBruteForce) {
 TEST(Walls, PieceThroughTheLoopStartIsOneCurveWithExtensions) {
     // The loop starts at (0, 0), 1 mm inside the region; a notch reaches to 0.5 mm of its
     // right side, so at depth 0.5 mm a 2 mm stretch of it (y from 4 to 6 mm) is left out.
-    const Paths loop = rect(0, 0, 10 * kMm, 10 * kMm);
-    const Paths region =
-        subtract(rect(-kMm, -kMm, 11 * kMm, 11 * kMm), rect(9500, 4500, 12 * kMm, 5500));
+    const Paths loop = rect_region(0, 0, 10 * kMm, 10 * kMm);
+    const Paths region = subtract(rect_region(-kMm, -kMm, 11 * kMm, 11 * kMm),
+                                  rect_region(9500, 4500, 12 * kMm, 5500));
     auto pieces = loops_inside_erosion(loop, region, kMm / 2, 1.0 * kMm, 800);
     ASSERT_EQ(pieces.size(), 1u);
     Extrusion e;
@@ -398,15 +397,17 @@ TEST(Walls, PieceThroughTheLoopStartIsOneCurveWithExtensions) {
     // A loop outside the region, however far from it, is left out; one wholly inside is
     // kept closed.
     EXPECT_TRUE(
-        loops_inside_erosion(rect(20 * kMm, 0, 30 * kMm, 10 * kMm), region, kMm / 2, 0, 0).empty());
-    pieces = loops_inside_erosion(rect(2 * kMm, 2 * kMm, 8 * kMm, 8 * kMm), region, kMm / 2, 0, 0);
+        loops_inside_erosion(rect_region(20 * kMm, 0, 30 * kMm, 10 * kMm), region, kMm / 2, 0, 0)
+            .empty());
+    pieces = loops_inside_erosion(rect_region(2 * kMm, 2 * kMm, 8 * kMm, 8 * kMm), region, kMm / 2,
+                                  0, 0);
     ASSERT_EQ(pieces.size(), 1u);
     EXPECT_TRUE(pieces[0].closed);
 }
 
 TEST(Walls, RestrictedPiecesFollowTheLoopsInsideTheRegion) {
-    std::mt19937 rng(11);
-    std::uniform_real_distribution<double> u(-1, 1);
+    carve::test::Rng rng(11);
+    const auto u = [](carve::test::Rng& r) { return r.uniform(-1, 1); };
     for (int trial = 0; trial < 20; ++trial) {
         // Blobby loops and a blobby region.
         auto blob = [&](double cx, double cy, double r) {
@@ -509,7 +510,7 @@ TEST(Toolpath, ThinCoverBandStillGetsItsEdge) {
     // but the edge the cavity walls rely on is printed.
     Settings st;
     LayerPartition l = square_layer(st);
-    l.carvable = rect(-9200, -9200, 9200, 9200);
+    l.carvable = rect_region(-9200, -9200, 9200, 9200);
     l.covers = subtract(l.shell_paths_region, l.carvable);
     LayerToolpaths t = plan_layer(l, st);
     auto covers = of_feature(t, Feature::Cover);
@@ -549,14 +550,16 @@ TEST(Toolpath, UncarvedRemainderIsFilledSolid) {
 // cavity: boundary of the opened cavity where it lies t inside V^{j-1}.
 TEST(Toolpath, CavityWallsOnlyNearWhatTheCavityLeavesAreAllTheWalls) {
     Settings st;
-    std::mt19937 rng(5);
-    std::uniform_int_distribution<int> pos(-9, 7), size(1, 3), coin(0, 2);
+    carve::test::Rng rng(5);
+    const auto pos = [](carve::test::Rng& r) { return r.integer(-9, 7); };
+    const auto size = [](carve::test::Rng& r) { return r.integer(1, 3); };
+    const auto coin = [](carve::test::Rng& r) { return r.integer(0, 2); };
     for (int round = 0; round < 20; ++round) {
         LayerPartition l = square_layer(st);
         Paths pieces;
         for (int k = 0; k < 10; ++k) {
             const Coord x = pos(rng) * kMm, y = pos(rng) * kMm, a = size(rng) * kMm;
-            pieces = unite(pieces, rect(x, y, x + a, y + a));
+            pieces = unite(pieces, rect_region(x, y, x + a, y + a));
         }
         l.carvable = intersect(l.carvable, pieces);
         // C^1 takes some pieces whole and cuts others; C^2 takes part of what is left.
@@ -566,11 +569,11 @@ TEST(Toolpath, CavityWallsOnlyNearWhatTheCavityLeavesAreAllTheWalls) {
             const BBox2 b = bounds(comp);
             if (c == 0) c1.insert(c1.end(), comp.begin(), comp.end());
             if (c == 1)
-                c1 = unite(
-                    c1, intersect(comp, rect(b.min_x, b.min_y, (b.min_x + b.max_x) / 2, b.max_y)));
+                c1 = unite(c1, intersect(comp, rect_region(b.min_x, b.min_y,
+                                                           (b.min_x + b.max_x) / 2, b.max_y)));
         }
         const Paths v1 = subtract(l.carvable, c1);
-        const Paths c2 = intersect(v1, rect(-10 * kMm, -10 * kMm, 10 * kMm, 2 * kMm));
+        const Paths c2 = intersect(v1, rect_region(-10 * kMm, -10 * kMm, 10 * kMm, 2 * kMm));
         l.cavities = {c1, c2};
         l.remainder = subtract(v1, c2);
         const bool swept = round % 2 == 0;
