@@ -233,6 +233,13 @@ def write_markdown(path, rows, args, meta):
         'unsupported: carve\'s stats JSON, when it has that figure.',
         '',
     ]
+    if rows:
+        worst = max(rows, key=lambda r: r['outside_model_mm2'])
+        lines += [f"Placement of the mesh under each G-code, found by `carve check` from the "
+                  f"extrusion's bounding box (offsets in compare.csv): the most extrusion outside "
+                  f"the model beyond half a line width on any file is "
+                  f"{worst['outside_model_mm2']:.1f} mm² ({worst['model']}, "
+                  f"{SLICER_NAMES[worst['slicer']]}); a misplaced mesh would show thousands.", '']
     for name, title in (('default', 'At the models\' own size, carve at its defaults'),
                         ('table1', 'At the report\'s Table 1 size, carve --preset 2c0s')):
         subset = [r for r in rows if r['set'] == name]
