@@ -1125,6 +1125,8 @@ nlohmann::json to_json(const GcodeAnalysis& a, bool with_layers) {
         if (!a.mesh_alignment.empty()) {
             j["mesh_alignment"] = a.mesh_alignment;
             j["mesh_offset_mm"] = {a.mesh_offset_mm[0], a.mesh_offset_mm[1], a.mesh_offset_mm[2]};
+            if (a.mesh_extent_mismatch_mm >= 0)
+                j["mesh_extent_mismatch_mm"] = a.mesh_extent_mismatch_mm;
         }
     }
     if (with_layers) {
