@@ -219,8 +219,8 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
         GcodeAnalysisOptions check_options;
         check_options.filament_diameter_mm = settings.filament_diameter;
         check_options.keep_layers = false;
-        result.check = std::make_shared<const GcodeAnalysis>(analyse_gcode_on_mesh(
-            options.gcode_path, mesh, check_options, Vec3{offset_x, offset_y, -box.min.z}));
+        result.check = analyse_gcode_on_mesh(options.gcode_path, mesh, check_options,
+                                             Vec3{offset_x, offset_y, -box.min.z});
         result.check_time_s =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - check_start).count();
     }

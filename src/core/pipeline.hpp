@@ -3,17 +3,16 @@
 #pragma once
 
 #include <functional>
-#include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "core/settings.hpp"
 #include "gcode/gcode.hpp"
 #include "mesh/mesh.hpp"
+#include "report/gcode_analysis.hpp"
 
 namespace carve {
-
-struct GcodeAnalysis;  // report/gcode_analysis.hpp: only the runs that ask for it need it
 
 struct RunOptions {
     std::string model_path;
@@ -49,9 +48,8 @@ struct RunResult {
     double processing_time_s = 0;
     double peak_memory_mb = 0;
     std::vector<double> layer_material_mm3;  // per layer, bottom up (for the report's plot)
-    // With RunOptions::check_output: the measure, and its cost (not in processing_time_s).
-    std::shared_ptr<const GcodeAnalysis> check;
-    double check_time_s = 0;
+    std::optional<GcodeAnalysis> check;      // with RunOptions::check_output
+    double check_time_s = 0;                 // its cost, not in processing_time_s
     double material_percent() const {
         return mesh.volume_mm3 > 0 ? 100.0 * print.extruded_volume_mm3 / mesh.volume_mm3 : 0;
     }
