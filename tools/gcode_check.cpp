@@ -9,8 +9,8 @@
 #include <iostream>
 #include <string>
 
-#include "core/error.hpp"
-#include "report/gcode_analysis.hpp"
+#include "base/error.hpp"
+#include "check/gcode_analysis.hpp"
 
 int main(int argc, char** argv) {
     carve::GcodeAnalysisOptions options;

@@ -13,12 +13,12 @@
 #include <limits>
 #include <map>
 
-#include "core/error.hpp"
-#include "core/pipeline.hpp"
-#include "core/placeholders.hpp"
-#include "core/profiles.hpp"
+#include "base/error.hpp"
+#include "run/pipeline.hpp"
+#include "gcode/placeholders.hpp"
+#include "config/profiles.hpp"
 #include "mesh/mesh.hpp"
-#include "report/gcode_analysis.hpp"
+#include "check/gcode_analysis.hpp"
 #include "report/mesh_info.hpp"
 #include "report/stats.hpp"
 

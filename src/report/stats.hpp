@@ -5,8 +5,9 @@
 #include <optional>
 #include <string>
 
-#include "core/pipeline.hpp"
-#include "report/gcode_analysis.hpp"
+#include "config/settings.hpp"
+#include "report/run_result.hpp"
+#include "check/gcode_analysis.hpp"
 
 namespace carve {
 
