@@ -218,7 +218,8 @@ def write_markdown(path, rows, args, meta):
         '',
         f"Made by `bench/compare.sh{meta['argv']}` on {meta['started']} ({meta['cores']} cores, "
         f"load average {meta['load_before']:.1f} before, {meta['load_after']:.1f} after; "
-        f"carve {meta['carve_version']} at {meta['commit']}, {meta['prusa']}, CuraEngine "
+        f"carve {meta['carve_version']} from the tree at {meta.get('carve_commit', '?')}, "
+        f"bench at {meta['commit']}, {meta['prusa']}, CuraEngine "
         f"{meta['cura']}). Every G-code measured by `carve check --mesh --json`.",
         '',
         'Hanging: extrusion more than 2 mm from anything printed on the layer below (mm², summed '
@@ -314,6 +315,9 @@ def main():
 
     version = output([args.carve, '--version'])
     commit = output(['git', 'rev-parse', '--short', 'HEAD'])
+    # The binary's own tree when it lives in one (--carve ../wt-carve/build/carve), else '?'.
+    carve_commit = output(['git', '-C', os.path.dirname(args.carve), 'rev-parse', '--short',
+                           'HEAD'])
     meta = {
         'argv': ''.join(' ' + a for a in sys.argv[1:]),
         'started': f'{datetime.datetime.now():%Y-%m-%d %H:%M}',
@@ -321,6 +325,7 @@ def main():
         'load_before': os.getloadavg()[0],
         'carve_version': version.stdout.strip().split()[-1] if version and version.stdout else '?',
         'commit': commit.stdout.strip() if commit else '?',
+        'carve_commit': (carve_commit.stdout.strip() or '?') if carve_commit else '?',
         'prusa': baselines.version(['prusa-slicer', '--help'], r'PrusaSlicer-[^ ]+'),
         'cura': baselines.version(['CuraEngine', 'help'], r'[0-9]+[.][0-9.]+'),
     }
