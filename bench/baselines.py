@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """Baselines: slice the shared models with PrusaSlicer and CuraEngine, time them, and judge every
-G-code with carve's own analyser (src/report/gcode_analysis.cpp), as described in
+G-code with carve's own analyser (src/check/gcode_analysis.cpp), as described in
 shared/BASELINES.md.
 
     bench/baselines.sh                       # every model except skull_x4_400k, both slicers
@@ -195,8 +195,8 @@ class Analyser:
         if self.cmd is None:
             exe = os.path.join(work, 'gcode_check')
             sources = [os.path.join(ROOT, p) for p in (
-                'tools/gcode_check.cpp', 'src/report/gcode_analysis.cpp',
-                'src/report/gcode_analysis.hpp', 'src/gcode/motion.cpp')]
+                'tools/gcode_check.cpp', 'src/check/gcode_analysis.cpp',
+                'src/check/gcode_analysis.hpp', 'src/gcode/motion.cpp')]
             if (not os.path.exists(exe) or
                     os.path.getmtime(exe) < max(os.path.getmtime(s) for s in sources)):
                 subprocess.check_call(['g++', '-O2', '-std=c++20', '-I' + os.path.join(ROOT, 'src'),

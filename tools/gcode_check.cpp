@@ -1,7 +1,7 @@
 // Stand-alone driver of the G-code analyser for the baseline script (bench/baselines.sh), usable
-// before `carve check` exists. It needs only src/report/gcode_analysis.cpp, the stick-time
+// before `carve check` exists. It needs only src/check/gcode_analysis.cpp, the stick-time
 // trapezoid of src/gcode/motion.cpp and Clipper:
-//   g++ -O2 -std=c++20 -Isrc tools/gcode_check.cpp src/report/gcode_analysis.cpp
+//   g++ -O2 -std=c++20 -Isrc tools/gcode_check.cpp src/check/gcode_analysis.cpp
 //       src/gcode/motion.cpp -lpolyclipping   (one line)
 #include <cstdio>
 #include <cstdlib>
