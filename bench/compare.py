@@ -43,6 +43,20 @@ MODELS_DIR = baselines.MODELS_DIR
 DEFAULT_MODELS = ['cat', 'elephant', 'fandisk', 'man', 'skull']
 TABLE1 = {'skull': (1.43, 3.35), 'cat': (1.47, 7.77)}  # scale, the report's material %
 
+# What issue #23 measured at f0a14a7 (hanging inside and far-unsupported mm², retractions), to
+# tell at a glance whether this measure and that one agree: slicer -> model -> figure.
+ISSUE_F0A14A7 = {
+    'hanging_inside_mm2': {'carve': dict(cat=12, elephant=12, fandisk=31, man=0, skull=4),
+                           'prusa_grid': dict(cat=4, elephant=1, fandisk=4, man=0, skull=3),
+                           'cura_lightning': dict(cat=7, elephant=3)},
+    'far_unsupported_mm2': {'carve': dict(cat=72, elephant=46, fandisk=52, man=32, skull=393),
+                            'prusa_grid': dict(cat=69, elephant=35, fandisk=26, man=38, skull=408),
+                            'cura_lightning': dict(cat=67, elephant=38, fandisk=26, man=42,
+                                                   skull=442)},
+    'retractions': {'carve': dict(cat=4342, elephant=7372, fandisk=1494, man=2891, skull=8526),
+                    'cura_lightning': dict(cat=583, elephant=966, fandisk=2, man=1558, skull=435)},
+}
+
 # What the stats JSON of carve may call the local minima it leaves without support; the carving
 # engineer owns that figure, this bench only reads it.
 MINIMA_KEYS = ['unsupported_minima', 'minima_unsupported', 'minima_left_unsupported']
@@ -204,7 +218,8 @@ def write_markdown(path, rows, args, meta):
         '',
         f"Made by `bench/compare.sh{meta['argv']}` on {meta['started']} ({meta['cores']} cores, "
         f"load average {meta['load_before']:.1f} before, {meta['load_after']:.1f} after; "
-        f"carve {meta['carve_version']} at {meta['commit']}, {meta['prusa']}, CuraEngine "
+        f"carve {meta['carve_version']} from the tree at {meta.get('carve_commit', '?')}, "
+        f"bench at {meta['commit']}, {meta['prusa']}, CuraEngine "
         f"{meta['cura']}). Every G-code measured by `carve check --mesh --json`.",
         '',
         'Hanging: extrusion more than 2 mm from anything printed on the layer below (mm², summed '
@@ -219,6 +234,13 @@ def write_markdown(path, rows, args, meta):
         'unsupported: carve\'s stats JSON, when it has that figure.',
         '',
     ]
+    if rows:
+        worst = max(rows, key=lambda r: r['outside_model_mm2'])
+        lines += [f"Placement of the mesh under each G-code, found by `carve check` from the "
+                  f"extrusion's bounding box (offsets in compare.csv): the most extrusion outside "
+                  f"the model beyond half a line width on any file is "
+                  f"{worst['outside_model_mm2']:.1f} mm² ({worst['model']}, "
+                  f"{SLICER_NAMES[worst['slicer']]}); a misplaced mesh would show thousands.", '']
     for name, title in (('default', 'At the models\' own size, carve at its defaults'),
                         ('table1', 'At the report\'s Table 1 size, carve --preset 2c0s')):
         subset = [r for r in rows if r['set'] == name]
@@ -240,6 +262,20 @@ def write_markdown(path, rows, args, meta):
                 f"({fmt(r['wall_crossings'])}) | {minutes(r['stick_time_s'])} | "
                 f"{minutes(r.get('slicer_time_s'))} | {fmt(r.get('slice_wall_s'), 2)} | "
                 f"{fmt(r.get('minima_unsupported')) if r['slicer'] == 'carve' else ''} |")
+        lines.append('')
+    subset = [r for r in rows if r['set'] == 'default']
+    if subset:
+        lines += ['## This measure against the figures of issue #23 (carve f0a14a7)', '',
+                  'measured here / in the issue; carve\'s own figures move with its commit.', '',
+                  '| model | slicer | hanging inside mm² | far-unsupported mm² | retractions |',
+                  '|---|---|---:|---:|---:|']
+        for r in subset:
+            cells = []
+            for key in ('hanging_inside_mm2', 'far_unsupported_mm2', 'retractions'):
+                ref = ISSUE_F0A14A7[key].get(r['slicer'], {}).get(r['model'])
+                cells.append(f"{fmt(r[key], 0 if key != 'retractions' else None)} / {fmt(ref)}")
+            lines.append(f"| {r['model']} | {SLICER_NAMES[r['slicer']]} | " + ' | '.join(cells)
+                         + ' |')
         lines.append('')
     lines += ['## Material per feature (% of the extruded volume, from the ;TYPE: comments)', '',
               '| model | slicer | types |', '|---|---|---|']
@@ -279,6 +315,9 @@ def main():
 
     version = output([args.carve, '--version'])
     commit = output(['git', 'rev-parse', '--short', 'HEAD'])
+    # The binary's own tree when it lives in one (--carve ../wt-carve/build/carve), else '?'.
+    carve_commit = output(['git', '-C', os.path.dirname(args.carve), 'rev-parse', '--short',
+                           'HEAD'])
     meta = {
         'argv': ''.join(' ' + a for a in sys.argv[1:]),
         'started': f'{datetime.datetime.now():%Y-%m-%d %H:%M}',
@@ -286,6 +325,7 @@ def main():
         'load_before': os.getloadavg()[0],
         'carve_version': version.stdout.strip().split()[-1] if version and version.stdout else '?',
         'commit': commit.stdout.strip() if commit else '?',
+        'carve_commit': (carve_commit.stdout.strip() or '?') if carve_commit else '?',
         'prusa': baselines.version(['prusa-slicer', '--help'], r'PrusaSlicer-[^ ]+'),
         'cura': baselines.version(['CuraEngine', 'help'], r'[0-9]+[.][0-9.]+'),
     }

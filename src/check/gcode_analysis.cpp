@@ -1,8 +1,9 @@
 // G-code analyser: rebuilds each layer's extruded footprint from the moves and measures what
 // nothing below holds, plus material and the slicer's own header figures.
 //
-// Deliberately self-contained (Clipper, nlohmann-json and the standard library only) so that the
-// baseline script can build it alone, without the rest of the pipeline. ClipperOffset is used
+// Deliberately self-contained (Clipper, nlohmann-json, the standard library and the trapezoid of
+// gcode/motion.cpp for the stick time) so that the baseline script can build it alone, without
+// the rest of the pipeline; the mesh is reached only through GcodeAnalysisOptions::model_slice. ClipperOffset is used
 // here on purpose: this is a measuring tool, and round-capped offsets of open polylines are the
 // natural model of a bead seen from above.
 #include "check/gcode_analysis.hpp"
@@ -1138,6 +1139,8 @@ nlohmann::json to_json(const GcodeAnalysis& a, bool with_layers) {
         if (!a.mesh_alignment.empty()) {
             j["mesh_alignment"] = a.mesh_alignment;
             j["mesh_offset_mm"] = {a.mesh_offset_mm[0], a.mesh_offset_mm[1], a.mesh_offset_mm[2]};
+            if (a.mesh_extent_mismatch_mm >= 0)
+                j["mesh_extent_mismatch_mm"] = a.mesh_extent_mismatch_mm;
         }
     }
     if (with_layers) {

@@ -123,6 +123,9 @@ struct GcodeAnalysis {
     // How the model was placed under the G-code, when the caller says (carve check --mesh).
     std::string mesh_alignment;
     double mesh_offset_mm[3] = {0, 0, 0};
+    // Automatic placement: how much the extrusion's extent (x or y, the larger) differs from the
+    // mesh's; more than a few millimetres means the mesh is not at the print's scale. -1: unknown.
+    double mesh_extent_mismatch_mm = -1;
     std::vector<LayerFigures> per_layer;
 };
 

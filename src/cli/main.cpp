@@ -256,6 +256,12 @@ int run(int argc, char** argv) {
                 carve::MeshReport report;
                 const carve::Mesh mesh = carve::load_mesh(check_mesh, report);
                 a = carve::analyse_gcode_on_mesh(check_gcode, mesh, check_options, offset);
+                // The outer wall's centre lies half a line width inside: a few tenths of a mm.
+                if (a.mesh_extent_mismatch_mm > 2)
+                    std::fprintf(stderr,
+                                 "carve: warning: the G-code's extent differs from the mesh's by "
+                                 "%.1f mm: is the mesh at the print's scale?\n",
+                                 a.mesh_extent_mismatch_mm);
             } else {
                 if (offset) return fail("--mesh-offset needs --mesh");
                 a = carve::analyse_gcode(check_gcode, check_options);

@@ -3,6 +3,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "gcode/gcode.hpp"
@@ -115,6 +116,9 @@ std::string describe(const GcodeAnalysis& a) {
             out += fmt::format("mesh offset      {:.3f}, {:.3f}, {:.3f} mm ({})\n",
                                a.mesh_offset_mm[0], a.mesh_offset_mm[1], a.mesh_offset_mm[2],
                                a.mesh_alignment);
+        if (a.mesh_extent_mismatch_mm >= 0)
+            out += fmt::format("mesh fit         extents differ by {:.2f} mm\n",
+                               a.mesh_extent_mismatch_mm);
     }
     double total = 0;
     for (const auto& [type, v] : a.volume_by_type_mm3) total += v;
@@ -161,6 +165,7 @@ GcodeAnalysis analyse_gcode_on_mesh(const std::string& gcode_path, const Mesh& m
     const BBox3 box = bounding_box(mesh);
     Vec3 shift;
     std::string how = "given";
+    double mismatch = -1;
     if (offset) {
         shift = *offset;
         if (std::isnan(shift.z)) shift.z = -box.min.z;  // X,Y given: z still on the bed
@@ -170,6 +175,8 @@ GcodeAnalysis analyse_gcode_on_mesh(const std::string& gcode_path, const Mesh& m
         if (b.any) {
             shift.x = (b.min_x + b.max_x) / 2 - (box.min.x + box.max.x) / 2;
             shift.y = (b.min_y + b.max_y) / 2 - (box.min.y + box.max.y) / 2;
+            mismatch = std::max(std::fabs((b.max_x - b.min_x) - (box.max.x - box.min.x)),
+                                std::fabs((b.max_y - b.min_y) - (box.max.y - box.min.y)));
         }
         shift.z = -box.min.z;
     }
@@ -185,6 +192,7 @@ GcodeAnalysis analyse_gcode_on_mesh(const std::string& gcode_path, const Mesh& m
     a.mesh_offset_mm[0] = shift.x;
     a.mesh_offset_mm[1] = shift.y;
     a.mesh_offset_mm[2] = shift.z;
+    a.mesh_extent_mismatch_mm = mismatch;
     return a;
 }
 

@@ -466,6 +466,8 @@ TEST(GcodeAnalysis, MeshSplitsHangingIntoInsideAndOverhang) {
     EXPECT_NEAR(b.mesh_offset_mm[0], 100, 1e-6);
     EXPECT_NEAR(b.mesh_offset_mm[1], 50, 1e-6);
     EXPECT_NEAR(b.mesh_offset_mm[2], 0, 1e-9);
+    EXPECT_NEAR(b.mesh_extent_mismatch_mm, 0, 1e-6);  // the beads' centres span the mesh
+    EXPECT_EQ(a.mesh_extent_mismatch_mm, -1);         // not measured when the offset is given
     EXPECT_NEAR(b.hanging_inside_mm2, a.hanging_inside_mm2, 1e-6);
     EXPECT_NEAR(b.hanging_overhang_mm2, a.hanging_overhang_mm2, 1e-6);
 
@@ -478,6 +480,9 @@ TEST(GcodeAnalysis, MeshSplitsHangingIntoInsideAndOverhang) {
     const Mesh high = boxes({{0, 0, 10, 20, 20, 14}, {24, 0, 12.05, 30, 20, 14}});
     GcodeAnalysis d = analyse_gcode_on_mesh(file.path(), high, {});
     EXPECT_NEAR(d.mesh_offset_mm[2], -10, 1e-9);
+    // A mesh at another scale is told apart by its extent.
+    const Mesh big = boxes({{0, 0, 0, 40, 40, 8}, {48, 0, 4.1, 60, 40, 8}});
+    EXPECT_NEAR(analyse_gcode_on_mesh(file.path(), big, {}).mesh_extent_mismatch_mm, 30, 1e-6);
     EXPECT_NEAR(d.hanging_inside_mm2, a.hanging_inside_mm2, 1e-6);
 }
 
