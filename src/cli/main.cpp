@@ -85,7 +85,8 @@ int main(int argc, char** argv) {
     carve::Settings settings;
     carve::RunOptions run;
     std::string stats_path, cavities_text = "6", walls_text = "single", preset, profile_path,
-                            printer_name, flavor_text = "marlin", bed_text;
+                            printer_name, flavor_text = "marlin", bed_text, combing_text = "all",
+                            seam_text = "aligned";
     bool quiet = false, no_bed_check = false;
 
     CLI::App* slice = app.add_subcommand("slice", "Slice MODEL into hollow G-code (the main job)");
@@ -187,6 +188,33 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(1.0, 500.0));
     slice->add_option("--z-hop", settings.z_hop, "Lift on travel with retraction, mm [0]")
         ->check(CLI::Range(0.0, 10.0));
+    slice
+        ->add_option("--retract-before-travel", settings.retract_min_travel,
+                     "Only a travel longer than this retracts (one that stays inside the part "
+                     "with combing never does), mm [2]")
+        ->check(CLI::Range(0.0, 1000.0));
+    slice
+        ->add_option("--combing", combing_text,
+                     "Travel inside the part without retracting: off (straight travels), inside "
+                     "(not over covers) or all (anywhere in the island) [all]")
+        ->check(CLI::IsMember({"off", "inside", "all"}));
+    slice->add_flag("--avoid-crossing-perimeters,!--no-avoid-crossing-perimeters",
+                    settings.avoid_crossing_perimeters,
+                    "A travel that must leave its island goes inside it to where it leaves and "
+                    "enters the next one where it arrives, instead of straight [on]");
+    slice
+        ->add_option("--seam", seam_text,
+                     "Where outer wall loops start: aligned (one line, in concave corners where "
+                     "there are any), nearest, rear or random [aligned]")
+        ->check(CLI::IsMember({"aligned", "nearest", "rear", "random"}));
+    slice->add_flag("--wipe", settings.wipe,
+                    "Move back along the last path while retracting [off]");
+    slice
+        ->add_option("--wipe-distance", settings.wipe_distance,
+                     "With --wipe: how far back, mm [1]")
+        ->check(CLI::Range(0.0, 50.0));
+    slice->add_flag("--firmware-retraction", settings.firmware_retraction,
+                    "Retract with G10/G11, length and speed set in the firmware [off]");
     slice
         ->add_option("--tear-limit", settings.tear_limit,
                      "How far a cavity may tear open along its seed per slice beyond the dilated "
@@ -335,6 +363,15 @@ int main(int argc, char** argv) {
             settings.flavor = flavor_text == "klipper"  ? carve::GcodeFlavor::Klipper
                               : flavor_text == "reprap" ? carve::GcodeFlavor::RepRap
                                                         : carve::GcodeFlavor::Marlin;
+        if (slice->count("--combing"))
+            settings.combing = combing_text == "off"      ? carve::Combing::Off
+                               : combing_text == "inside" ? carve::Combing::Inside
+                                                          : carve::Combing::All;
+        if (slice->count("--seam"))
+            settings.seam = seam_text == "nearest"  ? carve::SeamMode::Nearest
+                            : seam_text == "rear"   ? carve::SeamMode::Rear
+                            : seam_text == "random" ? carve::SeamMode::Random
+                                                    : carve::SeamMode::Aligned;
         if (!bed_text.empty()) {
             double bx = 0, by = 0;
             char x = 0, extra = 0;

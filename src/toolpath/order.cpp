@@ -108,7 +108,7 @@ class EntryGrid {
 
 }  // namespace
 
-void order_nearest(std::vector<Extrusion>& paths, Point& pos) {
+void order_nearest(std::vector<Extrusion>& paths, Point& pos, bool keep_loop_starts) {
     if (paths.empty()) return;
     std::vector<std::vector<Entry>> entries(paths.size());
     std::vector<Entry> all;
@@ -116,7 +116,8 @@ void order_nearest(std::vector<Extrusion>& paths, Point& pos) {
         const Path& p = paths[i].points;
         if (p.empty()) continue;
         if (paths[i].closed) {
-            for (size_t v = 0; v < p.size(); ++v) entries[i].push_back({p[v], int(i), int(v)});
+            for (size_t v = 0; v < (keep_loop_starts ? 1 : p.size()); ++v)
+                entries[i].push_back({p[v], int(i), int(v)});
         } else {
             entries[i].push_back({p.front(), int(i), 0});
             if (p.size() > 1) entries[i].push_back({p.back(), int(i), int(p.size() - 1)});

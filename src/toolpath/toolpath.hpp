@@ -12,6 +12,9 @@
 namespace carve {
 
 enum class Feature { OuterWall, Shell, Cover, CavityWall, Bridge };
+// How the travel to a path was planned: not at all (the first path of a layer: the G-code stage
+// plans it, knowing where the layer below ended), inside the part (no retraction), or leaving it.
+enum class TravelKind : unsigned char { Unplanned, Inside, Leaves };
 std::string_view feature_name(Feature f);  // the ;TYPE: comment (Cura/PrusaSlicer words)
 
 struct Extrusion {
@@ -20,12 +23,19 @@ struct Extrusion {
     bool closed = false;  // a loop returns to its first point
     double flow = 1.0;    // multiplier on the nominal width x height cross-section
     int cavity = 0;       // j for cavity walls (0 = the outer wall)
+    // The travel that reaches this path from the previous one: the points it passes through
+    // before points.front() (model XY coordinates, um).
+    Path travel;
+    TravelKind travel_kind = TravelKind::Unplanned;
 };
 
 struct LayerToolpaths {
     int index = 0;
     double z = 0;  // nozzle height of the layer in mm above the bed: (i + 1) * h
     std::vector<Extrusion> extrusions;  // in print order
+    // Where travel may go without retracting (comb.hpp), for the travel into the layer; empty
+    // without combing.
+    Paths comb_region;
 };
 
 // Pure function of one layer: layers may be planned on worker threads.
