@@ -198,10 +198,11 @@ int main(int argc, char** argv) {
                      "Travel inside the part without retracting: off (straight travels), inside "
                      "(not over covers) or all (anywhere in the island) [all]")
         ->check(CLI::IsMember({"off", "inside", "all"}));
-    slice->add_flag("--avoid-crossing-perimeters,!--no-avoid-crossing-perimeters",
+    slice->add_flag("!--no-avoid-crossing-perimeters,--avoid-crossing-perimeters",
                     settings.avoid_crossing_perimeters,
-                    "A travel that must leave its island goes inside it to where it leaves and "
-                    "enters the next one where it arrives, instead of straight [on]");
+                    "A travel that must leave its island goes inside it to where the next island "
+                    "is closest, crosses the gap and goes on inside that one, instead of "
+                    "straight [on]");
     slice
         ->add_option("--seam", seam_text,
                      "Where outer wall loops start: aligned (one line, in concave corners where "
@@ -210,8 +211,7 @@ int main(int argc, char** argv) {
     slice->add_flag("--wipe", settings.wipe,
                     "Move back along the last path while retracting [off]");
     slice
-        ->add_option("--wipe-distance", settings.wipe_distance,
-                     "With --wipe: how far back, mm [1]")
+        ->add_option("--wipe-distance", settings.wipe_distance, "With --wipe: how far back, mm [1]")
         ->check(CLI::Range(0.0, 50.0));
     slice->add_flag("--firmware-retraction", settings.firmware_retraction,
                     "Retract with G10/G11, length and speed set in the firmware [off]");

@@ -98,7 +98,8 @@ std::string encode_layer(const LayerToolpaths& layer) {
     put_varint(out, layer.extrusions.size());
     for (const Extrusion& e : layer.extrusions) {
         out.push_back(static_cast<char>(e.feature));
-        out.push_back(static_cast<char>((e.closed ? 1 : 0) | (static_cast<int>(e.travel_kind) << 1)));
+        out.push_back(
+            static_cast<char>((e.closed ? 1 : 0) | (static_cast<int>(e.travel_kind) << 1)));
         put_signed(out, e.cavity);
         put_double(out, e.flow);
         put_points(out, e.points);

@@ -300,8 +300,11 @@ Point Comber::inside_vertex(int contour, int vertex) const {
 }
 
 std::optional<Comber::Located> Comber::locate(const Point& p, Coord reach) const {
-    if (const int i = island_of(p); i >= 0) return Located{p, i};
-    if (contours_.empty() || reach <= 0) return std::nullopt;
+    if (contours_.empty()) return std::nullopt;
+    // A point inside but on the boundary (a cover line ending on the comb region's edge) is
+    // moved off it too: every segment from it would touch the boundary.
+    const int inside = island_of(p);
+    reach = std::max<Coord>(reach, Coord(2 * kNudge));
     // The nearest boundary point within reach, from the cells of the box around p.
     const int cx0 = std::max(0, int((double(p.X - reach) - x0_) / cell_));
     const int cx1 = std::min(nx_ - 1, int((double(p.X + reach) - x0_) / cell_));
@@ -327,14 +330,15 @@ std::optional<Comber::Located> Comber::locate(const Point& p, Coord reach) const
                                   (qy - double(p.Y)) * (qy - double(p.Y));
                 if (d2 < best) best = d2, best_e = e, bx = qx, by = qy;
             }
-    if (best_e < 0) return std::nullopt;
+    if (best_e < 0 || (inside >= 0 && best >= kNudge * kNudge))
+        return inside >= 0 ? std::optional<Located>(Located{p, inside}) : std::nullopt;
     const int c = edges_[best_e].first, i = edges_[best_e].second;
     for (const Point& q : {inside_edge_point(c, i, bx, by), inside_vertex(c, i),
                            inside_vertex(c, int((i + 1) % contours_[c].pts.size()))}) {
         if (dist(q, p) > double(reach) + 2 * kNudge) continue;
         if (const int k = island_of(q); k >= 0) return Located{q, k};
     }
-    return std::nullopt;
+    return inside >= 0 ? std::optional<Located>(Located{p, inside}) : std::nullopt;
 }
 
 bool Comber::visible(const Point& a, const Point& b) const {

@@ -289,8 +289,8 @@ LayerToolpaths plan_layer(const LayerPartition& layer, const Settings& settings)
                 islands[island_at(e.points.front())].cavities[j].push_back(std::move(e));
     distribute(solid_lines, &Island::solid);
     for (const Bridge& b : layer.bridges) {
-        const auto first = std::find_if(b.lines.begin(), b.lines.end(),
-                                        [](const Path& l) { return !l.empty(); });
+        const auto first =
+            std::find_if(b.lines.begin(), b.lines.end(), [](const Path& l) { return !l.empty(); });
         if (first != b.lines.end()) islands[island_at(first->front())].bridges.push_back(b);
     }
 
