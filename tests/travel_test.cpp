@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "carve_run.hpp"
+#include "gcode/spill.hpp"
 #include "geometry/polygon.hpp"
 #include "toolpath/comb.hpp"
 #include "toolpath/seam.hpp"
@@ -144,6 +145,30 @@ TEST(Seam, AlignedPrefersAConcaveCornerThenAConvexOne) {
     EXPECT_EQ(seam_vertex(square, SeamMode::Nearest, 3, 0, {kMm, -kMm}), 0u);
     // Rear: the highest Y, the right end of a flat back edge.
     EXPECT_EQ(seam_vertex(square, SeamMode::Rear, 3, 0, {0, 0}), 2u);
+}
+
+TEST(Spill, KeepsTravelsAndTheCombRegion) {
+    LayerToolpaths layer;
+    layer.index = 3;
+    layer.z = 0.8;
+    for (int i = 0; i < 3; ++i) {
+        Extrusion e;
+        e.points = {{i * kMm, 0}, {i * kMm, 5 * kMm}};
+        layer.extrusions.push_back(e);
+    }
+    layer.travels.resize(3);
+    layer.travels[1] = {{{-7, 12}, {4 * kMm, -3}}, TravelKind::Inside};
+    layer.travels[2] = {{}, TravelKind::Leaves};
+    layer.comb_region = c_shape();
+    const LayerToolpaths back = decode_layer(encode_layer(layer));
+    ASSERT_EQ(back.travels.size(), 3u);
+    EXPECT_EQ(back.travels[0].kind, TravelKind::Unplanned);
+    EXPECT_EQ(back.travels[1].kind, TravelKind::Inside);
+    EXPECT_EQ(back.travels[1].via, layer.travels[1].via);
+    EXPECT_EQ(back.travels[2].kind, TravelKind::Leaves);
+    EXPECT_EQ(back.comb_region, layer.comb_region);
+    layer.travels.clear();  // none planned (combing off)
+    EXPECT_TRUE(decode_layer(encode_layer(layer)).travels.empty());
 }
 
 // --- Whole runs on synthetic models.

@@ -190,7 +190,9 @@ class Emitter {
         type_known_ = false;
         layer_comb_ = &layer.comb_region;
         comber_.reset();
-        for (const Extrusion& e : layer.extrusions) extrude(e);
+        static const Travel unplanned;
+        for (size_t i = 0; i < layer.extrusions.size(); ++i)
+            extrude(layer.extrusions[i], i < layer.travels.size() ? layer.travels[i] : unplanned);
         layer_comb_ = nullptr;
         ++stats_.layers;
         flush(false);
@@ -453,11 +455,11 @@ class Emitter {
         return v;
     }
 
-    void extrude(const Extrusion& ex) {
+    void extrude(const Extrusion& ex, const Travel& travel) {
         if (ex.points.size() < 2) return;
         auto shifted = [&](const Point& p) { return Point(p.X + off_x_, p.Y + off_y_); };
         Path via;
-        TravelKind kind = ex.travel_kind;
+        TravelKind kind = travel.kind;
         if (kind == TravelKind::Unplanned) {
             TravelPlan plan = plan_layer_entry(ex.points.front());
             if (!plan.via.empty() || !plan.leaves) {
@@ -465,7 +467,7 @@ class Emitter {
                 kind = plan.leaves ? TravelKind::Leaves : TravelKind::Inside;
             }
         } else {
-            via = ex.travel;
+            via = travel.via;
         }
         for (Point& q : via) q = shifted(q);
         travel_to(shifted(ex.points.front()), via, kind);

@@ -98,12 +98,15 @@ std::string encode_layer(const LayerToolpaths& layer) {
     put_varint(out, layer.extrusions.size());
     for (const Extrusion& e : layer.extrusions) {
         out.push_back(static_cast<char>(e.feature));
-        out.push_back(
-            static_cast<char>((e.closed ? 1 : 0) | (static_cast<int>(e.travel_kind) << 1)));
+        out.push_back(static_cast<char>(e.closed ? 1 : 0));
         put_signed(out, e.cavity);
         put_double(out, e.flow);
         put_points(out, e.points);
-        put_points(out, e.travel);
+    }
+    put_varint(out, layer.travels.size());
+    for (const Travel& t : layer.travels) {
+        out.push_back(static_cast<char>(t.kind));
+        put_points(out, t.via);
     }
     put_varint(out, layer.comb_region.size());
     for (const Path& p : layer.comb_region) put_points(out, p);
@@ -123,15 +126,21 @@ LayerToolpaths decode_layer(const std::string& blob) {
         if (feature > static_cast<int>(Feature::Bridge))
             throw std::runtime_error("carve: malformed layer spill (feature)");
         e.feature = static_cast<Feature>(feature);
-        const int flags = static_cast<unsigned char>(r.next());
-        e.closed = (flags & 1) != 0;
-        if ((flags >> 1) > static_cast<int>(TravelKind::Leaves))
-            throw std::runtime_error("carve: malformed layer spill (travel)");
-        e.travel_kind = static_cast<TravelKind>(flags >> 1);
+        e.closed = (r.next() & 1) != 0;
         e.cavity = static_cast<int>(r.signed_varint());
         e.flow = r.real();
         read_points(r, blob, e.points);
-        read_points(r, blob, e.travel);
+    }
+    const std::uint64_t travels = r.varint();
+    if (travels != 0 && travels != count)
+        throw std::runtime_error("carve: malformed layer spill (travels)");
+    layer.travels.resize(travels);
+    for (Travel& t : layer.travels) {
+        const int kind = static_cast<unsigned char>(r.next());
+        if (kind > static_cast<int>(TravelKind::Leaves))
+            throw std::runtime_error("carve: malformed layer spill (travel)");
+        t.kind = static_cast<TravelKind>(kind);
+        read_points(r, blob, t.via);
     }
     const std::uint64_t contours = r.varint();
     if (contours > blob.size()) throw std::runtime_error("carve: malformed layer spill (count)");

@@ -351,13 +351,14 @@ LayerToolpaths plan_layer(const LayerPartition& layer, const Settings& settings)
         auto exit_of = [](const Extrusion& e) {
             return e.closed ? e.points.front() : e.points.back();
         };
+        result.travels.resize(result.extrusions.size());
         Point at = exit_of(result.extrusions.front());
         for (size_t i = 1; i < result.extrusions.size(); ++i) {
-            Extrusion& e = result.extrusions[i];
+            const Extrusion& e = result.extrusions[i];
             if (e.points.size() < 2) continue;  // the G-code stage skips it too
             TravelPlan t = plan_travel(comber, at, e.points.front(), options);
-            e.travel = std::move(t.via);
-            e.travel_kind = t.leaves ? TravelKind::Leaves : TravelKind::Inside;
+            result.travels[i].via = std::move(t.via);
+            result.travels[i].kind = t.leaves ? TravelKind::Leaves : TravelKind::Inside;
             at = exit_of(e);
         }
     }

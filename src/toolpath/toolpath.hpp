@@ -23,16 +23,20 @@ struct Extrusion {
     bool closed = false;  // a loop returns to its first point
     double flow = 1.0;    // multiplier on the nominal width x height cross-section
     int cavity = 0;       // j for cavity walls (0 = the outer wall)
-    // The travel that reaches this path from the previous one: the points it passes through
-    // before points.front() (model XY coordinates, um).
-    Path travel;
-    TravelKind travel_kind = TravelKind::Unplanned;
+};
+
+// The travel that reaches a path from the previous one: the points it passes through before
+// the path's first point (model XY coordinates, um), and how it was planned.
+struct Travel {
+    Path via;
+    TravelKind kind = TravelKind::Unplanned;
 };
 
 struct LayerToolpaths {
     int index = 0;
     double z = 0;  // nozzle height of the layer in mm above the bed: (i + 1) * h
     std::vector<Extrusion> extrusions;  // in print order
+    std::vector<Travel> travels;        // empty (none planned) or one per extrusion
     // Where travel may go without retracting (comb.hpp), for the travel into the layer; empty
     // without combing.
     Paths comb_region;
