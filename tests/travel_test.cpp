@@ -390,3 +390,78 @@ TEST(TravelRun, AlignedSeamsFormOneLineOnACylinderAndABox) {
 }
 
 }  // namespace
+
+namespace {
+
+double header_number(const std::string& gcode, const std::string& key) {
+    const size_t at = gcode.find("; " + key + " = ");
+    return at == std::string::npos ? -1 : std::stod(gcode.substr(at + key.size() + 5));
+}
+
+TEST(TravelRun, HeaderCountsTheTravelWrittenAndEveryRetraction) {
+    std::vector<Triangle> t;
+    add_box(t, 0, 0, 0, 12, 12, 6);
+    add_box(t, 32, 0, 0, 44, 12, 6);
+    const fs::path stl = write_stl("two_h.stl", t);
+    for (const char* options : {"", " --wipe", " --firmware-retraction", " --combing off"}) {
+        const std::string g = read(slice(stl, "two_h.gcode", options));
+        // Every G0 (and wipe) move, summed, is the travel the header states.
+        double travel = 0, x = 0, y = 0, e = 0;
+        int e_retractions = 0, g10 = 0, g11 = 0, wipes = 0;
+        bool in_wipe = false, wipe_retracted = false;
+        std::istringstream in(g);
+        std::string line;
+        while (std::getline(in, line)) {
+            if (line == ";WIPE_START") in_wipe = true, wipe_retracted = false, ++wipes;
+            if (line == ";WIPE_END") {
+                in_wipe = false;
+                if (wipe_retracted) ++e_retractions;
+            }
+            if (line.rfind("G10", 0) == 0) ++g10;
+            if (line.rfind("G11", 0) == 0) ++g11;
+            if (line.rfind("G0 ", 0) != 0 && line.rfind("G1 ", 0) != 0) continue;
+            std::istringstream ss(line.substr(0, line.find(';')).substr(3));
+            std::string w;
+            double nx = x, ny = y, ne = e;
+            bool has_e = false;
+            while (ss >> w) {
+                const double v = std::stod(w.substr(1));
+                if (w[0] == 'X') nx = v;
+                if (w[0] == 'Y') ny = v;
+                if (w[0] == 'E') ne = v, has_e = true;
+            }
+            const bool moves = nx != x || ny != y;
+            if (moves && (!has_e || ne < e)) travel += std::hypot(nx - x, ny - y);
+            if (has_e && ne < e) {
+                if (in_wipe)
+                    wipe_retracted = true;
+                else
+                    ++e_retractions;
+            }
+            x = nx, y = ny;
+            if (has_e) e = ne;
+        }
+        const int retractions = int(header_number(g, "retractions"));
+        EXPECT_NEAR(travel, header_number(g, "travel [mm]"), 0.1 + 1e-4 * travel) << options;
+        EXPECT_GT(retractions, 0) << options;
+        if (std::string(options) == " --firmware-retraction") {
+            EXPECT_EQ(g10, retractions);
+            EXPECT_EQ(g11, retractions - 1);  // the last one, at the end, is not undone
+            EXPECT_EQ(e_retractions, 0);
+        } else {
+            EXPECT_EQ(g10, 0);
+            EXPECT_EQ(e_retractions, retractions) << options;
+        }
+        if (std::string(options) == " --wipe") {
+            EXPECT_EQ(wipes, retractions);
+        }
+        if (std::string(options) == " --combing off") {
+            // Without combing every travel over 2 mm retracts: many more than one per island.
+            EXPECT_GT(retractions, 60);
+        } else {
+            EXPECT_LE(retractions, 2 * 30 + 1);  // 30 layers: at most two leavings each
+        }
+    }
+}
+
+}  // namespace
