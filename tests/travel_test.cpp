@@ -128,6 +128,16 @@ TEST(Comb, WallPointsJustOutsideTheRegionAreReached) {
     EXPECT_EQ(l->island, 0);
     EXPECT_LT(dist(l->p, {1 * kMm, 10 * kMm}), 50.0);
     EXPECT_FALSE(comber.locate({-2 * kMm, 10 * kMm}, 500).has_value());
+    // Outer wall corners, diagonally off the region's corners: the travel from each to the
+    // centre stays inside (a corner moved along one edge's normal lies on the other edge, and
+    // a travel from a point on the boundary touches it).
+    TravelOptions options;
+    options.reach = 500;
+    for (const Point& corner : {Point(800, 800), Point(19200, 800), Point(19200, 19200),
+                                Point(800, 19200)}) {
+        const TravelPlan t = plan_travel(comber, corner, {10 * kMm, 10 * kMm}, options);
+        EXPECT_FALSE(t.leaves) << corner.X << " " << corner.Y;
+    }
 }
 
 TEST(Seam, AlignedPrefersAConcaveCornerThenAConvexOne) {

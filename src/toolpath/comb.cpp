@@ -229,9 +229,12 @@ int Comber::island_of(const Point& p) const {
     if (contours_.empty()) return -1;
     const double gy = (double(p.Y) - y0_) / cell_;
     if (gy < 0 || gy >= ny_) return -1;
-    // Crossings of the ray from p towards +x, counted per contour (odd: p is inside it).
+    // Crossings of a horizontal ray from p, counted per contour (odd: p is inside it); towards
+    // the nearer side of the grid, which has fewer cells to walk.
     std::vector<int> odd;
-    const Point far(Coord(x0_ + cell_ * nx_ + 10), p.Y);
+    const double right_end = x0_ + cell_ * nx_;
+    const bool rightwards = right_end - double(p.X) <= double(p.X) - x0_;
+    const Point far(Coord(rightwards ? right_end + 10 : x0_ - 10), p.Y);
     for_edges_along(p, far, [&](int e) {
         const Path& c = contours_[edges_[e].first].pts;
         const Point& u = c[edges_[e].second];
@@ -239,7 +242,7 @@ int Comber::island_of(const Point& p) const {
         if ((u.Y > p.Y) != (v.Y > p.Y)) {
             const double x =
                 double(u.X) + double(p.Y - u.Y) * double(v.X - u.X) / double(v.Y - u.Y);
-            if (x > double(p.X)) {
+            if (rightwards ? x > double(p.X) : x < double(p.X)) {
                 auto it = std::find(odd.begin(), odd.end(), edges_[e].first);
                 if (it == odd.end())
                     odd.push_back(edges_[e].first);
@@ -336,7 +339,9 @@ std::optional<Comber::Located> Comber::locate(const Point& p, Coord reach) const
     for (const Point& q : {inside_edge_point(c, i, bx, by), inside_vertex(c, i),
                            inside_vertex(c, int((i + 1) % contours_[c].pts.size()))}) {
         if (dist(q, p) > double(reach) + 2 * kNudge) continue;
-        if (const int k = island_of(q); k >= 0) return Located{q, k};
+        // Strictly inside: a point moved along one edge's normal from a convex corner lies
+        // on the other edge, and every segment from it would touch the boundary.
+        if (const int k = island_of(q); k >= 0 && visible(q, q)) return Located{q, k};
     }
     return inside >= 0 ? std::optional<Located>(Located{p, inside}) : std::nullopt;
 }
@@ -469,7 +474,7 @@ std::optional<Point> Comber::nearest_in(const Point& p, int island) const {
     if (bc < 0) return std::nullopt;
     for (const Point& q : {inside_edge_point(bc, be, bx, by), inside_vertex(bc, be),
                            inside_vertex(bc, int((be + 1) % contours_[bc].pts.size()))})
-        if (island_of(q) == island) return q;
+        if (island_of(q) == island && visible(q, q)) return q;
     return std::nullopt;
 }
 

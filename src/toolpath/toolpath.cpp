@@ -268,6 +268,7 @@ LayerToolpaths plan_layer(const LayerPartition& layer, const Settings& settings)
     };
     std::vector<Island> islands(size_t(island_index.islands()) + 1);  // the last: unplaced
     auto island_at = [&](const Point& p) {
+        if (island_index.islands() == 1) return size_t(0);  // most layers: nothing to look up
         const auto l = island_index.locate(p, w);
         return l ? size_t(l->island) : islands.size() - 1;
     };
