@@ -17,6 +17,7 @@
 #include "gcode/spill.hpp"
 #include "geometry/polygon.hpp"
 #include "toolpath/comb.hpp"
+#include "toolpath/order.hpp"
 #include "toolpath/seam.hpp"
 
 using namespace carve;
@@ -179,6 +180,45 @@ TEST(Spill, KeepsTravelsAndTheCombRegion) {
     EXPECT_EQ(back.comb_region, layer.comb_region);
     layer.travels.clear();  // none planned (combing off)
     EXPECT_TRUE(decode_layer(encode_layer(layer)).travels.empty());
+}
+
+double order_travel(const std::vector<Extrusion>& paths, Point at) {
+    double travel = 0;
+    for (const Extrusion& e : paths) {
+        travel += dist(at, e.points.front());
+        at = e.closed ? e.points.front() : e.points.back();
+    }
+    return travel;
+}
+
+TEST(Order, TwoOptShortensGreedyOrdersAndNeverLengthens) {
+    // Random loops and lines: never longer than greedy, and shorter overall.
+    std::uint64_t seed = 7;
+    auto next = [&] {
+        seed = seed * 6364136223846793005ull + 1442695040888963407ull;
+        return Coord((seed >> 33) % 50000);
+    };
+    double greedy_total = 0, improved_total = 0;
+    for (int round = 0; round < 20; ++round) {
+        std::vector<Extrusion> set;
+        for (int k = 0; k < 80; ++k) {
+            Extrusion e;
+            e.closed = k % 3 == 0;
+            for (int v = 0; v < (e.closed ? 5 : 2); ++v) e.points.push_back({next(), next()});
+            set.push_back(e);
+        }
+        Point p(0, 0);
+        order_nearest(set, p);
+        const double before = order_travel(set, {0, 0});
+        Point end;
+        improve_order(set, {0, 0}, end);
+        const double after = order_travel(set, {0, 0});
+        EXPECT_LE(after, before + 1e-6);
+        greedy_total += before, improved_total += after;
+        const Extrusion& last = set.back();
+        EXPECT_EQ(end, last.closed ? last.points.front() : last.points.back());
+    }
+    EXPECT_LT(improved_total, 0.97 * greedy_total);
 }
 
 // --- Whole runs on synthetic models.

@@ -300,7 +300,9 @@ LayerToolpaths plan_layer(const LayerPartition& layer, const Settings& settings)
     BBox2 box = bounds(shape);
     Point pos = layer.index % 2 == 0 ? Point(box.min_x, box.min_y) : Point(box.max_x, box.max_y);
     auto append = [&](std::vector<Extrusion>& group, bool keep_loop_starts = false) {
+        const Point start = pos;
         order_nearest(group, pos, keep_loop_starts);
+        improve_order(group, start, pos, keep_loop_starts);
         for (Extrusion& e : group) result.extrusions.push_back(std::move(e));
     };
     auto d2 = [](const Point& a, const Point& b) {
