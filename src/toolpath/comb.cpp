@@ -494,8 +494,32 @@ void append_route(Path& via, const Path& route) {
 
 }  // namespace
 
+namespace {
+
+// The waypoints of a travel inside one island of `comber`, or nothing when the ends are not in
+// one island or the path inside is much longer than the straight line.
+std::optional<Path> inside_route(const Comber& comber, const Point& from, const Point& to,
+                                 const TravelOptions& options) {
+    const auto la = comber.locate(from, options.reach);
+    if (!la) return std::nullopt;
+    const auto lb = comber.locate(to, options.reach);
+    if (!lb || la->island != lb->island) return std::nullopt;
+    auto r = comber.route(la->p, lb->p);
+    if (!r) return std::nullopt;
+    Path via;
+    if (la->p != from) via.push_back(la->p);
+    append_route(via, *r);
+    if (!via.empty() && via.back() == to) via.pop_back();
+    if (polyline_length(from, via, to) >
+        options.max_detour_factor * dist(from, to) + options.max_detour_extra)
+        return std::nullopt;
+    return via;
+}
+
+}  // namespace
+
 TravelPlan plan_travel(const Comber& comber, const Point& from, const Point& to,
-                       const TravelOptions& options) {
+                       const TravelOptions& options, const Comber* thin) {
     TravelPlan plan;
     if (from == to) {
         plan.leaves = false;
@@ -504,21 +528,19 @@ TravelPlan plan_travel(const Comber& comber, const Point& from, const Point& to,
     if (comber.empty()) return plan;
     const auto la = comber.locate(from, options.reach);
     const auto lb = comber.locate(to, options.reach);
-    if (la && lb && la->island == lb->island) {
-        if (auto r = comber.route(la->p, lb->p)) {
-            Path via;
-            if (la->p != from) via.push_back(la->p);
-            append_route(via, *r);
-            if (!via.empty() && via.back() == to) via.pop_back();
-            const double straight = dist(from, to);
-            if (polyline_length(from, via, to) <=
-                options.max_detour_factor * straight + options.max_detour_extra) {
-                plan.via = std::move(via);
-                plan.leaves = false;
-                return plan;
-            }
+    const bool same_island = la && lb && la->island == lb->island;
+    if (same_island || thin) {
+        // Parts too thin for the comb region (a blade two lines thick), and necks where it
+        // comes apart, are still inside the part: through them along the outer wall.
+        std::optional<Path> via = same_island ? inside_route(comber, from, to, options)
+                                              : inside_route(*thin, from, to, options);
+        if (!via && same_island && thin) via = inside_route(*thin, from, to, options);
+        if (via) {
+            plan.via = std::move(*via);
+            plan.leaves = false;
+            return plan;
         }
-        return plan;  // no reasonable way inside: straight, retracted
+        if (same_island) return plan;  // no reasonable way inside: straight, retracted
     }
     if (!options.avoid_crossing) return plan;
     const double straight = dist(from, to);

@@ -95,8 +95,10 @@ struct TravelOptions {
     double max_detour_extra = 20e3;  // plus this (units) leaves the part instead
 };
 
+// `thin`, if given, is a wider region (inside the outer wall's centreline) tried for the
+// travels the comb region cannot keep inside: a part too thin for it, a neck where it splits.
 TravelPlan plan_travel(const Comber& comber, const Point& from, const Point& to,
-                       const TravelOptions& options);
+                       const TravelOptions& options, const Comber* thin = nullptr);
 
 // The layer's comb region: the region inside the outer wall's centreline (`wall_region`) eroded
 // by half a line width, so travel keeps off the outer wall, simplified (a few vertices of a

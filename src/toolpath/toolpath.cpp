@@ -10,6 +10,7 @@
 #include <cmath>
 #include <iterator>
 #include <limits>
+#include <optional>
 
 #include "core/stage_timer.hpp"
 #include "geometry/morphology.hpp"
@@ -350,6 +351,10 @@ LayerToolpaths plan_layer(const LayerPartition& layer, const Settings& settings)
     if (settings.combing != Combing::Off && !result.extrusions.empty()) {
         result.comb_region = comb_region(layer.wall_region, layer.covers, settings);
         const Comber comber(result.comb_region);
+        // Where the comb region fails (thin parts), the region inside the outer wall's
+        // centreline, built only if needed; not with Combing::Inside, which keeps off covers.
+        std::optional<Comber> thin;
+        const bool use_thin = settings.combing == Combing::All;
         const TravelOptions options = travel_options(settings);
         auto exit_of = [](const Extrusion& e) {
             return e.closed ? e.points.front() : e.points.back();
@@ -360,6 +365,10 @@ LayerToolpaths plan_layer(const LayerPartition& layer, const Settings& settings)
             const Extrusion& e = result.extrusions[i];
             if (e.points.size() < 2) continue;  // the G-code stage skips it too
             TravelPlan t = plan_travel(comber, at, e.points.front(), options);
+            if (t.leaves && use_thin) {
+                if (!thin) thin.emplace(layer.wall_region);
+                t = plan_travel(comber, at, e.points.front(), options, &*thin);
+            }
             result.travels[i].via = std::move(t.via);
             result.travels[i].kind = t.leaves ? TravelKind::Leaves : TravelKind::Inside;
             at = exit_of(e);
