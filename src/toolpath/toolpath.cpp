@@ -260,17 +260,22 @@ LayerToolpaths plan_layer(const LayerPartition& layer, const Settings& settings)
     // after the other: the nozzle leaves each island once instead of once per group. Within a
     // group, nearest neighbour; the next island is the one whose first path is nearest.
     const Paths& shape = layer.outline.empty() ? layer.wall_region : layer.outline;
-    const Comber island_index(shape);
+    // Most layers are one island: then no index is built and nothing is looked up.
+    const size_t outers = static_cast<size_t>(
+        std::count_if(shape.begin(), shape.end(), [](const Path& p) { return area(p) > 0; }));
+    std::optional<Comber> index;
+    if (outers > 1) index.emplace(shape);
+    const size_t island_count = index ? size_t(index->islands()) : outers;
     struct Island {
         std::vector<Extrusion> outer, shells, covers, solid;
         std::vector<std::vector<Extrusion>> cavities;
         std::vector<Bridge> bridges;
         bool done = false;
     };
-    std::vector<Island> islands(size_t(island_index.islands()) + 1);  // the last: unplaced
+    std::vector<Island> islands(island_count + 1);  // the last: unplaced
     auto island_at = [&](const Point& p) {
-        if (island_index.islands() == 1) return size_t(0);  // most layers: nothing to look up
-        const auto l = island_index.locate(p, w);
+        if (!index) return size_t(0);
+        const auto l = index->locate(p, w);
         return l ? size_t(l->island) : islands.size() - 1;
     };
     auto distribute = [&](std::vector<Extrusion>& group, auto member) {
