@@ -3,9 +3,9 @@
 //
 // Deliberately self-contained (Clipper, nlohmann-json, the standard library and the trapezoid of
 // gcode/motion.cpp for the stick time) so that the baseline script can build it alone, without
-// the rest of the pipeline; the mesh is reached only through GcodeAnalysisOptions::model_slice. ClipperOffset is used
-// here on purpose: this is a measuring tool, and round-capped offsets of open polylines are the
-// natural model of a bead seen from above.
+// the rest of the pipeline; the mesh is reached only through GcodeAnalysisOptions::model_slice.
+// ClipperOffset is used here on purpose: this is a measuring tool, and round-capped offsets of open
+// polylines are the natural model of a bead seen from above.
 #include "check/gcode_analysis.hpp"
 
 #include <algorithm>

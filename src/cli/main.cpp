@@ -93,7 +93,7 @@ int run(int argc, char** argv) {
     carve::Settings settings;
     carve::RunOptions run;
     std::string cavities_text = "6", walls_text = "single", preset, profile_path, printer_name,
-                flavor_text = "marlin", bed_text;
+                flavor_text = "marlin", bed_text, combing_text = "all", seam_text = "aligned";
     bool quiet = false, no_bed_check = false, relative_e = false;
     double timeout_s = 0;
     // Table options as typed, applied after the printer, the profile and the preset.
@@ -134,6 +134,25 @@ int run(int argc, char** argv) {
                     "Relative extrusion distances (M83) [off: absolute, M82]");
     slice->add_option("--bed", bed_text, "Bed size WxH, mm; the model is centred on it [250x210]");
     slice->add_flag("--no-bed-check", no_bed_check, "Allow a model larger than the bed [off]");
+    slice
+        ->add_option("--combing", combing_text,
+                     "Travel inside the part without retracting: off (straight travels), inside "
+                     "(not over covers) or all (anywhere in the island) [all]")
+        ->check(CLI::IsMember({"off", "inside", "all"}));
+    slice->add_flag("!--no-avoid-crossing-perimeters,--avoid-crossing-perimeters",
+                    settings.avoid_crossing_perimeters,
+                    "A travel that must leave its island goes inside it to where the next island "
+                    "is closest, crosses the gap and goes on inside that one, instead of "
+                    "straight [on]");
+    slice
+        ->add_option("--seam", seam_text,
+                     "Where outer wall loops start: aligned (one line, in concave corners where "
+                     "there are any), nearest, rear or random [aligned]")
+        ->check(CLI::IsMember({"aligned", "nearest", "rear", "random"}));
+    slice->add_flag("--wipe", settings.wipe,
+                    "Move back along the last path while retracting [off]");
+    slice->add_flag("--firmware-retraction", settings.firmware_retraction,
+                    "Retract with G10/G11, length and speed set in the firmware [off]");
     slice->add_flag("!--keep-all-bridges", settings.prune_bridges,
                     "Keep bridges that the layer below already supports [off]");
     slice->add_option("--report", run.report_path,
@@ -312,6 +331,15 @@ int run(int argc, char** argv) {
             settings.flavor = flavor_text == "klipper"  ? carve::GcodeFlavor::Klipper
                               : flavor_text == "reprap" ? carve::GcodeFlavor::RepRap
                                                         : carve::GcodeFlavor::Marlin;
+        if (slice->count("--combing"))
+            settings.combing = combing_text == "off"      ? carve::Combing::Off
+                               : combing_text == "inside" ? carve::Combing::Inside
+                                                          : carve::Combing::All;
+        if (slice->count("--seam"))
+            settings.seam = seam_text == "nearest"  ? carve::SeamMode::Nearest
+                            : seam_text == "rear"   ? carve::SeamMode::Rear
+                            : seam_text == "random" ? carve::SeamMode::Random
+                                                    : carve::SeamMode::Aligned;
         if (!bed_text.empty() && !parse_bed(bed_text, settings.bed_x, settings.bed_y))
             return fail(fmt::format("--bed: expected WIDTHxDEPTH in mm such as 250x210, got '{}'",
                                     bed_text));

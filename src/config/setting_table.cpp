@@ -83,8 +83,12 @@ std::vector<SettingSpec> make_table() {
         {"max-vertices", "", "vertices", 0, 1e10, &S::max_vertices_total,
          "Give up when the slices hold more contour vertices than this in all; 0 = no limit, "
          "vertices [100000000]"},
-        // Profile-only keys: no option of their own, bounded all the same.
-        {"", "retract_before_travel", "mm", 0.0, 1000.0, &S::retract_min_travel, ""},
+        {"retract-before-travel", "retract_before_travel", "mm", 0.0, 1000.0,
+         &S::retract_min_travel,
+         "Only a travel longer than this retracts (one that stays inside the part with combing "
+         "never does), mm [2]"},
+        {"wipe-distance", "", "mm", 0.0, 50.0, &S::wipe_distance,
+         "With --wipe: how far back, mm [1]"},
     };
 }
 

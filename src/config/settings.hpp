@@ -13,6 +13,14 @@ namespace carve {
 
 enum class WallMode { Single, Double };
 enum class GcodeFlavor { Marlin, RepRap, Klipper };
+// Travel (issue #18). Combing: off = straight travels, retracted when longer than
+// retract_min_travel; inside = within the island but not over its covers (solid top and bottom
+// layers, where a dragged nozzle marks the surface); all = anywhere within the island.
+enum class Combing { Off, Inside, All };
+// Where the outer wall's loops start: aligned = the same place layer after layer, in a concave
+// corner where there is one (a convex one otherwise); nearest = where the nozzle is; rear = the
+// back of the loop; random = anywhere (spreads the seam's bump).
+enum class SeamMode { Aligned, Nearest, Rear, Random };
 
 struct Settings {
     // Geometry of the process.
@@ -57,6 +65,12 @@ struct Settings {
     double travel_speed = 150, first_layer_speed = 20, max_print_speed = 100;
     double acceleration = 1000, travel_acceleration = 1500;  // mm/s^2
     double retract_length = 0.8, retract_speed = 35, retract_min_travel = 2.0, z_hop = 0.0;
+    Combing combing = Combing::All;
+    bool avoid_crossing_perimeters = true;  // a travel leaving its island goes through it
+    SeamMode seam = SeamMode::Aligned;
+    bool wipe = false;                 // move back along the last path while retracting
+    double wipe_distance = 1.0;        // mm
+    bool firmware_retraction = false;  // G10/G11: the firmware's own length and speed
     double bridge_flow = 1.0;
     int fan_speed = 255, bridge_fan_speed = 255;
     std::string start_gcode = "G28 ; home all axes\nG1 Z5 F3000\nG92 E0\n";

@@ -23,6 +23,7 @@
 #include <cstring>
 #include <iterator>
 #include <limits>
+#include <memory>
 #include <mutex>
 #include <numbers>
 #include <stdexcept>
@@ -34,6 +35,7 @@
 #include "gcode/motion.hpp"
 #include "gcode/placeholders.hpp"
 #include "gcode/spill.hpp"
+#include "toolpath/comb.hpp"
 
 namespace carve {
 
@@ -160,6 +162,16 @@ std::vector<std::pair<std::string, std::string>> setting_lines(const Settings& s
         {"retract_speed", num(s.retract_speed)},
         {"retract_before_travel", num(s.retract_min_travel)},
         {"retract_lift", num(s.z_hop)},
+        {"combing", s.combing == Combing::Off      ? "off"
+                    : s.combing == Combing::Inside ? "inside"
+                                                   : "all"},
+        {"avoid_crossing_perimeters", s.avoid_crossing_perimeters ? "1" : "0"},
+        {"seam_position", s.seam == SeamMode::Aligned   ? "aligned"
+                          : s.seam == SeamMode::Nearest ? "nearest"
+                          : s.seam == SeamMode::Rear    ? "rear"
+                                                        : "random"},
+        {"wipe", s.wipe ? "1" : "0"},
+        {"use_firmware_retraction", s.firmware_retraction ? "1" : "0"},
         {"bridge_flow_ratio", num(s.bridge_flow)},
         {"fan_speed", std::to_string(s.fan_speed)},
         {"bridge_fan_speed", std::to_string(s.bridge_fan_speed)},
@@ -233,7 +245,12 @@ class Emitter {
         }
         if (layer.index > 0) set_fan(st_.fan_speed);
         type_known_ = false;
-        for (const Extrusion& e : layer.extrusions) extrude(e);
+        layer_comb_ = &layer.comb_region;
+        comber_.reset();
+        static const Travel unplanned;
+        for (size_t i = 0; i < layer.extrusions.size(); ++i)
+            extrude(layer.extrusions[i], i < layer.travels.size() ? layer.travels[i] : unplanned);
+        layer_comb_ = nullptr;
         ++stats_.layers;
         flush(false);
     }
@@ -337,16 +354,81 @@ class Emitter {
         planner_.dwell(st_.retract_length / st_.retract_speed);
     }
 
+    bool can_retract() const { return st_.firmware_retraction || retract_units_ > 0; }
+
     void retract() {
-        if (retract_units_ == 0 || retracted_) return;
-        move_filament(e_units_ - retract_units_);
+        if (!can_retract() || retracted_) return;
+        if (st_.wipe && wipe_length_ > 0) {
+            wipe();
+        } else if (st_.firmware_retraction) {
+            line("G10 ; retract");
+            planner_.dwell(st_.retract_length / st_.retract_speed);
+        } else {
+            move_filament(e_units_ - retract_units_);
+        }
         retracted_ = true;
         ++stats_.retractions;
     }
 
+    // Back along the last path while retracting, so that what oozes lands on the line just
+    // printed (PrusaSlicer's wipe). The filament moves at most at the retraction speed: the
+    // nozzle slows down if the wipe is short. With firmware retraction the wipe is a plain
+    // move before G10, the firmware knowing its own length.
+    void wipe() {
+        const bool firmware = st_.firmware_retraction;
+        double v = st_.travel_speed;
+        if (!firmware && st_.retract_length > 0)
+            v = std::min(v, wipe_length_ * st_.retract_speed / st_.retract_length);
+        line(";WIPE_START");
+        const long long e0 = e_units_;
+        double done = 0;
+        for (const Point& q : wipe_path_) {
+            const double dx = to_mm(q.X - pos_.X), dy = to_mm(q.Y - pos_.Y);
+            const double len = std::hypot(dx, dy);
+            if (len <= 0) continue;
+            done += len;
+            put("G1 X");
+            fixed(q.X, 3);
+            put(" Y");
+            fixed(q.Y, 3);
+            if (!firmware) {
+                const long long target =
+                    e0 - std::llround(double(retract_units_) * std::min(1.0, done / wipe_length_));
+                e_word(target);
+                e_units_ = target;
+            }
+            feed(v);
+            buf_.push_back('\n');
+            planner_.move(dx, dy, v, st_.travel_acceleration);
+            stats_.travel_length_mm += len;
+            pos_ = q;
+        }
+        if (!firmware && e_units_ != e0 - retract_units_) {
+            put("G1");
+            e_word(e0 - retract_units_);
+            feed(st_.retract_speed);
+            buf_.push_back('\n');
+            e_units_ = e0 - retract_units_;
+        }
+        line(";WIPE_END");
+        if (firmware) {
+            line("G10 ; retract");
+            planner_.dwell(st_.retract_length / st_.retract_speed);
+        } else {
+            planner_.stop();
+        }
+        wipe_path_.clear();
+        wipe_length_ = 0;
+    }
+
     void unretract() {
         if (!retracted_) return;
-        move_filament(std::llround(e_mm_ * kEScale));
+        if (st_.firmware_retraction) {
+            line("G11 ; unretract");
+            planner_.dwell(st_.retract_length / st_.retract_speed);
+        } else {
+            move_filament(std::llround(e_mm_ * kEScale));
+        }
         retracted_ = false;
     }
 
@@ -361,19 +443,33 @@ class Emitter {
         z_ = z;
     }
 
-    void travel_to(const Point& p) {
-        const double d = std::hypot(to_mm(p.X - pos_.X), to_mm(p.Y - pos_.Y));
-        if (p == pos_) {
+    // The travel to `p` through `via` (output coordinates). A travel planned inside the part
+    // never retracts; any other retracts when longer than retract_before_travel.
+    void travel_to(const Point& p, const Path& via, TravelKind kind) {
+        if (p == pos_ && via.empty()) {
             if (layer_z_ > z_) move_z(layer_z_);
             return;
         }
-        const bool retract_now = !first_travel_ && retract_units_ > 0 && d > st_.retract_min_travel;
+        double d = 0;
+        Point at = pos_;
+        for (const Point& q : via) d += std::hypot(to_mm(q.X - at.X), to_mm(q.Y - at.Y)), at = q;
+        d += std::hypot(to_mm(p.X - at.X), to_mm(p.Y - at.Y));
+        const bool retract_now = !first_travel_ && can_retract() && kind != TravelKind::Inside &&
+                                 d > st_.retract_min_travel;
         if (retract_now) retract();
         const Coord hop = retract_now ? to_units(st_.z_hop) : 0;
         if (hop > 0)
             move_z(std::max(z_, layer_z_) + hop);
         else if (layer_z_ > z_)
             move_z(layer_z_);
+        for (const Point& q : via) travel_move(q);
+        travel_move(p);
+        if (z_ != layer_z_) move_z(layer_z_);
+        first_travel_ = false;
+    }
+
+    void travel_move(const Point& p) {
+        if (p == pos_) return;
         put("G0 X");
         fixed(p.X, 3);
         put(" Y");
@@ -382,10 +478,18 @@ class Emitter {
         buf_.push_back('\n');
         planner_.move(to_mm(p.X - pos_.X), to_mm(p.Y - pos_.Y), st_.travel_speed,
                       st_.travel_acceleration);
-        stats_.travel_length_mm += d;
+        stats_.travel_length_mm += std::hypot(to_mm(p.X - pos_.X), to_mm(p.Y - pos_.Y));
         pos_ = p;
-        if (z_ != layer_z_) move_z(layer_z_);
-        first_travel_ = false;
+    }
+
+    // The travel into a layer, from where the layer below ended: planned here, the only stage
+    // that knows both ends. The comber is built once per layer, and only if needed.
+    TravelPlan plan_layer_entry(const Point& target_model) {
+        TravelPlan plan;
+        if (first_travel_ || !layer_comb_ || layer_comb_->empty()) return plan;
+        if (!comber_) comber_ = std::make_unique<Comber>(*layer_comb_);
+        const Point from(pos_.X - off_x_, pos_.Y - off_y_);
+        return plan_travel(*comber_, from, target_model, travel_options(st_));
     }
 
     double speed_of(Feature f) const {
@@ -410,10 +514,22 @@ class Emitter {
         return v;
     }
 
-    void extrude(const Extrusion& ex) {
+    void extrude(const Extrusion& ex, const Travel& travel) {
         if (ex.points.size() < 2) return;
         auto shifted = [&](const Point& p) { return Point(p.X + off_x_, p.Y + off_y_); };
-        travel_to(shifted(ex.points.front()));
+        Path via;
+        TravelKind kind = travel.kind;
+        if (kind == TravelKind::Unplanned) {
+            TravelPlan plan = plan_layer_entry(ex.points.front());
+            if (!plan.via.empty() || !plan.leaves) {
+                via = std::move(plan.via);
+                kind = plan.leaves ? TravelKind::Leaves : TravelKind::Inside;
+            }
+        } else {
+            via = travel.via;
+        }
+        for (Point& q : via) q = shifted(q);
+        travel_to(shifted(ex.points.front()), via, kind);
         if (!type_known_ || ex.feature != type_) {
             type_known_ = true;
             type_ = ex.feature;
@@ -458,6 +574,32 @@ class Emitter {
             bounds_.max_z = std::max(bounds_.max_z, to_mm(z_));
             pos_ = q;
         }
+        if (st_.wipe) remember_for_wipe(ex, shifted);
+    }
+
+    // The last wipe_distance of the path just printed, walking back from its end.
+    template <class Shift>
+    void remember_for_wipe(const Extrusion& ex, Shift shifted) {
+        wipe_path_.clear();
+        wipe_length_ = 0;
+        const size_t m = ex.points.size();
+        const size_t n = m + (ex.closed ? 1 : 0);
+        Point at = pos_;
+        for (size_t k = n - 1; k-- > 0 && wipe_length_ < st_.wipe_distance;) {
+            Point q = shifted(ex.points[k % m]);
+            const double len = std::hypot(to_mm(q.X - at.X), to_mm(q.Y - at.Y));
+            if (len <= 0) continue;
+            if (wipe_length_ + len > st_.wipe_distance) {
+                const double f = (st_.wipe_distance - wipe_length_) / len;
+                q = Point(at.X + std::llround(f * double(q.X - at.X)),
+                          at.Y + std::llround(f * double(q.Y - at.Y)));
+                wipe_length_ = st_.wipe_distance;
+            } else {
+                wipe_length_ += len;
+            }
+            wipe_path_.push_back(q);
+            at = q;
+        }
     }
 
     const Settings& st_;
@@ -484,6 +626,10 @@ class Emitter {
     MotionPlanner planner_;
     PrintStats stats_;
     Bounds bounds_;
+    const Paths* layer_comb_ = nullptr;  // the comb region of the layer being written
+    std::unique_ptr<Comber> comber_;     // built from it on first use
+    Path wipe_path_;                     // output coordinates, from the nozzle backwards
+    double wipe_length_ = 0;             // mm
 };
 
 }  // namespace

@@ -27,6 +27,17 @@ void put_double(std::string& out, double v) {
     out.append(bytes, sizeof v);
 }
 
+// A count, then zig-zag deltas from the previous point (the first from 0, 0).
+void put_points(std::string& out, const Path& path) {
+    put_varint(out, path.size());
+    Point prev(0, 0);
+    for (const Point& p : path) {
+        put_signed(out, p.X - prev.X);
+        put_signed(out, p.Y - prev.Y);
+        prev = p;
+    }
+}
+
 class Reader {
   public:
     explicit Reader(const std::string& s) : p_(s.data()), end_(s.data() + s.size()) {}
@@ -63,6 +74,18 @@ class Reader {
     const char* end_;
 };
 
+void read_points(Reader& r, const std::string& blob, Path& path) {
+    const std::uint64_t n = r.varint();
+    if (n > blob.size()) throw std::runtime_error("carve: malformed layer spill (points)");
+    path.resize(n);
+    Point prev(0, 0);
+    for (Point& p : path) {
+        p.X = prev.X + r.signed_varint();
+        p.Y = prev.Y + r.signed_varint();
+        prev = p;
+    }
+}
+
 }  // namespace
 
 std::string encode_layer(const LayerToolpaths& layer) {
@@ -78,14 +101,15 @@ std::string encode_layer(const LayerToolpaths& layer) {
         out.push_back(static_cast<char>(e.closed ? 1 : 0));
         put_signed(out, e.cavity);
         put_double(out, e.flow);
-        put_varint(out, e.points.size());
-        Point prev(0, 0);
-        for (const Point& p : e.points) {
-            put_signed(out, p.X - prev.X);
-            put_signed(out, p.Y - prev.Y);
-            prev = p;
-        }
+        put_points(out, e.points);
     }
+    put_varint(out, layer.travels.size());
+    for (const Travel& t : layer.travels) {
+        out.push_back(static_cast<char>(t.kind));
+        put_points(out, t.via);
+    }
+    put_varint(out, layer.comb_region.size());
+    for (const Path& p : layer.comb_region) put_points(out, p);
     return out;
 }
 
@@ -105,16 +129,23 @@ LayerToolpaths decode_layer(const std::string& blob) {
         e.closed = (r.next() & 1) != 0;
         e.cavity = static_cast<int>(r.signed_varint());
         e.flow = r.real();
-        const std::uint64_t n = r.varint();
-        if (n > blob.size()) throw std::runtime_error("carve: malformed layer spill (points)");
-        e.points.resize(n);
-        Point prev(0, 0);
-        for (Point& p : e.points) {
-            p.X = prev.X + r.signed_varint();
-            p.Y = prev.Y + r.signed_varint();
-            prev = p;
-        }
+        read_points(r, blob, e.points);
     }
+    const std::uint64_t travels = r.varint();
+    if (travels != 0 && travels != count)
+        throw std::runtime_error("carve: malformed layer spill (travels)");
+    layer.travels.resize(travels);
+    for (Travel& t : layer.travels) {
+        const int kind = static_cast<unsigned char>(r.next());
+        if (kind > static_cast<int>(TravelKind::Leaves))
+            throw std::runtime_error("carve: malformed layer spill (travel)");
+        t.kind = static_cast<TravelKind>(kind);
+        read_points(r, blob, t.via);
+    }
+    const std::uint64_t contours = r.varint();
+    if (contours > blob.size()) throw std::runtime_error("carve: malformed layer spill (count)");
+    layer.comb_region.resize(contours);
+    for (Path& p : layer.comb_region) read_points(r, blob, p);
     if (!r.done()) throw std::runtime_error("carve: malformed layer spill (trailing bytes)");
     return layer;
 }

@@ -108,7 +108,7 @@ class EntryGrid {
 
 }  // namespace
 
-void order_nearest(std::vector<Extrusion>& paths, Point& pos) {
+void order_nearest(std::vector<Extrusion>& paths, Point& pos, bool keep_loop_starts) {
     if (paths.empty()) return;
     std::vector<std::vector<Entry>> entries(paths.size());
     std::vector<Entry> all;
@@ -116,7 +116,8 @@ void order_nearest(std::vector<Extrusion>& paths, Point& pos) {
         const Path& p = paths[i].points;
         if (p.empty()) continue;
         if (paths[i].closed) {
-            for (size_t v = 0; v < p.size(); ++v) entries[i].push_back({p[v], int(i), int(v)});
+            for (size_t v = 0; v < (keep_loop_starts ? 1 : p.size()); ++v)
+                entries[i].push_back({p[v], int(i), int(v)});
         } else {
             entries[i].push_back({p.front(), int(i), 0});
             if (p.size() > 1) entries[i].push_back({p.back(), int(i), int(p.size() - 1)});
@@ -140,6 +141,60 @@ void order_nearest(std::vector<Extrusion>& paths, Point& pos) {
         ordered.push_back(std::move(ex));
     }
     paths = std::move(ordered);
+}
+
+void improve_order(std::vector<Extrusion>& paths, const Point& start, Point& pos,
+                   bool keep_loop_starts) {
+    const size_t n = paths.size();
+    if (n == 0) return;
+    auto entry = [&](size_t k) { return paths[k].points.front(); };
+    auto exit = [&](size_t k) {
+        return paths[k].closed ? paths[k].points.front() : paths[k].points.back();
+    };
+    auto d = [](const Point& a, const Point& b) { return std::sqrt(dist2(a, b)); };
+    // Reversing paths[i..j] changes only the travel into i and out of j: the travel between
+    // two reversed neighbours is the same segment the other way round.
+    constexpr size_t kWindow = 24;
+    for (int pass = 0; pass < 2 && n >= 2; ++pass) {
+        bool improved = false;
+        for (size_t i = 0; i + 1 < n; ++i) {
+            for (size_t j = i + 1; j < n && j < i + kWindow; ++j) {
+                const Point before = i == 0 ? start : exit(i - 1);
+                const bool tail = j + 1 < n;
+                const double now = d(before, entry(i)) + (tail ? d(exit(j), entry(j + 1)) : 0);
+                const double then = d(before, exit(j)) + (tail ? d(entry(i), entry(j + 1)) : 0);
+                if (then < now - 1.0) {  // a micrometre: no endless swaps of equals
+                    std::reverse(paths.begin() + static_cast<std::ptrdiff_t>(i),
+                                 paths.begin() + static_cast<std::ptrdiff_t>(j) + 1);
+                    for (size_t k = i; k <= j; ++k)
+                        if (!paths[k].closed)
+                            std::reverse(paths[k].points.begin(), paths[k].points.end());
+                    improved = true;
+                }
+            }
+        }
+        if (!improved) break;
+    }
+    // Each loop starts at the vertex that makes the travel into it and out of it (to the next
+    // path's start as it stands) shortest: with a loop ending where it starts, the nearest
+    // vertex to the nozzle alone could lengthen the travel after it.
+    Point at = start;
+    for (size_t k = 0; k < n; ++k) {
+        Extrusion& e = paths[k];
+        if (e.closed && !keep_loop_starts && e.points.size() > 1) {
+            auto cost = [&](const Point& v) {
+                return d(at, v) + (k + 1 < n ? d(v, paths[k + 1].points.front()) : 0.0);
+            };
+            size_t best = 0;
+            double best_cost = cost(e.points[0]);
+            for (size_t v = 1; v < e.points.size(); ++v)
+                if (const double c = cost(e.points[v]); c < best_cost) best_cost = c, best = v;
+            std::rotate(e.points.begin(), e.points.begin() + static_cast<std::ptrdiff_t>(best),
+                        e.points.end());
+        }
+        at = e.closed ? e.points.front() : e.points.back();
+    }
+    pos = at;
 }
 
 }  // namespace carve

@@ -10,12 +10,15 @@
 #include <cmath>
 #include <iterator>
 #include <limits>
+#include <optional>
 
 #include "base/stage_timer.hpp"
 #include "geometry/morphology.hpp"
 #include "geometry/polygon.hpp"
+#include "toolpath/comb.hpp"
 #include "toolpath/fill.hpp"
 #include "toolpath/order.hpp"
+#include "toolpath/seam.hpp"
 #include "toolpath/walls.hpp"
 
 namespace carve {
@@ -140,6 +143,15 @@ LayerToolpaths plan_layer(const LayerPartition& layer, const Settings& settings)
     // 1. Outer wall (C^0) and shells.
     std::vector<Extrusion> outer, shells;
     add_loops(layer.wall_region, Feature::OuterWall, 0, double(w), outer);
+    // Seams: the outer wall is what the user sees, so its loops start where the seam mode puts
+    // them; everything else starts where the nozzle is.
+    const bool placed_seams = settings.seam != SeamMode::Nearest;
+    if (placed_seams)
+        for (size_t k = 0; k < outer.size(); ++k) {
+            Path& p = outer[k].points;
+            const size_t v = seam_vertex(p, settings.seam, layer.index, k, Point(0, 0));
+            std::rotate(p.begin(), p.begin() + static_cast<std::ptrdiff_t>(v), p.end());
+        }
     const Paths& inner = (layer.shell_paths_region.empty() && settings.shells == 0)
                              ? layer.wall_region
                              : layer.shell_paths_region;
@@ -241,23 +253,132 @@ LayerToolpaths plan_layer(const LayerPartition& layer, const Settings& settings)
         solid_lines = fill_solid(erode(layer.remainder, w - overlap), angle, w, Feature::Cover);
     }
 
-    // 5. Order: groups in print order, nearest neighbour inside each group.
-    BBox2 box = bounds(layer.outline.empty() ? layer.wall_region : layer.outline);
-    Point pos(box.min_x, box.min_y);
-    auto append = [&](std::vector<Extrusion>& group) {
-        order_nearest(group, pos);
-        for (Extrusion& e : group) result.extrusions.push_back(std::move(e));
+    // 5. Order, island by island (an island: a connected piece of the model's slice O_i). The
+    // report's order C^0, C^1 .. C^k matters only between touching contours (4.2: a small
+    // contour may rest on nothing but a contour of an earlier cavity it touches), so it is kept
+    // within each island, while islands, which touch nothing of each other, are printed one
+    // after the other: the nozzle leaves each island once instead of once per group. Within a
+    // group, nearest neighbour; the next island is the one whose first path is nearest.
+    const Paths& shape = layer.outline.empty() ? layer.wall_region : layer.outline;
+    // Most layers are one island: then no index is built and nothing is looked up.
+    const size_t outers = static_cast<size_t>(
+        std::count_if(shape.begin(), shape.end(), [](const Path& p) { return area(p) > 0; }));
+    std::optional<Comber> index;
+    if (outers > 1) index.emplace(shape);
+    const size_t island_count = index ? size_t(index->islands()) : outers;
+    struct Island {
+        std::vector<Extrusion> outer, shells, covers, solid;
+        std::vector<std::vector<Extrusion>> cavities;
+        std::vector<Bridge> bridges;
+        bool done = false;
     };
-    append(outer);
-    append(shells);
+    std::vector<Island> islands(island_count + 1);  // the last: unplaced
+    auto island_at = [&](const Point& p) {
+        if (!index) return size_t(0);
+        const auto l = index->locate(p, w);
+        return l ? size_t(l->island) : islands.size() - 1;
+    };
+    auto distribute = [&](std::vector<Extrusion>& group, auto member) {
+        for (Extrusion& e : group) {
+            if (e.points.empty()) continue;
+            (islands[island_at(e.points.front())].*member).push_back(std::move(e));
+        }
+    };
+    distribute(outer, &Island::outer);
+    distribute(shells, &Island::shells);
     // The cover's edge and lines support nothing of each other: one group, less travel.
     for (Extrusion& e : cover_lines) cover_edges.push_back(std::move(e));
-    append(cover_edges);
-    for (auto& group : cavity_walls) append(group);
-    append(solid_lines);
-    // 4. Bridges last: they hang over the cavity below, anchored on the walls just printed.
-    for (Extrusion& e : order_bridges(layer.bridges, settings.bridge_flow, pos))
-        result.extrusions.push_back(std::move(e));
+    distribute(cover_edges, &Island::covers);
+    for (Island& isl : islands) isl.cavities.resize(cavity_walls.size());
+    for (size_t j = 0; j < cavity_walls.size(); ++j)
+        for (Extrusion& e : cavity_walls[j])
+            if (!e.points.empty())
+                islands[island_at(e.points.front())].cavities[j].push_back(std::move(e));
+    distribute(solid_lines, &Island::solid);
+    for (const Bridge& b : layer.bridges) {
+        const auto first =
+            std::find_if(b.lines.begin(), b.lines.end(), [](const Path& l) { return !l.empty(); });
+        if (first != b.lines.end()) islands[island_at(first->front())].bridges.push_back(b);
+    }
+
+    // Odd layers start from the opposite corner: a layer then tends to begin in the island
+    // where the one below ended, and the travel between layers stays inside.
+    BBox2 box = bounds(shape);
+    Point pos = layer.index % 2 == 0 ? Point(box.min_x, box.min_y) : Point(box.max_x, box.max_y);
+    auto append = [&](std::vector<Extrusion>& group, bool keep_loop_starts = false) {
+        const Point start = pos;
+        order_nearest(group, pos, keep_loop_starts);
+        improve_order(group, start, pos, keep_loop_starts);
+        for (Extrusion& e : group) result.extrusions.push_back(std::move(e));
+    };
+    auto d2 = [](const Point& a, const Point& b) {
+        const double dx = double(a.X - b.X), dy = double(a.Y - b.Y);
+        return dx * dx + dy * dy;
+    };
+    // Distance from the nozzle to where an island would start: its outer wall's seams if it has
+    // an outer wall, else its first path.
+    auto entry_distance = [&](const Island& isl) {
+        double best = std::numeric_limits<double>::max();
+        for (const Extrusion& e : isl.outer) best = std::min(best, d2(pos, e.points.front()));
+        if (!isl.outer.empty()) return best;
+        for (const auto* group : {&isl.shells, &isl.covers, &isl.solid})
+            for (const Extrusion& e : *group) best = std::min(best, d2(pos, e.points.front()));
+        for (const auto& group : isl.cavities)
+            for (const Extrusion& e : group) best = std::min(best, d2(pos, e.points.front()));
+        for (const Bridge& b : isl.bridges)
+            for (const Path& l : b.lines)
+                if (!l.empty()) best = std::min(best, d2(pos, l.front()));
+        return best;
+    };
+    for (size_t round = 0; round < islands.size(); ++round) {
+        size_t next = islands.size();
+        double best = std::numeric_limits<double>::max();
+        for (size_t k = 0; k < islands.size(); ++k) {
+            if (islands[k].done) continue;
+            const double d = entry_distance(islands[k]);
+            if (next == islands.size() || d < best) best = d, next = k;
+        }
+        Island& isl = islands[next];
+        isl.done = true;
+        append(isl.outer, placed_seams);
+        append(isl.shells);
+        append(isl.covers);
+        for (auto& group : isl.cavities) append(group);
+        append(isl.solid);
+        // Bridges last: they hang over the cavity below, anchored on the walls just printed.
+        for (Extrusion& e : order_bridges(isl.bridges, settings.bridge_flow, pos))
+            result.extrusions.push_back(std::move(e));
+    }
+
+    // 6. Travel between the paths (issue #18): inside the island without retraction where it
+    // can, retracted and through the islands where it must leave. Planned here, on the worker
+    // threads; only the travel into the layer is left to the G-code stage.
+    if (settings.combing != Combing::Off && !result.extrusions.empty()) {
+        result.comb_region = comb_region(layer.wall_region, layer.covers, settings);
+        const Comber comber(result.comb_region);
+        // Where the comb region fails (thin parts), the region inside the outer wall's
+        // centreline, built only if needed; not with Combing::Inside, which keeps off covers.
+        std::optional<Comber> thin;
+        const bool use_thin = settings.combing == Combing::All;
+        const TravelOptions options = travel_options(settings);
+        auto exit_of = [](const Extrusion& e) {
+            return e.closed ? e.points.front() : e.points.back();
+        };
+        result.travels.resize(result.extrusions.size());
+        Point at = exit_of(result.extrusions.front());
+        for (size_t i = 1; i < result.extrusions.size(); ++i) {
+            const Extrusion& e = result.extrusions[i];
+            if (e.points.size() < 2) continue;  // the G-code stage skips it too
+            TravelPlan t = plan_travel(comber, at, e.points.front(), options);
+            if (t.leaves && use_thin) {
+                if (!thin) thin.emplace(layer.wall_region);
+                t = plan_travel(comber, at, e.points.front(), options, &*thin);
+            }
+            result.travels[i].via = std::move(t.via);
+            result.travels[i].kind = t.leaves ? TravelKind::Leaves : TravelKind::Inside;
+            at = exit_of(e);
+        }
+    }
     return result;
 }
 

@@ -12,6 +12,9 @@
 namespace carve {
 
 enum class Feature { OuterWall, Shell, Cover, CavityWall, Bridge };
+// How the travel to a path was planned: not at all (the first path of a layer: the G-code stage
+// plans it, knowing where the layer below ended), inside the part (no retraction), or leaving it.
+enum class TravelKind : unsigned char { Unplanned, Inside, Leaves };
 std::string_view feature_name(Feature f);  // the ;TYPE: comment (Cura/PrusaSlicer words)
 
 struct Extrusion {
@@ -22,10 +25,21 @@ struct Extrusion {
     int cavity = 0;       // j for cavity walls (0 = the outer wall)
 };
 
+// The travel that reaches a path from the previous one: the points it passes through before
+// the path's first point (model XY coordinates, um), and how it was planned.
+struct Travel {
+    Path via;
+    TravelKind kind = TravelKind::Unplanned;
+};
+
 struct LayerToolpaths {
     int index = 0;
     double z = 0;  // nozzle height of the layer in mm above the bed: (i + 1) * h
     std::vector<Extrusion> extrusions;  // in print order
+    std::vector<Travel> travels;        // empty (none planned) or one per extrusion
+    // Where travel may go without retracting (comb.hpp), for the travel into the layer; empty
+    // without combing.
+    Paths comb_region;
 };
 
 // Pure function of one layer: layers may be planned on worker threads.
