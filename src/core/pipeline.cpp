@@ -92,6 +92,18 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
     const double offset_x = settings.bed_x / 2 - (box.min.x + box.max.x) / 2;
     const double offset_y = settings.bed_y / 2 - (box.min.y + box.max.y) / 2;
 
+    // Scale times size: the work grows with (size / line width)^2 per layer and with the
+    // number of layers. A model 5 m across at 0.05 mm lines, or a million layers, is refused
+    // before slicing starts (with --no-bed-check and --scale 100 nothing else stops it).
+    const double size_z = box.max.z - box.min.z;
+    constexpr double kMaxLinesAcross = 100000, kMaxLayers = 200000;
+    if (std::max(size_x, size_y) / settings.nozzle > kMaxLinesAcross ||
+        size_z / settings.layer_height > kMaxLayers)
+        throw InputError(fmt::format(
+            "{}: the model ({:.1f} x {:.1f} x {:.1f} mm) is too large for the {} mm nozzle and "
+            "{} mm layers (limits: {:.0f} line widths across, {:.0f} layers); scale it down",
+            options.model_path, size_x, size_y, size_z, settings.nozzle, settings.layer_height,
+            kMaxLinesAcross, kMaxLayers));
     TopDownSlicer slicer(mesh, settings.layer_height);
     const int layer_count = slicer.layer_count();
     if (layer_count == 0)
@@ -182,6 +194,7 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
     int done = 0;
     double sliced_volume = 0;  // what the slices hold: the model's volume if the mesh is open
     while (auto layer = supports.next()) {
+        for (const std::string& w : layer->warnings) note(w);
         LayerToolpaths paths = plan_layer(*layer, settings);
         if (svg) svg->add(*layer, &paths);
         if (html) html->add_layer(*layer, paths);
