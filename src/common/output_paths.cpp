@@ -1,6 +1,7 @@
 // Output path checks (see output_paths.hpp).
 #include "common/output_paths.hpp"
 
+#include <fmt/format.h>
 #include <sys/stat.h>
 
 #include <filesystem>
@@ -16,18 +17,22 @@ namespace {
 std::string identity(const std::string& path) {
     struct stat st {};
     if (::stat(path.c_str(), &st) == 0)
-        return "i" + std::to_string(st.st_dev) + ":" + std::to_string(st.st_ino);
+        return fmt::format("i{}:{}", st.st_dev, st.st_ino);
     std::error_code ec;
     const std::filesystem::path c = std::filesystem::weakly_canonical(path, ec);
-    return "p" + (ec ? std::filesystem::absolute(path, ec).lexically_normal().string() : c.string());
+    return fmt::format("p{}", ec ? std::filesystem::absolute(path, ec).lexically_normal().string()
+                                 : c.string());
 }
 
+// Under /dev, /proc or /sys as spelled or once resolved: /dev/stdout resolves to whatever
+// stdout is (a terminal, a pipe, or a regular file that rename would then replace).
 bool special_prefix(const std::string& path) {
     std::error_code ec;
-    const std::string c = std::filesystem::weakly_canonical(path, ec).string();
-    if (ec) return false;
-    for (const char* p : {"/dev/", "/proc/", "/sys/"})
-        if (c.rfind(p, 0) == 0) return true;
+    const std::string spelled = std::filesystem::absolute(path, ec).lexically_normal().string();
+    const std::string resolved = std::filesystem::weakly_canonical(path, ec).string();
+    for (const std::string& c : {spelled, resolved})
+        for (const char* p : {"/dev/", "/proc/", "/sys/"})
+            if (c.rfind(p, 0) == 0) return true;
     return false;
 }
 
