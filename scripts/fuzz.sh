@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Builds the libFuzzer targets of fuzz/ with clang-14 (build-fuzz/) and runs each for SECONDS
-# (default 60), two at a time. Seeds are made from ../shared/models at run time; new inputs the
+# (default 60), two at a time. Seeds are made from ../shared/models and from PrusaSlicer's
+# vendor bundle (/usr/share/PrusaSlicer/profiles, when installed) at run time; new inputs the
 # fuzzer finds stay in build-fuzz/corpus/, crash reproducers go to build-fuzz/crashes/.
 # Exits non-zero if any target finds a crash, leak, timeout or out-of-memory.
 # Usage: scripts/fuzz.sh [SECONDS] [TARGET...]
@@ -9,7 +10,8 @@ cd "$(dirname "$0")/.."
 seconds=${1:-60}
 shift || true
 targets=("$@")
-[ ${#targets[@]} -gt 0 ] || targets=(stl_binary_fuzz stl_ascii_fuzz obj_fuzz threemf_fuzz slicer_fuzz)
+[ ${#targets[@]} -gt 0 ] || targets=(stl_binary_fuzz stl_ascii_fuzz obj_fuzz threemf_fuzz slicer_fuzz
+                                     ini_fuzz placeholder_fuzz cli_fuzz)
 models=${CARVE_MODELS_DIR:-$(cd .. && pwd)/shared/models}
 
 CC=clang-14 CXX=clang++-14 cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo \

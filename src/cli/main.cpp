@@ -70,12 +70,18 @@ int checked_stdout(int code) {
 
 int run(int argc, char** argv);
 
+// Set by fuzz/cli_fuzz.cpp only: parse and validate everything, then stop before any job
+// reads a model or writes a file.
+bool g_parse_only = false;
+
 }  // namespace
 
+#ifndef CARVE_CLI_NO_MAIN
 int main(int argc, char** argv) {
     carve::install_cleanup_handlers();
     return checked_stdout(run(argc, argv));
 }
+#endif
 
 namespace {
 
@@ -213,6 +219,7 @@ int run(int argc, char** argv) {
     }
 
     try {
+        if (g_parse_only && (*info || *check)) return 0;
         if (*info) {
             carve::MeshReport report;
             carve::load_mesh(info_model, report);
@@ -279,6 +286,7 @@ int run(int argc, char** argv) {
                                    {run.report_path, "--report"},
                                    {run.svg_dir, "--svg-layers", true},
                                    {run.raster_dir, "--raster", true}});
+        if (g_parse_only) return 0;
         if (timeout_s > 0) carve::exit_after(timeout_s);
 
         run.progress = !quiet;

@@ -134,7 +134,11 @@ std::vector<std::string> load_prusa_profile(const std::string& path, Settings& s
     if (in.tellg() > kMaxProfileBytes)
         throw InputError(fmt::format("{}: larger than 16 MB, not a printer profile", path));
     in.seekg(0, std::ios::beg);
+    return read_prusa_profile(in, path, s);
+}
 
+std::vector<std::string> read_prusa_profile(std::istream& in, const std::string& path,
+                                            Settings& s) {
     using Setter = std::function<void(const std::string&, const std::string&)>;
     int top_bottom[2] = {0, 0};
     const std::map<std::string, Setter> keys = {
