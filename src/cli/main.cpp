@@ -16,6 +16,7 @@
 #include <fstream>
 #include <iostream>
 #include <map>
+#include <system_error>
 
 #include "common/atomic_file.hpp"
 #include "common/numbers.hpp"
@@ -29,6 +30,17 @@
 #include "report/gcode_analysis.hpp"
 #include "report/mesh_info.hpp"
 #include "report/stats.hpp"
+
+// jemalloc (linked by CMakeLists.txt when installed) reads its options from this symbol. One
+// arena: under an address-space limit (ulimit -v) jemalloc crashed creating a new thread's
+// arena instead of failing the allocation (the bridges' thread, SIGSEGV in
+// pthread_mutex_trylock); with one arena the allocation fails and carve reports "out of
+// memory". Each thread keeps its cache, so the CPU time stayed the same on fandisk. Ignored by
+// glibc's malloc.
+extern "C" {
+extern const char* malloc_conf;
+const char* malloc_conf = "narenas:1";
+}
 
 namespace {
 
@@ -308,6 +320,11 @@ int run(int argc, char** argv) {
         return fail(e.what(), e.exit_code());
     } catch (const std::bad_alloc&) {
         return fail("out of memory", carve::kExitInternal);
+    } catch (const std::system_error& e) {
+        // A thread that cannot start (EAGAIN) under a memory or process limit.
+        if (e.code() == std::errc::resource_unavailable_try_again)
+            return fail("out of memory (cannot start a thread)", carve::kExitInternal);
+        return fail(fmt::format("internal error: {}", e.what()), carve::kExitInternal);
     } catch (const std::exception& e) {
         return fail(fmt::format("internal error: {}", e.what()), carve::kExitInternal);
     }
