@@ -29,6 +29,7 @@ run_one() {
     if build-fuzz/"$t" "build-fuzz/corpus/$t" "build-fuzz/seeds/$t" \
         -max_total_time="$seconds" -max_len=65536 -timeout=20 -rss_limit_mb=2048 \
         -print_final_stats=1 -artifact_prefix="build-fuzz/crashes/$t-" \
+        $([ "$t" = cli_fuzz ] && echo -close_fd_mask=2) \
         >"build-fuzz/logs/$t.log" 2>&1; then
         echo "fuzz $t: $(grep -m1 -o 'stat::number_of_executed_units: *[0-9]*' \
             "build-fuzz/logs/$t.log" | grep -o '[0-9]*$') executions, no crash"

@@ -609,3 +609,40 @@ TEST(AtomicWriter, OutputPathsAreComparedAsFiles) {
                                                          {(d / "b").string(), "--stats"},
                                                          {"", "--report"}}));
 }
+
+// --- runaway work and memory
+
+TEST(HostileWork, ATriangleSoupIsRefusedBeforeSlicing) {
+    const fs::path d = folder("soup");
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<float> u(0, 50);
+    std::string stl(80, '\0');
+    const uint32_t n = 5000;
+    stl.append(reinterpret_cast<const char*>(&n), 4);
+    for (uint32_t t = 0; t < n; ++t) {
+        float f[12] = {0, 0, 0};
+        for (int k = 3; k < 12; ++k) f[k] = u(rng);
+        stl.append(reinterpret_cast<const char*>(f), sizeof f);
+        stl.append(2, '\0');
+    }
+    write(d / "soup.stl", stl);
+    const CarveRun r = run_carve("slice " + (d / "soup.stl").string() + " -q -o " +
+                                 (d / "o.gcode").string());
+    expect_one_line(r, kExitBadInput, "triangle soup", "soup");
+    EXPECT_EQ(extra_files(d, {"soup.stl"}), std::vector<std::string>{});
+}
+
+TEST(HostileWork, AnAddressSpaceLimitIsReportedNotACrash) {
+    const fs::path d = folder("ulimit");
+    for (const char* limit : {"65000", "75000"}) {
+        const CarveRun r = run_carve("slice " + std::string(CARVE_MODELS_DIR) + "/skull.stl -q -o " +
+                                         (d / "o.gcode").string(),
+                                     std::string("ulimit -v ") + limit + "; ulimit -c 0;");
+        EXPECT_TRUE(r.status == 0 || r.status == kExitInternal) << limit << ": " << r.status;
+        if (r.status != 0) {
+            EXPECT_NE(r.err.find("out of memory"), std::string::npos) << r.err;
+            EXPECT_EQ(extra_files(d, {}), std::vector<std::string>{});
+        }
+        fs::remove(d / "o.gcode");
+    }
+}

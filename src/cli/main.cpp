@@ -70,7 +70,7 @@ bool parse_bed(const std::string& text, double& x, double& y) {
 
 // Standard output is an output too: a failed write (a full disk, a closed pipe) is exit 3,
 // never a truncated answer with exit 0.
-int checked_stdout(int code) {
+[[maybe_unused]] int checked_stdout(int code) {
     std::cout.flush();
     const bool ok = std::cout.good() && std::fflush(stdout) == 0 && !std::ferror(stdout);
     if (std::fclose(stdout) != 0 || !ok) {

@@ -72,6 +72,15 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
 
     Mesh mesh = load_mesh(options.model_path, result.mesh);
     for (const std::string& w : result.mesh.warnings) note(w);
+    // A triangle soup (most edges belong to one triangle only) is no solid: its slices are
+    // thousands of crossing segments whose union costs the square of their number (5,000
+    // random triangles ran for minutes). An open mesh with a hole has a few open edges.
+    const MeshReport& m = result.mesh;
+    if (m.triangles_read > 1000 && m.open_edges * 2 > 3 * m.triangles_read)
+        throw InputError(fmt::format(
+            "{}: not a solid: {} of the {} triangles' edges are shared with no other triangle "
+            "(a triangle soup); repair the mesh first",
+            options.model_path, m.open_edges, 3 * m.triangles_read));
     if (settings.scale != 1.0) {
         // Scale about the bottom centre so that the model stays on the bed where it was.
         const BBox3 b = result.mesh.bbox;
