@@ -486,7 +486,7 @@ class Analyser {
         // gigabytes. Refused past a budget no real print comes near.
         arc_segments_ += n;
         if (arc_segments_ > kMaxArcSegments)
-            throw InputError("the G-code's arcs (G2/G3) make more than 20 million segments; "
+            throw InputError("the G-code's arcs (G2/G3) make more than 10 million segments; "
                              "refusing to measure it");
         double z0 = z_;
         for (int k = 1; k <= n; ++k) {
@@ -498,7 +498,7 @@ class Analyser {
         }
     }
 
-    static constexpr long long kMaxArcSegments = 20'000'000;
+    static constexpr long long kMaxArcSegments = 10'000'000;
     long long arc_segments_ = 0;
 
     void segment(double nx, double ny, double nz, double de) {
