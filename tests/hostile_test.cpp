@@ -646,3 +646,13 @@ TEST(HostileWork, AnAddressSpaceLimitIsReportedNotACrash) {
         fs::remove(d / "o.gcode");
     }
 }
+
+TEST(HostileWork, AModelFileOverTheSizeLimitIsRefusedBeforeItIsRead) {
+    const fs::path d = folder("huge");
+    {
+        std::ofstream(d / "huge.stl").put('s');
+    }
+    fs::resize_file(d / "huge.stl", std::uintmax_t(600) << 20);  // sparse: no disk used
+    const CarveRun r = run_carve("info " + (d / "huge.stl").string(), "ulimit -v 200000;");
+    expect_one_line(r, kExitBadInput, "512 MB", "huge model");
+}
