@@ -1,13 +1,19 @@
 #!/usr/bin/python3
 """Seed corpora for the fuzz targets, made at run time from the shared models.
 
-Usage: make_seeds.py MODELS_DIR OUT_DIR
+Usage: make_seeds.py MODELS_DIR OUT_DIR [PRUSA_BUNDLE]
 
 Every STL found in MODELS_DIR, MODELS_DIR/bad and MODELS_DIR/synthetic is read (binary or
 ASCII); files above 2 MB are skipped. Each is cut to its first 200 facets (keeps inputs small,
 so that fuzzing stays fast) and written as a seed for every target in its format: binary STL,
 ASCII STL, OBJ, 3MF (zipped, and as bare XML behind the marker byte that threemf_fuzz zips
 itself) and a grid triangle soup for slicer_fuzz. The raw bad/ files go in unchanged too.
+
+PrusaSlicer's own vendor bundle (PRUSA_BUNDLE, default Debian's
+/usr/share/PrusaSlicer/profiles/PrusaResearch.ini, skipped if missing) seeds the profile,
+placeholder and command-line targets: its sections as flat profiles (ini_fuzz), its start and
+end G-code and printer conditions with the printer notes they test (placeholder_fuzz), and
+command lines with its values (cli_fuzz). The bundle itself is not part of the repository.
 """
 import io
 import math
@@ -121,8 +127,75 @@ def soup(facets):
     return bytes(out)
 
 
+def bundle_sections(path):
+    """[(header, [(key, value)])] of a PrusaSlicer vendor bundle."""
+    sections, current = [], None
+    for line in open(path, encoding="utf-8", errors="replace"):
+        line = line.rstrip("\n")
+        if line.startswith("["):
+            current = (line, [])
+            sections.append(current)
+        elif current is not None and " = " in line:
+            k, v = line.split(" = ", 1)
+            current[1].append((k.strip(), v))
+    return sections
+
+
+def prusa_seeds(bundle, out):
+    for t in ["ini_fuzz", "placeholder_fuzz", "cli_fuzz"]:
+        os.makedirs(os.path.join(out, t), exist_ok=True)
+    sections = bundle_sections(bundle)
+    notes = [v for _, kv in sections for k, v in kv if k == "printer_notes"]
+    notes = sorted(set(notes), key=len)[-8:] or ["PRINTER_VENDOR_PRUSA3D PRINTER_MODEL_MK3S"]
+    n_ini = n_ph = n_cli = 0
+    seen = set()
+    for i, (head, kv) in enumerate(sections):
+        text = head + "\n" + "".join(f"{k} = {v}\n" for k, v in kv)
+        if 0 < len(kv) and len(text) < 65536 and (head.startswith("[printer:") or i % 6 == 0):
+            open(os.path.join(out, "ini_fuzz", f"section{i:04d}.ini"), "w").write(text)
+            n_ini += 1
+        for k, v in kv:
+            if k in ("start_gcode", "end_gcode", "start_filament_gcode", "layer_gcode"):
+                gcode = v.strip('"').replace("\\n", "\n")
+            elif k == "compatible_printers_condition" and v:
+                gcode = "{if " + v.strip('"') + "}M117 ok{endif}\n"
+            else:
+                continue
+            if gcode in seen or len(gcode) > 32768:
+                continue
+            seen.add(gcode)
+            blob = notes[n_ph % len(notes)].encode() + b"\0" + gcode.encode()
+            open(os.path.join(out, "placeholder_fuzz", f"gcode{n_ph:04d}"), "wb").write(blob)
+            n_ph += 1
+    # Command lines: the documented jobs, then options carrying the bundle's own values.
+    options = {"layer_height": "--layer-height", "nozzle_diameter": "--nozzle",
+               "temperature": "--temperature", "bed_temperature": "--bed-temperature",
+               "travel_speed": "--travel-speed", "retract_length": "--retract-length",
+               "filament_diameter": "--filament-diameter", "retract_lift": "--z-hop"}
+    lines = [["slice", "m.stl", "-o", "m.gcode"], ["slice", "m.stl", "-o", "m.gcode", "--stats",
+             "m.json", "--report", "r.html", "--preset", "3c1s", "--cavities", "auto"],
+             ["info", "m.stl", "--json"], ["check", "m.gcode", "--far-radius", "2"],
+             ["--help"], ["slice", "--help"], ["slice", "m.stl", "-o", "m.gcode", "--bed",
+             "250x210", "--printer", "mk3s", "--walls", "double", "--timeout", "30"]]
+    for head, kv in sections:
+        args = ["slice", "m.stl", "-o", "m.gcode"]
+        for k, v in kv:
+            if k in options:
+                args += [options[k], v.split(",")[0].strip()]
+        if len(args) > 4 and len(lines) < 200:
+            lines.append(args)
+    for line in lines:
+        open(os.path.join(out, "cli_fuzz", f"args{n_cli:04d}"), "wb").write(
+            b"\0".join(a.encode() for a in line))
+        n_cli += 1
+    print(f"seeds from {bundle}: {n_ini} profiles, {n_ph} G-code texts, {n_cli} command lines")
+
+
 def main():
     models, out = sys.argv[1], sys.argv[2]
+    bundle = sys.argv[3] if len(sys.argv) > 3 else "/usr/share/PrusaSlicer/profiles/PrusaResearch.ini"
+    if os.path.exists(bundle):
+        prusa_seeds(bundle, out)
     targets = ["stl_binary_fuzz", "stl_ascii_fuzz", "obj_fuzz", "threemf_fuzz", "slicer_fuzz"]
     for t in targets:
         os.makedirs(os.path.join(out, t), exist_ok=True)

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Builds the libFuzzer targets of fuzz/ with clang-14 (build-fuzz/) and runs each for SECONDS
-# (default 60), two at a time. Seeds are made from ../shared/models at run time; new inputs the
+# (default 60), two at a time. Seeds are made from ../shared/models and from PrusaSlicer's
+# vendor bundle (/usr/share/PrusaSlicer/profiles, when installed) at run time; new inputs the
 # fuzzer finds stay in build-fuzz/corpus/, crash reproducers go to build-fuzz/crashes/.
 # Exits non-zero if any target finds a crash, leak, timeout or out-of-memory.
 # Usage: scripts/fuzz.sh [SECONDS] [TARGET...]
@@ -9,7 +10,8 @@ cd "$(dirname "$0")/.."
 seconds=${1:-60}
 shift || true
 targets=("$@")
-[ ${#targets[@]} -gt 0 ] || targets=(stl_binary_fuzz stl_ascii_fuzz obj_fuzz threemf_fuzz slicer_fuzz)
+[ ${#targets[@]} -gt 0 ] || targets=(stl_binary_fuzz stl_ascii_fuzz obj_fuzz threemf_fuzz slicer_fuzz
+                                     ini_fuzz placeholder_fuzz cli_fuzz)
 models=${CARVE_MODELS_DIR:-$(cd .. && pwd)/shared/models}
 
 CC=clang-14 CXX=clang++-14 cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo \
@@ -27,6 +29,7 @@ run_one() {
     if build-fuzz/"$t" "build-fuzz/corpus/$t" "build-fuzz/seeds/$t" \
         -max_total_time="$seconds" -max_len=65536 -timeout=20 -rss_limit_mb=2048 \
         -print_final_stats=1 -artifact_prefix="build-fuzz/crashes/$t-" \
+        $([ "$t" = cli_fuzz ] && echo -close_fd_mask=2) \
         >"build-fuzz/logs/$t.log" 2>&1; then
         echo "fuzz $t: $(grep -m1 -o 'stat::number_of_executed_units: *[0-9]*' \
             "build-fuzz/logs/$t.log" | grep -o '[0-9]*$') executions, no crash"

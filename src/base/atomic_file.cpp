@@ -15,6 +15,8 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <mutex>
+#include <set>
 #include <system_error>
 
 #include "base/errors.hpp"
@@ -158,6 +160,14 @@ void exit_after(double seconds) {
 }
 
 void remove_stale_temporaries(const std::string& dir) {
+    // Once per folder and run: a raster stack writes thousands of files into one folder, and
+    // scanning it again for each would cost the square of their number.
+    {
+        static std::mutex mutex;
+        static std::set<std::string> scanned;
+        std::lock_guard lock(mutex);
+        if (!scanned.insert(dir).second) return;
+    }
     DIR* d = ::opendir(dir.c_str());
     if (!d) return;
     const size_t prefix = std::strlen(kPrefix);

@@ -1,6 +1,7 @@
 // Output path checks (see output_paths.hpp).
 #include "base/output_paths.hpp"
 
+#include <fmt/format.h>
 #include <sys/stat.h>
 
 #include <cstdint>
@@ -33,12 +34,15 @@ std::string identity(const std::string& path) {
     return id;
 }
 
+// Under /dev, /proc or /sys as spelled or once resolved: /dev/stdout resolves to whatever
+// stdout is (a terminal, a pipe, or a regular file that rename would then replace).
 bool special_prefix(const std::string& path) {
     std::error_code ec;
-    const std::string c = std::filesystem::weakly_canonical(path, ec).string();
-    if (ec) return false;
-    for (const char* p : {"/dev/", "/proc/", "/sys/"})
-        if (c.rfind(p, 0) == 0) return true;
+    const std::string spelled = std::filesystem::absolute(path, ec).lexically_normal().string();
+    const std::string resolved = std::filesystem::weakly_canonical(path, ec).string();
+    for (const std::string& c : {spelled, resolved})
+        for (const char* p : {"/dev/", "/proc/", "/sys/"})
+            if (c.rfind(p, 0) == 0) return true;
     return false;
 }
 

@@ -9,6 +9,9 @@
 #include "geometry/morphology.hpp"
 #include "geometry/polygon.hpp"
 #include "skeleton/skeleton.hpp"
+#include "skeleton/skeleton_detail.hpp"
+
+#include <fmt/format.h>
 
 namespace carve {
 
@@ -93,13 +96,16 @@ Paths components_not_covered(const std::vector<Paths>& comps, const Paths& uncov
 // Late in the sweep V is often dozens of small components; the seeds of all of them are made
 // with one axis and one thickening (a seed thickened past its component only meets V in a
 // component that gets a seed anyway or that G covers).
+// `abandoned` counts the components whose medial axis failed in every frame (they get no seed:
+// reported to the user as a warning by the caller).
 Paths seeds(const Paths& remainder, const Paths& propagated, const Paths& uncovered,
-            const SkeletonOptions& options, Coord tear_limit) {
+            const SkeletonOptions& options, Coord tear_limit, int& abandoned) {
     const std::vector<Paths> comps = components(remainder);
     if (tear_limit <= 0) {
         const Paths open = components_not_covered(comps, uncovered);
         if (open.empty()) return {};
         const Paths lines = medial_axis(open, options);
+        abandoned += skel::last_stats().abandoned;
         // Not clipped to V: the caller only ever takes V \ G minus it, and outside `open` any
         // part of V it meets lies in G already. For the same reason a branch of the axis whose
         // box, grown by the thickness, meets no piece of V \ G is not thickened: it would only
@@ -117,6 +123,7 @@ Paths seeds(const Paths& remainder, const Paths& propagated, const Paths& uncove
         const BBox2 box = bounds(comp);
         if (!overlap(box, open_box) || intersect(comp, uncovered).empty()) continue;
         Paths lines = medial_axis(comp, options);
+        abandoned += skel::last_stats().abandoned;
         if (lines.empty()) continue;
         const bool reached = overlap(box, cavity_box) && !intersect(comp, propagated).empty();
         lines = reached ? clip_lines(lines, reach) : start_of_tear(lines, tear_limit);
@@ -197,7 +204,18 @@ std::optional<LayerPartition> CarvingSweep::next() {
             } else {
                 const bool seed = !settings_.cavities_auto || !erode(remainder, w).empty();
                 Paths s;
-                if (seed) s = seeds(remainder, propagated, uncovered, options, tear);
+                int abandoned = 0;
+                if (seed) s = seeds(remainder, propagated, uncovered, options, tear, abandoned);
+                if (abandoned > 0) {
+                    const BBox2 b = bounds(uncovered);
+                    layer->warnings.push_back(fmt::format(
+                        "layer {} (z = {:.2f} mm), cavity {}: the medial axis of {} region(s) "
+                        "within x {:.1f}..{:.1f}, y {:.1f}..{:.1f} mm (model coordinates) could "
+                        "not be built in any frame; no new cavity starts there",
+                        layer->index, layer->z, first_ + (&above - previous_.data()) + 1,
+                        abandoned, to_mm(b.min_x), to_mm(b.max_x), to_mm(b.min_y),
+                        to_mm(b.max_y)));
+                }
                 // C = (G ∪ S) ∩ V in one pass: S is a normalised region, winding +1 where it
                 // covers, and G's convolution never winds negatively, so their contours
                 // together are positive exactly in G ∪ S.

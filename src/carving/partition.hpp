@@ -3,6 +3,7 @@
 #pragma once
 
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "geometry/types.hpp"
@@ -32,6 +33,9 @@ struct LayerPartition {
     Paths covers;                 // shell_paths_region minus carvable: printed solid
     std::vector<Paths> cavities;  // C^1_i .. C^k_i, pairwise disjoint, inside carvable
     Paths remainder;              // V^k_i
+    // What a stage gave up on in this layer, in words with the place (shown to the user as
+    // warnings when the layer reaches the end of the pipeline).
+    std::vector<std::string> warnings;
     // V^0_i .. V^{k-1}_i, what was left before each iteration, as the sweep computed them and
     // the bridges updated them: the toolpath stage restricts the walls of C^j to V^{j-1} and
     // need not redo the differences. Empty when unknown (a hand-made layer).

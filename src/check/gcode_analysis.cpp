@@ -561,7 +561,7 @@ class Analyser {
         arc_segments_ += n;
         if (arc_segments_ > kMaxArcSegments)
             throw InputError(
-                "the G-code's arcs (G2/G3) make more than 20 million segments; "
+                "the G-code's arcs (G2/G3) make more than 10 million segments; "
                 "refusing to measure it");
         double arc_xy = std::fabs(sweep) * radius;
         stick_move(std::hypot(arc_xy, nz - z_), de, de > 0 && arc_xy > kMinMoveMm);
@@ -575,7 +575,7 @@ class Analyser {
         }
     }
 
-    static constexpr long long kMaxArcSegments = 20'000'000;
+    static constexpr long long kMaxArcSegments = 10'000'000;
     long long arc_segments_ = 0;
 
     void segment(double nx, double ny, double nz, double de) {

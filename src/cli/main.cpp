@@ -17,6 +17,7 @@
 #include <iostream>
 #include <limits>
 #include <map>
+#include <system_error>
 
 #include "base/atomic_file.hpp"
 #include "base/error.hpp"
@@ -30,6 +31,17 @@
 #include "report/mesh_info.hpp"
 #include "report/stats.hpp"
 #include "run/pipeline.hpp"
+
+// jemalloc (linked by CMakeLists.txt when installed) reads its options from this symbol. One
+// arena: under an address-space limit (ulimit -v) jemalloc crashed creating a new thread's
+// arena instead of failing the allocation (the bridges' thread, SIGSEGV in
+// pthread_mutex_trylock); with one arena the allocation fails and carve reports "out of
+// memory". Each thread keeps its cache, so the CPU time stayed the same on fandisk. Ignored by
+// glibc's malloc.
+extern "C" {
+extern const char* malloc_conf;
+const char* malloc_conf = "narenas:1";
+}
 
 namespace {
 
@@ -59,7 +71,7 @@ bool parse_bed(const std::string& text, double& x, double& y) {
 
 // Standard output is an output too: a failed write (a full disk, a closed pipe) is exit 3,
 // never a truncated answer with exit 0.
-int checked_stdout(int code) {
+[[maybe_unused]] int checked_stdout(int code) {
     std::cout.flush();
     const bool ok = std::cout.good() && std::fflush(stdout) == 0 && !std::ferror(stdout);
     if (std::fclose(stdout) != 0 || !ok) {
@@ -71,12 +83,18 @@ int checked_stdout(int code) {
 
 int run(int argc, char** argv);
 
+// Set by fuzz/cli_fuzz.cpp only: parse and validate everything, then stop before any job
+// reads a model or writes a file.
+bool g_parse_only = false;
+
 }  // namespace
 
+#ifndef CARVE_CLI_NO_MAIN
 int main(int argc, char** argv) {
     carve::install_cleanup_handlers();
     return checked_stdout(run(argc, argv));
 }
+#endif
 
 namespace {
 
@@ -249,6 +267,7 @@ int run(int argc, char** argv) {
     }
 
     try {
+        if (g_parse_only && (*info || *check)) return 0;
         if (*info) {
             carve::MeshReport report;
             carve::load_mesh(info_model, report);
@@ -352,6 +371,7 @@ int run(int argc, char** argv) {
                                    {run.report_path, "--report"},
                                    {run.svg_dir, "--svg-layers", true},
                                    {run.raster_dir, "--raster", true}});
+        if (g_parse_only) return 0;
         if (timeout_s > 0) carve::exit_after(timeout_s);
 
         run.progress = !quiet;
@@ -373,6 +393,11 @@ int run(int argc, char** argv) {
         return fail(e.what(), e.exit_code());
     } catch (const std::bad_alloc&) {
         return fail("out of memory", carve::kExitInternal);
+    } catch (const std::system_error& e) {
+        // A thread that cannot start (EAGAIN) under a memory or process limit.
+        if (e.code() == std::errc::resource_unavailable_try_again)
+            return fail("out of memory (cannot start a thread)", carve::kExitInternal);
+        return fail(fmt::format("internal error: {}", e.what()), carve::kExitInternal);
     } catch (const std::exception& e) {
         return fail(fmt::format("internal error: {}", e.what()), carve::kExitInternal);
     }

@@ -135,7 +135,11 @@ std::vector<std::string> load_prusa_profile(const std::string& path, Settings& s
     if (in.tellg() > kMaxProfileBytes)
         throw InputError(fmt::format("{}: larger than 16 MB, not a printer profile", path));
     in.seekg(0, std::ios::beg);
+    return read_prusa_profile(in, path, s);
+}
 
+std::vector<std::string> read_prusa_profile(std::istream& in, const std::string& path,
+                                            Settings& s) {
     using Setter = std::function<void(const std::string&, const std::string&)>;
     int top_bottom[2] = {0, 0};
     const std::map<std::string, Setter> keys = {
@@ -174,7 +178,15 @@ std::vector<std::string> load_prusa_profile(const std::string& path, Settings& s
          [&](auto& k, auto& v) {
              s.covers = std::max(top_bottom[0], top_bottom[1] = count(k, v));
          }},
-        {"perimeters", [&](auto& k, auto& v) { s.shells = std::max(0, count(k, v) - 1); }},
+        {"perimeters",
+         [&](auto& k, auto& v) {
+             // The outer wall and up to 20 shells (the range of --shells).
+             const int n = count(k, v);
+             if (n > 21)
+                 throw InputError(fmt::format(
+                     "profile key '{}': '{}' is out of range; expected from 0 to 21", k, v));
+             s.shells = std::max(0, n - 1);
+         }},
         {"use_relative_e_distances",
          [&](auto& k, auto& v) {
              const std::string b = trim(v);

@@ -2,6 +2,7 @@
 // PrusaSlicer .ini profiles, so that people can bring the printer they already use.
 #pragma once
 
+#include <iosfwd>
 #include <string>
 #include <vector>
 
@@ -17,5 +18,8 @@ void apply_printer_preset(const std::string& name, Settings& settings);
 // for the user (keys ignored). Throws InputError naming the key for an invalid value, or for an
 // unreadable file.
 std::vector<std::string> load_prusa_profile(const std::string& path, Settings& settings);
+// The same from text already read (`name` names it in messages); the fuzz target's entry.
+std::vector<std::string> read_prusa_profile(std::istream& in, const std::string& name,
+                                            Settings& settings);
 
 }  // namespace carve

@@ -115,6 +115,11 @@ namespace {
 
 using detail::fail;
 
+// Models carve reads at most: about 10 million binary STL triangles, whose welded mesh and
+// slices already take over a gigabyte. A larger file is refused before it is read, so that a
+// refusal costs no memory; a pipe is cut off at the same size.
+constexpr long kMaxModelBytes = 512L << 20;
+
 std::string read_whole_file(const std::string& path) {
     std::error_code ec;
     if (std::filesystem::is_directory(path, ec)) fail(path, "is a directory, not a mesh file");
@@ -123,6 +128,11 @@ std::string read_whole_file(const std::string& path) {
     std::string data;
     if (std::fseek(f, 0, SEEK_END) == 0) {
         long size = std::ftell(f);
+        if (size > kMaxModelBytes) {
+            std::fclose(f);
+            fail(path, "larger than 512 MB; carve reads models up to 512 MB (about 10 million "
+                       "triangles of binary STL): decimate the mesh first");
+        }
         if (size > 0) {
             std::rewind(f);
             data.resize(static_cast<size_t>(size));
@@ -136,7 +146,13 @@ std::string read_whole_file(const std::string& path) {
         std::rewind(f);
         char buf[1 << 16];
         size_t got;
-        while ((got = std::fread(buf, 1, sizeof buf, f)) > 0) data.append(buf, got);
+        while ((got = std::fread(buf, 1, sizeof buf, f)) > 0) {
+            data.append(buf, got);
+            if (data.size() > static_cast<size_t>(kMaxModelBytes)) {
+                std::fclose(f);
+                fail(path, "larger than 512 MB; carve reads models up to 512 MB");
+            }
+        }
     }
     bool error = std::ferror(f) != 0;
     int err = errno;

@@ -84,6 +84,15 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
 
     Mesh mesh = load_mesh(options.model_path, result.mesh);
     for (const std::string& w : result.mesh.warnings) note(w);
+    // A triangle soup (most edges belong to one triangle only) is no solid: its slices are
+    // thousands of crossing segments whose union costs the square of their number (5,000
+    // random triangles ran for minutes). An open mesh with a hole has a few open edges.
+    const MeshReport& m = result.mesh;
+    if (m.triangles_read > 1000 && m.open_edges * 2 > 3 * m.triangles_read)
+        throw InputError(fmt::format(
+            "{}: not a solid: {} of the {} triangles' edges are shared with no other triangle "
+            "(a triangle soup); repair the mesh first",
+            options.model_path, m.open_edges, 3 * m.triangles_read));
     if (settings.scale != 1.0) {
         // Scale about the bottom centre so that the model stays on the bed where it was.
         const BBox3 b = result.mesh.bbox;
@@ -104,6 +113,18 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
     const double offset_x = settings.bed_x / 2 - (box.min.x + box.max.x) / 2;
     const double offset_y = settings.bed_y / 2 - (box.min.y + box.max.y) / 2;
 
+    // Scale times size: the work grows with (size / line width)^2 per layer and with the
+    // number of layers. A model 5 m across at 0.05 mm lines, or a million layers, is refused
+    // before slicing starts (with --no-bed-check and --scale 100 nothing else stops it).
+    const double size_z = box.max.z - box.min.z;
+    constexpr double kMaxLinesAcross = 100000, kMaxLayers = 200000;
+    if (std::max(size_x, size_y) / settings.nozzle > kMaxLinesAcross ||
+        size_z / settings.layer_height > kMaxLayers)
+        throw InputError(fmt::format(
+            "{}: the model ({:.1f} x {:.1f} x {:.1f} mm) is too large for the {} mm nozzle and "
+            "{} mm layers (limits: {:.0f} line widths across, {:.0f} layers); scale it down",
+            options.model_path, size_x, size_y, size_z, settings.nozzle, settings.layer_height,
+            kMaxLinesAcross, kMaxLayers));
     TopDownSlicer slicer(mesh, settings.layer_height);
     const int layer_count = slicer.layer_count();
     if (layer_count == 0)
@@ -194,6 +215,7 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
     int done = 0;
     double sliced_volume = 0;  // what the slices hold: the model's volume if the mesh is open
     while (auto layer = supports.next()) {
+        for (const std::string& w : layer->warnings) note(w);
         LayerToolpaths paths = plan_layer(*layer, settings);
         if (svg) svg->add(*layer, &paths);
         if (html) html->add_layer(*layer, paths);

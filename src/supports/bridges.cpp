@@ -1,10 +1,13 @@
 // Bridge detection and line planning for local minima.
 #include "supports/bridges.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <numbers>
 
+#include "base/error.hpp"
 #include "base/stage_timer.hpp"
 #include "geometry/morphology.hpp"
 #include "geometry/polygon.hpp"
@@ -394,14 +397,25 @@ Paths exchange(const Paths& region, const BridgedMinima& minima, size_t gain_fro
 
 }  // namespace
 
+constexpr size_t kMaxMinimaPerLayer = 10000;
+
 void add_bridges(LayerPartition& layer, const LayerPartition* below, const BridgeOptions& options) {
     if (!below) return;
     const size_t k = std::min(layer.cavities.size(), below->cavities.size());
     BridgedMinima bridged(layer.cavities.size());
+    size_t minima = 0;
     for (size_t j = 0; j < k; ++j) {
         const std::vector<Paths> needs =
             unsupported_regions(layer.cavities[j], below->cavities[j], layer.carvable, options);
         if (needs.empty()) continue;
+        // Resource guard: big real slices hold hundreds of minima; each costs a scan at every
+        // bridge angle. Tens of thousands come from hostile or broken meshes only.
+        minima += needs.size();
+        if (minima > kMaxMinimaPerLayer)
+            throw InputError(fmt::format(
+                "layer {} (z = {:.2f} mm): more than {} local minima of the cavities need "
+                "bridges; the mesh is too finely broken up to carve (simplify or repair it)",
+                layer.index, layer.z, kMaxMinimaPerLayer));
         // The minima of the cavities before this one leave it first: its bridges span it
         // without them. (Its minima do not depend on it: they lie in the erosion of C^j
         // below, which theirs do not meet.) The others leave it at the end.
