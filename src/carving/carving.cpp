@@ -1,6 +1,8 @@
 // The iterative carving sweep: k cavities advance together, top down, one slice at a time.
 #include "carving/carving.hpp"
 
+#include <fmt/format.h>
+
 #include <cmath>
 #include <iterator>
 #include <tuple>
@@ -10,8 +12,6 @@
 #include "geometry/polygon.hpp"
 #include "skeleton/skeleton.hpp"
 #include "skeleton/skeleton_detail.hpp"
-
-#include <fmt/format.h>
 
 namespace carve {
 
@@ -212,9 +212,8 @@ std::optional<LayerPartition> CarvingSweep::next() {
                         "layer {} (z = {:.2f} mm), cavity {}: the medial axis of {} region(s) "
                         "within x {:.1f}..{:.1f}, y {:.1f}..{:.1f} mm (model coordinates) could "
                         "not be built in any frame; no new cavity starts there",
-                        layer->index, layer->z, first_ + (&above - previous_.data()) + 1,
-                        abandoned, to_mm(b.min_x), to_mm(b.max_x), to_mm(b.min_y),
-                        to_mm(b.max_y)));
+                        layer->index, layer->z, first_ + (&above - previous_.data()) + 1, abandoned,
+                        to_mm(b.min_x), to_mm(b.max_x), to_mm(b.min_y), to_mm(b.max_y)));
                 }
                 // C = (G ∪ S) ∩ V in one pass: S is a normalised region, winding +1 where it
                 // covers, and G's convolution never winds negatively, so their contours

@@ -130,8 +130,9 @@ std::string read_whole_file(const std::string& path) {
         long size = std::ftell(f);
         if (size > kMaxModelBytes) {
             std::fclose(f);
-            fail(path, "larger than 512 MB; carve reads models up to 512 MB (about 10 million "
-                       "triangles of binary STL): decimate the mesh first");
+            fail(path,
+                 "larger than 512 MB; carve reads models up to 512 MB (about 10 million "
+                 "triangles of binary STL): decimate the mesh first");
         }
         if (size > 0) {
             std::rewind(f);
