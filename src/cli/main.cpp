@@ -193,6 +193,11 @@ int main(int argc, char** argv) {
                      "cavity, mm; smaller leaves less unsupported but uses more material "
                      "(the report proposes r/2 = 0.1) [0 = no limit]")
         ->check(CLI::Range(0.0, 1000.0));
+    slice
+        ->add_option("--whole-width", settings.whole_width,
+                     "A part of the volume to carve narrower than this is carved whole and its "
+                     "ceiling printed as bridges, mm; 0 tears every part along its axis [10]")
+        ->check(CLI::Range(0.0, 1000.0));
     slice->add_flag("!--keep-all-bridges", settings.prune_bridges,
                     "Keep bridges that the layer below already supports [off]");
     slice->add_option("--report", run.report_path,

@@ -35,6 +35,9 @@ struct Settings {
     // (the report's conclusion proposes r/2). 0: the whole pruned medial axis opens in one
     // slice, as in the report's algorithm. Smaller is better supported and costs material.
     double tear_limit = 0.0;
+    // mm; a component of V^{j-1} that holds no disk this wide is carved whole in one slice and
+    // its ceiling bridged (0: every component tears along its medial axis, as in the report).
+    double whole_width = 10.0;
     double max_bridge_length = 10.0;  // mm; a longer span would sag more than the minimum it holds
     // Resource guard: a slice with more contour vertices stops the run (0 = no limit). Millions
     // of vertices per layer would make carving run for hours.

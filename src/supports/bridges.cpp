@@ -332,6 +332,37 @@ Bridge plan_bridge(const Paths& need, const Paths& span, const BridgeOptions& op
     return best;
 }
 
+std::vector<Bridge> plan_bridges(const Paths& need, const Paths& span,
+                                 const BridgeOptions& options, bool& whole) {
+    std::vector<Bridge> out;
+    whole = true;
+    Bridge b = plan_bridge(need, span, options);
+    if (!options.prune || (!b.lines.empty() && longest_line(b.lines) <= double(options.max_length))) {
+        if (!b.lines.empty()) out.push_back(std::move(b));
+        else whole = false;
+        return out;
+    }
+    // One direction for a long or bent minimum makes some of its lines cross the cavity the
+    // long way. Cut into cells half a span wide, each piece finds its own direction, most
+    // often across the narrow cavity around it.
+    const BBox2 box = bounds(need);
+    const Coord cell = std::max<Coord>(options.max_length / 2, 4 * options.line_width);
+    for (Coord y = box.min_y; y < box.max_y; y += cell)
+        for (Coord x = box.min_x; x < box.max_x; x += cell) {
+            const Paths piece = clip_to_box(need, {x, y, x + cell, y + cell, false});
+            if (std::abs(area(piece)) < options.min_area_r2 * double(options.dilation) *
+                                            double(options.dilation))
+                continue;
+            Bridge p = plan_bridge(piece, span, options);
+            if (p.lines.empty() || longest_line(p.lines) > double(options.max_length)) {
+                whole = false;
+                continue;
+            }
+            out.push_back(std::move(p));
+        }
+    return out;
+}
+
 namespace {
 
 // The minima of one slice given a bridge, cavity by cavity (M_j), with a box per minimum.
@@ -392,6 +423,56 @@ Paths exchange(const Paths& region, const BridgedMinima& minima, size_t gain_fro
     });
 }
 
+// Covers of slice i over the cavities of slice i - 1: where a part of the volume was carved
+// whole (CarvingSweep, whole_width) its ceiling is the cover above it, which has nothing under
+// it but the cavity. Those parts of the cover, deeper than a line width inside the cavity
+// below (a cover line overhanging a wall by less than that is held by it), are printed as
+// bridges across the cavity below, wall to wall. Bands narrower than a line width (the edge
+// of a cover over a sloping ceiling, overhanging the cover below) are left to the solid lines.
+void add_cover_bridges(LayerPartition& layer, const LayerPartition& below,
+                       const BridgeOptions& options) {
+    if (layer.covers.empty()) return;
+    const Coord w = options.line_width;
+    const BBox2 cover_box = bounds(layer.covers);
+    Paths covers_near;  // the covers grown by w: the lines end on the walls below them
+    for (size_t j = 0; j < below.cavities.size(); ++j) {
+        const Paths& cavity = below.cavities[j];
+        if (cavity.empty() || !overlap(bounds(cavity), cover_box)) continue;
+        const Paths deep = intersect(erode(cavity, w), layer.covers);
+        if (deep.empty()) continue;
+        const Paths need_all = open(deep, w / 2);
+        if (need_all.empty()) continue;
+        if (covers_near.empty()) covers_near = dilate(layer.covers, w);
+        const double min_area = options.min_area_r2 * double(options.dilation) * options.dilation;
+        const std::vector<BBox2> piece_boxes = path_bounds(cavity);
+        for (Paths& need : components(need_all)) {
+            if (std::abs(area(need)) < min_area) continue;
+            const BBox2 b0 = bounds(need);
+            if (std::hypot(double(b0.max_x - b0.min_x), double(b0.max_y - b0.min_y)) < 2.0 * w)
+                continue;
+            const Coord m = options.max_length;
+            const BBox2 win{b0.min_x - m, b0.min_y - m, b0.max_x + m, b0.max_y + m, false};
+            const Paths span = unite(
+                intersect(clip_to_box(paths_meeting(cavity, piece_boxes, win), win), covers_near),
+                need);
+            Bridge br = plan_bridge(need, span, options);
+            ++layer.minima_found;
+            ++layer.ceilings_found;
+            // Kept even when a line is longer than a printable span: solid lines in its place
+            // would hang over the cavity all the same. Counted as unsupported.
+            if (br.lines.empty() || longest_line(br.lines) > double(options.max_length)) {
+                ++layer.minima_unsupported;
+                ++layer.ceilings_unsupported;
+            }
+            if (br.lines.empty()) continue;
+            br.cavity = static_cast<int>(j) + 1;
+            br.island = false;
+            br.cover = true;
+            layer.bridges.push_back(std::move(br));
+        }
+    }
+}
+
 }  // namespace
 
 void add_bridges(LayerPartition& layer, const LayerPartition* below, const BridgeOptions& options) {
@@ -420,18 +501,21 @@ void add_bridges(LayerPartition& layer, const LayerPartition* below, const Bridg
                 options.prune ? clip_to_box(paths_meeting(layer.cavities[j], piece_boxes, w), w)
                               : layer.cavities[j],
                 need);
-            Bridge b = plan_bridge(need, span, options);
-            if (b.lines.empty()) continue;
-            // A span longer than a printer bridges sags worse than the small minimum it would
-            // hold: the minimum is left to hang on its own (rare, counted by the checker).
-            if (options.prune && longest_line(b.lines) > double(options.max_length)) continue;
-            b.cavity = static_cast<int>(j) + 1;
-            // An island fills (mostly) an empty hole of C^j; an edge-like minimum does not.
-            b.island = std::abs(area(intersect(need, holes))) > 0.5 * std::abs(area(need));
-            bridged.add(j, need);
-            layer.bridges.push_back(std::move(b));
+            ++layer.minima_found;
+            bool whole = true;
+            for (Bridge& b : plan_bridges(need, span, options, whole)) {
+                b.cavity = static_cast<int>(j) + 1;
+                // An island fills (mostly) an empty hole of C^j; an edge-like minimum does not.
+                b.island = std::abs(area(intersect(b.region, holes))) > 0.5 * std::abs(area(b.region));
+                bridged.add(j, b.region);
+                layer.bridges.push_back(std::move(b));
+            }
+            // What no bridge within a printable span reaches is left to hang on its own: a
+            // longer span sags worse than the small minimum it would hold (counted).
+            if (!whole) ++layer.minima_unsupported;
         }
     }
+    add_cover_bridges(layer, *below, options);
     if (bridged.empty()) return;
     // The minima join their cavity in this slice: nothing is printed over the void but the
     // bridge, and the slice above rests on the bridge. Each cavity and the remainder change

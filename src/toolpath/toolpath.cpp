@@ -180,6 +180,11 @@ LayerToolpaths plan_layer(const LayerPartition& layer, const Settings& settings)
         } else {
             fill = intersect(layer.covers, erode(inner, keep_off));
         }
+        // Where the cover bridges a cavity below, its bridge lines take the place of these.
+        Paths bridged;
+        for (const Bridge& b : layer.bridges)
+            if (b.cover) bridged.insert(bridged.end(), b.lines.begin(), b.lines.end());
+        if (!bridged.empty() && !fill.empty()) fill = subtract(fill, dilate_lines(bridged, w));
         const double angle = (layer.index % 2 == 0) ? 45.0 : -45.0;
         cover_lines = fill_solid(fill, angle, w, Feature::Cover);
     }
@@ -239,6 +244,7 @@ LayerToolpaths plan_layer(const LayerPartition& layer, const Settings& settings)
         const Coord overlap = static_cast<Coord>(std::llround(kCoverOverlap * double(w)));
         const double angle = (layer.index % 2 == 0) ? 45.0 : -45.0;
         solid_lines = fill_solid(erode(layer.remainder, w - overlap), angle, w, Feature::Cover);
+        for (Extrusion& e : solid_lines) e.cavity = -1;  // the stats tell it from the covers
     }
 
     // 5. Order: groups in print order, nearest neighbour inside each group.
