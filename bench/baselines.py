@@ -196,11 +196,11 @@ class Analyser:
             exe = os.path.join(work, 'gcode_check')
             sources = [os.path.join(ROOT, p) for p in (
                 'tools/gcode_check.cpp', 'src/report/gcode_analysis.cpp',
-                'src/report/gcode_analysis.hpp')]
+                'src/report/gcode_analysis.hpp', 'src/gcode/motion.cpp')]
             if (not os.path.exists(exe) or
                     os.path.getmtime(exe) < max(os.path.getmtime(s) for s in sources)):
                 subprocess.check_call(['g++', '-O2', '-std=c++20', '-I' + os.path.join(ROOT, 'src'),
-                                       sources[0], sources[1], '-lpolyclipping', '-o', exe])
+                                       sources[0], sources[1], sources[3], '-lpolyclipping', '-o', exe])
             self.cmd = [exe]
             self.name = 'tools/gcode_check'
 

@@ -9,7 +9,7 @@
 #include <cstdint>
 #include <string_view>
 
-#include "core/error.hpp"
+#include "base/error.hpp"
 #include "mesh/loader.hpp"
 #include "mesh/mesh.hpp"
 #include "slice/slicer.hpp"

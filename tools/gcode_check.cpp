@@ -1,14 +1,16 @@
 // Stand-alone driver of the G-code analyser for the baseline script (bench/baselines.sh), usable
-// before `carve check` exists. It needs only src/report/gcode_analysis.cpp and Clipper:
-//   g++ -O2 -std=c++20 -Isrc tools/gcode_check.cpp src/report/gcode_analysis.cpp -lpolyclipping
+// before `carve check` exists. It needs only src/report/gcode_analysis.cpp, the stick-time
+// trapezoid of src/gcode/motion.cpp and Clipper:
+//   g++ -O2 -std=c++20 -Isrc tools/gcode_check.cpp src/report/gcode_analysis.cpp
+//       src/gcode/motion.cpp -lpolyclipping   (one line)
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
 #include <iostream>
 #include <string>
 
-#include "core/error.hpp"
-#include "report/gcode_analysis.hpp"
+#include "base/error.hpp"
+#include "check/gcode_analysis.hpp"
 
 int main(int argc, char** argv) {
     carve::GcodeAnalysisOptions options;

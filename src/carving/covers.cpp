@@ -1,7 +1,7 @@
 // Covers and shells from a sliding window of 2 * covers + 1 slices.
 #include "carving/covers.hpp"
 
-#include "core/stage_timer.hpp"
+#include "base/stage_timer.hpp"
 #include "geometry/morphology.hpp"
 #include "geometry/polygon.hpp"
 

@@ -9,7 +9,7 @@
 #include <optional>
 
 #include "carving/partition.hpp"
-#include "core/settings.hpp"
+#include "config/settings.hpp"
 #include "slice/slicer.hpp"
 
 namespace carve {

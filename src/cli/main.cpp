@@ -10,14 +10,15 @@
 #include <cstdio>
 #include <fstream>
 #include <iostream>
+#include <limits>
 #include <map>
 
-#include "core/error.hpp"
-#include "core/pipeline.hpp"
-#include "core/placeholders.hpp"
-#include "core/profiles.hpp"
+#include "base/error.hpp"
+#include "run/pipeline.hpp"
+#include "gcode/placeholders.hpp"
+#include "config/profiles.hpp"
 #include "mesh/mesh.hpp"
-#include "report/gcode_analysis.hpp"
+#include "check/gcode_analysis.hpp"
 #include "report/mesh_info.hpp"
 #include "report/stats.hpp"
 
@@ -95,6 +96,10 @@ int main(int argc, char** argv) {
         ->required();
     slice->add_option("-o,--output", run.gcode_path, "G-code file to write [required]")->required();
     slice->add_option("--stats", stats_path, "Write the run's figures as JSON to this file [none]");
+    slice->add_flag("--stats-check", run.check_output,
+                    "Also measure the written G-code as carve check --mesh does (hanging inside "
+                    "and overhang, material per type, retractions, travel) into the stats' "
+                    "\"check\" [off: it doubles the run time]");
     slice->add_option("--load", profile_path,
                       "PrusaSlicer .ini profile with printer and filament settings (options given "
                       "on the command line win) [none]");
@@ -265,8 +270,16 @@ int main(int argc, char** argv) {
     check->add_flag("--json", check_json, "Machine-readable output (JSON) [off: text]");
     bool check_layers = false;
     check->add_flag("--layers", check_layers,
-                    "With --json: the figures of every layer too (z, footprint, unsupported, "
-                    "far-unsupported) [off]");
+                    "The figures of every layer too (z, footprint, far-unsupported, with --mesh "
+                    "inside, overhang, travel outside, crossings; retractions, travel, stick "
+                    "time), as a table or with --json in it [off]");
+    std::string check_mesh, check_offset;
+    check->add_option("--mesh", check_mesh,
+                      "The model the G-code prints (STL, OBJ, 3MF): splits hanging filament "
+                      "into inside and overhang, measures travel outside it [none]");
+    check->add_option("--mesh-offset", check_offset,
+                      "With --mesh: X,Y[,Z] from the mesh's coordinates to the G-code's, mm "
+                      "[found from the extrusion's bounding box]");
 
     std::vector<std::string> profile_notes;
     try {
@@ -297,11 +310,38 @@ int main(int argc, char** argv) {
             return 0;
         }
         if (*check) {
-            const carve::GcodeAnalysis a = carve::analyse_gcode(check_gcode, check_options);
-            if (check_json)
+            std::optional<carve::Vec3> offset;
+            if (!check_offset.empty()) {
+                carve::Vec3 o{0, 0, std::numeric_limits<double>::quiet_NaN()};  // z: on the bed
+                char extra = 0;
+                int n =
+                    std::sscanf(check_offset.c_str(), "%lf,%lf,%lf%c", &o.x, &o.y, &o.z, &extra);
+                if (n != 2 && n != 3)
+                    return fail(fmt::format("--mesh-offset: expected X,Y or X,Y,Z in mm, got '{}'",
+                                            check_offset));
+                offset = o;
+            }
+            carve::GcodeAnalysis a;
+            if (!check_mesh.empty()) {
+                carve::MeshReport report;
+                const carve::Mesh mesh = carve::load_mesh(check_mesh, report);
+                a = carve::analyse_gcode_on_mesh(check_gcode, mesh, check_options, offset);
+                // The outer wall's centre lies half a line width inside: a few tenths of a mm.
+                if (a.mesh_extent_mismatch_mm > 2)
+                    std::fprintf(stderr,
+                                 "carve: warning: the G-code's extent differs from the mesh's by "
+                                 "%.1f mm: is the mesh at the print's scale?\n",
+                                 a.mesh_extent_mismatch_mm);
+            } else {
+                if (offset) return fail("--mesh-offset needs --mesh");
+                a = carve::analyse_gcode(check_gcode, check_options);
+            }
+            if (check_json) {
                 std::cout << carve::to_json(a, check_layers).dump(2) << "\n";
-            else
+            } else {
                 std::cout << carve::describe(a);
+                if (check_layers) std::cout << "\n" << carve::describe_layers(a);
+            }
             return 0;
         }
 

@@ -26,9 +26,9 @@
 #include <stdexcept>
 #include <string_view>
 
-#include "core/error.hpp"
-#include "core/placeholders.hpp"
-#include "core/stage_timer.hpp"
+#include "base/error.hpp"
+#include "gcode/placeholders.hpp"
+#include "base/stage_timer.hpp"
 #include "gcode/motion.hpp"
 #include "gcode/spill.hpp"
 

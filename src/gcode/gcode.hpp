@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "core/settings.hpp"
+#include "config/settings.hpp"
 #include "toolpath/toolpath.hpp"
 
 namespace carve {

@@ -18,7 +18,7 @@
 #include <numbers>
 #include <optional>
 
-#include "core/stage_timer.hpp"
+#include "geometry/probe.hpp"
 #include "geometry/polygon.hpp"
 
 namespace carve {
@@ -195,13 +195,13 @@ PositiveRegion dilation_contours(const Paths& region, Coord radius) {
 }  // namespace
 
 Paths dilate(const Paths& region, Coord radius) {
-    StageTimer timer(Stage::kMorphology);
+    GeometryTimer timer(GeometryOp::kMorphology);
     if (radius <= 0 || region.empty()) return radius < 0 ? erode(region, -radius) : region;
     return resolve(dilation_contours(region, radius));
 }
 
 PositiveRegion dilation(const Paths& region, Coord radius) {
-    StageTimer timer(Stage::kMorphology);
+    GeometryTimer timer(GeometryOp::kMorphology);
     return dilation_contours(region, radius);
 }
 
@@ -222,18 +222,18 @@ PositiveRegion erosion_contours(const Paths& region, Coord radius) {
 }  // namespace
 
 PositiveRegion erosion(const Paths& region, Coord radius) {
-    StageTimer timer(Stage::kMorphology);
+    GeometryTimer timer(GeometryOp::kMorphology);
     return erosion_contours(region, radius);
 }
 
 Paths erode(const Paths& region, Coord radius) {
-    StageTimer timer(Stage::kMorphology);
+    GeometryTimer timer(GeometryOp::kMorphology);
     if (radius <= 0 || region.empty()) return radius < 0 ? dilate(region, -radius) : region;
     return resolve(erosion_contours(region, radius));
 }
 
 Paths dilate_lines(const Paths& polylines, Coord radius) {
-    StageTimer timer(Stage::kMorphology);
+    GeometryTimer timer(GeometryOp::kMorphology);
     Paths closed;
     closed.reserve(polylines.size());
     for (const Path& line : polylines) {

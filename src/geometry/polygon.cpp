@@ -5,7 +5,7 @@
 #include <cmath>
 #include <iterator>
 
-#include "core/stage_timer.hpp"
+#include "geometry/probe.hpp"
 
 namespace carve {
 
@@ -176,7 +176,7 @@ size_t vertex_count(const Paths& region) {
 // pieces across the slice. That is how unions and symmetric differences run; differences and
 // intersections go further (run_within).
 Paths run(ClipType op, const Paths& subject, const Paths* clip, Fills fill = {}) {
-    StageTimer timer(Stage::kBoolean);
+    GeometryTimer timer(GeometryOp::kBoolean);
     if (clip && op == ctDifference) return run_within(op, subject, *clip, fill, true);
     if (clip && op == ctIntersection)
         return run_within(op, subject, *clip, fill, vertex_count(subject) <= vertex_count(*clip));

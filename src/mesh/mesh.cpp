@@ -12,7 +12,7 @@
 #include <filesystem>
 #include <limits>
 
-#include "core/error.hpp"
+#include "base/error.hpp"
 #include "mesh/loader.hpp"
 
 namespace carve {

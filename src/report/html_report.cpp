@@ -14,7 +14,7 @@
 #include <numbers>
 #include <utility>
 
-#include "core/error.hpp"
+#include "base/error.hpp"
 #include "geometry/polygon.hpp"
 #include "report/stats.hpp"
 #include "report/svg.hpp"

@@ -15,8 +15,8 @@
 #include <vector>
 
 #include "carving/partition.hpp"
-#include "core/pipeline.hpp"
-#include "core/settings.hpp"
+#include "report/run_result.hpp"
+#include "config/settings.hpp"
 #include "toolpath/toolpath.hpp"
 
 namespace carve {

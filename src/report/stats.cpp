@@ -3,6 +3,11 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <cmath>
+
+#include "slice/slicer.hpp"
+
 namespace carve {
 
 std::string format_duration(double seconds) {
@@ -53,6 +58,11 @@ nlohmann::json stats_json(const RunResult& run, const Settings& settings) {
     j["material_by_feature"] = m;
     j["mesh_closed"] = run.mesh.closed();
     j["mesh_warnings"] = run.mesh.warnings;
+    if (run.check) {
+        // What `carve check --mesh --json` says of the written G-code (--stats-check).
+        j["check"] = to_json(*run.check);
+        j["check"]["time_s"] = run.check_time_s;
+    }
     nlohmann::json s;
     s["layer_height_mm"] = settings.layer_height;
     s["nozzle_mm"] = settings.nozzle;
@@ -86,6 +96,10 @@ std::string summary_text(const RunResult& run, const Settings& settings) {
                        run.print.extruded_volume_mm3 / 1000, run.material_percent(),
                        run.print.filament_length_mm / 1000, run.print.filament_weight_g);
     out += fmt::format("print time {} (estimate)\n", format_duration(run.print.estimated_print_time_s));
+    if (run.check)
+        out += fmt::format(
+            "hanging    {:.1f} mm2 inside the model, {:.1f} mm2 overhang (checked in {:.2f} s)\n",
+            run.check->hanging_inside_mm2, run.check->hanging_overhang_mm2, run.check_time_s);
     out += fmt::format("sliced in  {:.2f} s, peak memory {:.0f} MB\n", run.processing_time_s,
                        run.peak_memory_mb);
     return out;
@@ -103,9 +117,100 @@ std::string describe(const GcodeAnalysis& a) {
                        100 * a.unsupported_fraction);
     out += fmt::format("far-unsupported  {:.3f} % (nothing below within 2 mm)\n",
                        100 * a.far_unsupported_fraction);
+    out += fmt::format("hanging          {:.1f} mm2 far-unsupported", a.far_unsupported_area_mm2);
+    if (a.model_checked)
+        out += fmt::format(": {:.1f} mm2 inside (over the model's slice below), {:.1f} mm2 overhang",
+                           a.hanging_inside_mm2, a.hanging_overhang_mm2);
+    out += "\n";
+    out += fmt::format("retractions      {}", a.retractions);
+    if (a.firmware_retractions > 0) out += fmt::format(" ({} G10)", a.firmware_retractions);
+    out += "\n";
+    out += fmt::format("travel           {:.0f} mm", a.travel_length_mm);
+    if (a.model_checked)
+        out += fmt::format(" ({:.0f} mm outside the model, {} wall crossings)",
+                           a.travel_outside_mm, a.wall_crossings);
+    out += "\n";
+    if (a.model_checked) {
+        out += fmt::format("outside model    {:.1f} mm2 (farthest {:.2f} mm)\n", a.outside_area_mm2,
+                           a.max_outside_model_mm);
+        if (!a.mesh_alignment.empty())
+            out += fmt::format("mesh offset      {:.3f}, {:.3f}, {:.3f} mm ({})\n",
+                               a.mesh_offset_mm[0], a.mesh_offset_mm[1], a.mesh_offset_mm[2],
+                               a.mesh_alignment);
+        if (a.mesh_extent_mismatch_mm >= 0)
+            out += fmt::format("mesh fit         extents differ by {:.2f} mm\n",
+                               a.mesh_extent_mismatch_mm);
+    }
+    double total = 0;
+    for (const auto& [type, v] : a.volume_by_type_mm3) total += v;
+    if (total > 0 && !(a.volume_by_type_mm3.size() == 1 && a.volume_by_type_mm3.count("none"))) {
+        out += "material by type";
+        const char* sep = " ";
+        for (const auto& [type, v] : a.volume_by_type_mm3) {
+            out += fmt::format("{}{} {:.1f} %", sep, type, 100 * v / total);
+            sep = ", ";
+        }
+        out += "\n";
+    }
+    out += fmt::format("stick time       {} (no look-ahead, same stick for every slicer)\n",
+                       format_duration(a.stick_time_s));
     if (a.estimated_time_from_header_s >= 0)
         out += fmt::format("header time      {}\n", format_duration(a.estimated_time_from_header_s));
     return out;
+}
+
+std::string describe_layers(const GcodeAnalysis& a) {
+    std::string out = "     z mm  footprint mm2  far mm2";
+    if (a.model_checked) out += "  inside mm2  overhang mm2";
+    out += "  retractions  travel mm";
+    if (a.model_checked) out += "  outside mm  crossings";
+    out += "  stick s\n";
+    for (const LayerFigures& l : a.per_layer) {
+        out += fmt::format("{:9.2f}  {:13.1f}  {:7.2f}", l.z_mm, l.footprint_area_mm2,
+                           l.far_unsupported_area_mm2);
+        if (a.model_checked)
+            out += fmt::format("  {:10.2f}  {:12.2f}", l.hanging_inside_mm2, l.hanging_overhang_mm2);
+        out += fmt::format("  {:11}  {:9.1f}", l.retractions, l.travel_length_mm);
+        if (a.model_checked) out += fmt::format("  {:10.1f}  {:9}", l.travel_outside_mm, l.wall_crossings);
+        out += fmt::format("  {:7.1f}\n", l.stick_time_s);
+    }
+    return out;
+}
+
+GcodeAnalysis analyse_gcode_on_mesh(const std::string& gcode_path, const Mesh& mesh,
+                                    GcodeAnalysisOptions options, const std::optional<Vec3>& offset) {
+    const BBox3 box = bounding_box(mesh);
+    Vec3 shift;
+    std::string how = "given";
+    double mismatch = -1;
+    if (offset) {
+        shift = *offset;
+        if (std::isnan(shift.z)) shift.z = -box.min.z;  // X,Y given: z still on the bed
+    } else {
+        how = "automatic";
+        const ExtrusionBounds b = extrusion_bounds(gcode_path, options);
+        if (b.any) {
+            shift.x = (b.min_x + b.max_x) / 2 - (box.min.x + box.max.x) / 2;
+            shift.y = (b.min_y + b.max_y) / 2 - (box.min.y + box.max.y) / 2;
+            mismatch = std::max(std::fabs((b.max_x - b.min_x) - (box.max.x - box.min.x)),
+                                std::fabs((b.max_y - b.min_y) - (box.max.y - box.min.y)));
+        }
+        shift.z = -box.min.z;
+    }
+    const Coord ux = to_units(shift.x), uy = to_units(shift.y);
+    options.model_slice = [&mesh, shift, ux, uy](double z) {
+        Paths region = slice_at(mesh, z - shift.z);
+        for (Path& p : region)
+            for (Point& q : p) q.X += ux, q.Y += uy;
+        return region;
+    };
+    GcodeAnalysis a = analyse_gcode(gcode_path, options);
+    a.mesh_alignment = how;
+    a.mesh_offset_mm[0] = shift.x;
+    a.mesh_offset_mm[1] = shift.y;
+    a.mesh_offset_mm[2] = shift.z;
+    a.mesh_extent_mismatch_mm = mismatch;
+    return a;
 }
 
 }  // namespace carve

@@ -15,7 +15,7 @@
 #include <fstream>
 #include <numeric>
 
-#include "core/error.hpp"
+#include "base/error.hpp"
 #include "geometry/polygon.hpp"
 
 namespace carve {

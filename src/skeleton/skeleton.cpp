@@ -11,7 +11,7 @@
 // in last_stats()); nothing throws.
 #include "skeleton/skeleton.hpp"
 
-#include "core/stage_timer.hpp"
+#include "base/stage_timer.hpp"
 
 #include <algorithm>
 #include <array>

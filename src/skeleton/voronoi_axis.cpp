@@ -21,7 +21,7 @@
 #include <cmath>
 #include <optional>
 
-#include "core/stage_timer.hpp"
+#include "base/stage_timer.hpp"
 #include "skeleton/circle_events.hpp"
 
 namespace carve::skel {

@@ -7,7 +7,7 @@
 // exact in topology whatever the rounding of the coordinates.
 #include "slice/slicer.hpp"
 
-#include "core/stage_timer.hpp"
+#include "base/stage_timer.hpp"
 
 #include <algorithm>
 #include <array>
@@ -16,7 +16,7 @@
 #include <limits>
 #include <vector>
 
-#include "core/error.hpp"
+#include "base/error.hpp"
 
 namespace carve {
 

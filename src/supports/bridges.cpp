@@ -5,7 +5,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "core/stage_timer.hpp"
+#include "base/stage_timer.hpp"
 #include "geometry/morphology.hpp"
 #include "geometry/polygon.hpp"
 

@@ -11,7 +11,7 @@
 #include <iterator>
 #include <limits>
 
-#include "core/stage_timer.hpp"
+#include "base/stage_timer.hpp"
 #include "geometry/morphology.hpp"
 #include "geometry/polygon.hpp"
 #include "toolpath/fill.hpp"

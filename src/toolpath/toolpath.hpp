@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "carving/partition.hpp"
-#include "core/settings.hpp"
+#include "config/settings.hpp"
 
 namespace carve {
 

@@ -1,0 +1,257 @@
+// Built-in printers and the PrusaSlicer .ini reader.
+#include "config/profiles.hpp"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <fstream>
+#include <functional>
+#include <map>
+#include <optional>
+#include <sstream>
+
+#include <fmt/format.h>
+
+#include "base/error.hpp"
+
+namespace carve {
+
+namespace {
+
+struct Preset {
+    const char* name;
+    std::function<void(Settings&)> apply;
+};
+
+const std::vector<Preset>& presets() {
+    static const std::vector<Preset> list = {
+        {"generic", [](Settings&) {}},
+        {"mk3s",
+         [](Settings& s) {
+             s.printer_name = "Prusa i3 MK3S-like";
+             s.bed_x = 250, s.bed_y = 210;
+             s.flavor = GcodeFlavor::Marlin;
+             s.acceleration = 1000, s.travel_acceleration = 1250;
+             s.retract_length = 0.8, s.retract_speed = 35;
+             s.start_gcode = "M115 U3.9.0\nG28 W ; home all without mesh bed level\nG80 ; mesh bed "
+                             "levelling\nG1 Y-3.0 F1000.0\nG92 E0\n";
+         }},
+        {"ender3",
+         [](Settings& s) {
+             s.printer_name = "Creality Ender-3-like";
+             s.bed_x = 220, s.bed_y = 220;
+             s.flavor = GcodeFlavor::Marlin;
+             s.acceleration = 500, s.travel_acceleration = 1000;
+             s.retract_length = 5.0, s.retract_speed = 40;  // Bowden extruder
+             s.travel_speed = 120;
+         }},
+        {"klipper",
+         [](Settings& s) {
+             s.printer_name = "Klipper generic";
+             s.bed_x = 300, s.bed_y = 300;
+             s.flavor = GcodeFlavor::Klipper;
+             s.acceleration = 3000, s.travel_acceleration = 5000;
+             s.travel_speed = 250, s.max_print_speed = 200;
+             s.retract_length = 0.8;
+             s.start_gcode =
+                 "PRINT_START BED=[first_layer_bed_temperature] "
+                 "EXTRUDER=[first_layer_temperature]\n";
+             s.end_gcode = "PRINT_END\n";
+         }},
+    };
+    return list;
+}
+
+std::string trim(std::string s) {
+    const char* ws = " \t\r\n";
+    s.erase(0, s.find_first_not_of(ws));
+    s.erase(s.find_last_not_of(ws) + 1);
+    return s;
+}
+
+// A plain decimal number: std::stod would also read "0x0" (a bed_shape point) as hexadecimal.
+std::optional<double> decimal(const std::string& v) {
+    double d = 0;
+    const auto [end, ec] = std::from_chars(v.data(), v.data() + v.size(), d);
+    if (ec != std::errc() || end != v.data() + v.size() || v.empty() || !std::isfinite(d))
+        return std::nullopt;
+    return d;
+}
+
+double number(const std::string& key, const std::string& value) {
+    // PrusaSlicer stores per-extruder values as comma lists; the first extruder is ours.
+    const std::string v = trim(value.substr(0, value.find(',')));
+    if (const std::optional<double> d = decimal(v)) return *d;
+    throw InputError(fmt::format("profile key '{}': '{}' is not a number", key, value));
+}
+
+double positive(const std::string& key, const std::string& value) {
+    double d = number(key, value);
+    if (d <= 0) throw InputError(fmt::format("profile key '{}': {} must be positive", key, value));
+    return d;
+}
+
+// A whole number from 0 to 50 (layers, perimeters).
+int count(const std::string& key, const std::string& value) {
+    const double d = number(key, value);
+    if (d < 0 || d > 50 || d != std::floor(d))
+        throw InputError(
+            fmt::format("profile key '{}': '{}' is not a whole number from 0 to 50", key, value));
+    return static_cast<int>(d);
+}
+
+std::string unescape(const std::string& v) {
+    std::string out;
+    for (size_t i = 0; i < v.size(); ++i) {
+        if (v[i] == '\\' && i + 1 < v.size()) {
+            char c = v[++i];
+            out += c == 'n' ? '\n' : c == 't' ? '\t' : c;
+        } else {
+            out += v[i];
+        }
+    }
+    if (!out.empty() && out.back() != '\n') out += '\n';
+    return out;
+}
+
+}  // namespace
+
+std::string printer_preset_names() {
+    std::string out;
+    for (const Preset& p : presets()) out += (out.empty() ? "" : ", ") + std::string(p.name);
+    return out;
+}
+
+void apply_printer_preset(const std::string& name, Settings& settings) {
+    for (const Preset& p : presets())
+        if (name == p.name) {
+            settings.printer_name = name;
+            p.apply(settings);
+            return;
+        }
+    throw InputError(fmt::format("unknown printer '{}'; choose one of: {}", name,
+                                 printer_preset_names()));
+}
+
+std::vector<std::string> load_prusa_profile(const std::string& path, Settings& s) {
+    std::ifstream in(path);
+    if (!in) throw InputError(fmt::format("{}: cannot open the profile", path));
+
+    using Setter = std::function<void(const std::string&, const std::string&)>;
+    int top_bottom[2] = {0, 0};
+    const std::map<std::string, Setter> keys = {
+        {"bed_shape",
+         [&](const std::string& k, const std::string& v) {
+             // "0x0,250x0,250x210,0x210": the bed is the bounding box of the points.
+             double min_x = 1e9, min_y = 1e9, max_x = -1e9, max_y = -1e9;
+             std::stringstream ss(v);
+             std::string pt;
+             int n = 0;
+             while (std::getline(ss, pt, ',')) {
+                 const std::string p = trim(pt);
+                 const size_t cross = p.find('x');
+                 const std::optional<double> x = decimal(p.substr(0, cross));
+                 const std::optional<double> y =
+                     cross == std::string::npos ? std::nullopt : decimal(p.substr(cross + 1));
+                 if (!x || !y)
+                     throw InputError(fmt::format("profile key '{}': bad point '{}'", k, pt));
+                 min_x = std::min(min_x, *x), max_x = std::max(max_x, *x);
+                 min_y = std::min(min_y, *y), max_y = std::max(max_y, *y);
+                 ++n;
+             }
+             if (n < 3 || max_x <= min_x || max_y <= min_y)
+                 throw InputError(fmt::format("profile key '{}': '{}' is not a bed outline", k, v));
+             s.bed_x = max_x - min_x, s.bed_y = max_y - min_y;
+         }},
+        {"nozzle_diameter", [&](auto& k, auto& v) { s.nozzle = positive(k, v); }},
+        {"filament_diameter", [&](auto& k, auto& v) { s.filament_diameter = positive(k, v); }},
+        {"filament_density", [&](auto& k, auto& v) { s.filament_density = positive(k, v); }},
+        {"temperature", [&](auto& k, auto& v) { s.nozzle_temperature = int(number(k, v)); }},
+        {"first_layer_temperature",
+         [&](auto& k, auto& v) { s.first_layer_nozzle_temperature = int(number(k, v)); }},
+        {"bed_temperature", [&](auto& k, auto& v) { s.bed_temperature = int(number(k, v)); }},
+        {"first_layer_bed_temperature",
+         [&](auto& k, auto& v) { s.first_layer_bed_temperature = int(number(k, v)); }},
+        {"start_gcode", [&](auto&, auto& v) { s.start_gcode = unescape(v); }},
+        {"end_gcode", [&](auto&, auto& v) { s.end_gcode = unescape(v); }},
+        {"retract_length", [&](auto& k, auto& v) { s.retract_length = number(k, v); }},
+        {"retract_speed", [&](auto& k, auto& v) { s.retract_speed = positive(k, v); }},
+        {"retract_lift", [&](auto& k, auto& v) { s.z_hop = number(k, v); }},
+        {"retract_before_travel", [&](auto& k, auto& v) { s.retract_min_travel = number(k, v); }},
+        {"travel_speed", [&](auto& k, auto& v) { s.travel_speed = positive(k, v); }},
+        {"perimeter_speed", [&](auto& k, auto& v) { s.cavity_speed = positive(k, v); }},
+        {"external_perimeter_speed",
+         [&](auto& k, auto& v) {
+             if (v.find('%') == std::string::npos) s.perimeter_speed = positive(k, v);
+         }},
+        {"solid_infill_speed",
+         [&](auto& k, auto& v) {
+             if (v.find('%') == std::string::npos) s.cover_speed = positive(k, v);
+         }},
+        {"bridge_speed", [&](auto& k, auto& v) { s.bridge_speed = positive(k, v); }},
+        {"first_layer_speed",
+         [&](auto& k, auto& v) {
+             if (v.find('%') == std::string::npos) s.first_layer_speed = positive(k, v);
+         }},
+        {"layer_height", [&](auto& k, auto& v) { s.layer_height = positive(k, v); }},
+        {"max_print_speed", [&](auto& k, auto& v) { s.max_print_speed = positive(k, v); }},
+        {"machine_max_acceleration_extruding",
+         [&](auto& k, auto& v) { s.acceleration = positive(k, v); }},
+        {"machine_max_acceleration_travel",
+         [&](auto& k, auto& v) { s.travel_acceleration = positive(k, v); }},
+        // Solid layers and perimeters are carve's covers and shells: a profile's own choice
+        // holds unless --preset or --covers/--shells say otherwise.
+        {"top_solid_layers",
+         [&](auto& k, auto& v) {
+             s.covers = std::max(top_bottom[0] = count(k, v), top_bottom[1]);
+         }},
+        {"bottom_solid_layers",
+         [&](auto& k, auto& v) {
+             s.covers = std::max(top_bottom[0], top_bottom[1] = count(k, v));
+         }},
+        {"perimeters", [&](auto& k, auto& v) { s.shells = std::max(0, count(k, v) - 1); }},
+        {"use_relative_e_distances",
+         [&](auto& k, auto& v) {
+             const std::string b = trim(v);
+             if (b != "0" && b != "1")
+                 throw InputError(fmt::format("profile key '{}': '{}' is not 0 or 1", k, v));
+             s.relative_e = b == "1";
+         }},
+        {"gcode_flavor",
+         [&](auto& k, auto& v) {
+             const std::string f = trim(v);
+             if (f == "klipper") s.flavor = GcodeFlavor::Klipper;
+             else if (f == "reprap" || f == "reprapfirmware") s.flavor = GcodeFlavor::RepRap;
+             else if (f.rfind("marlin", 0) == 0) s.flavor = GcodeFlavor::Marlin;
+             else throw InputError(fmt::format("profile key '{}': unsupported flavour '{}'", k, f));
+         }},
+    };
+
+    std::vector<std::string> notes;
+    int ignored = 0;
+    std::string line;
+    int line_no = 0;
+    while (std::getline(in, line)) {
+        ++line_no;
+        line = trim(line);
+        if (line.empty() || line[0] == '#' || line[0] == ';' || line[0] == '[') continue;
+        const size_t eq = line.find('=');
+        if (eq == std::string::npos)
+            throw InputError(fmt::format("{}:{}: expected 'key = value'", path, line_no));
+        const std::string key = trim(line.substr(0, eq));
+        const std::string value = trim(line.substr(eq + 1));
+        // Kept raw for the placeholders of the profile's custom G-code ([printer_model], ...).
+        s.profile_values[key] = value;
+        auto it = keys.find(key);
+        if (it == keys.end()) {
+            ++ignored;
+            continue;
+        }
+        it->second(key, value);
+    }
+    if (ignored > 0)
+        notes.push_back(fmt::format("{}: ignored {} keys that carve does not use", path, ignored));
+    return notes;
+}
+
+}  // namespace carve

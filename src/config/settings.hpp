@@ -1,0 +1,78 @@
+// Every parameter of a run, in millimetres, degrees and seconds as the user gives them.
+// Stages convert to micrometres where they need integers. Defaults follow DESIGN.md.
+#pragma once
+
+#include <cmath>
+#include <map>
+#include <numbers>
+#include <string>
+
+#include "geometry/types.hpp"
+
+namespace carve {
+
+enum class WallMode { Single, Double };
+enum class GcodeFlavor { Marlin, RepRap, Klipper };
+
+struct Settings {
+    // Geometry of the process.
+    double layer_height = 0.2;   // h
+    double nozzle = 0.4;         // w = 2s, also the extrusion width
+    double max_overhang = 45.0;  // degrees; r = h * tan(max_overhang)
+    int cavities = 6;            // k; 0 = plain hollow shell
+    bool cavities_auto = false;  // stop when V^j erodes away at radius w
+    int covers = 2;
+    int shells = 0;
+    WallMode walls = WallMode::Single;
+    double restriction_factor = 1.4;  // t = 1.4 s
+    double opening_factor = 0.9;      // s' = 0.9 s
+    double wall_extension = 1.0;      // mm, open curves extended along printed walls
+    double bridge_angle_step = 5.0;   // degrees
+    bool prune_bridges = true;
+    double scale = 1.0;  // uniform scale applied to the model about its centre
+    int threads = 5;     // pipeline threads; 1 = everything on the calling thread
+    // mm; the seed may tear a cavity open at most this far beyond the dilated cavity per slice
+    // (the report's conclusion proposes r/2). 0: the whole pruned medial axis opens in one
+    // slice, as in the report's algorithm. Smaller is better supported and costs material.
+    double tear_limit = 0.0;
+    // mm; a component of V^{j-1} that holds no disk this wide is carved whole in one slice and
+    // its ceiling bridged (0: every component tears along its medial axis, as in the report).
+    double whole_width = 10.0;
+    double max_bridge_length = 10.0;  // mm; a longer span would sag more than the minimum it holds
+    // Resource guard: a slice with more contour vertices stops the run (0 = no limit). Millions
+    // of vertices per layer would make carving run for hours.
+    long long max_vertices_per_layer = 5'000'000;
+
+    // Printer and filament.
+    GcodeFlavor flavor = GcodeFlavor::Marlin;
+    std::string printer_name = "generic";
+    double filament_diameter = 1.75;
+    double filament_density = 1.24;   // g/cm^3 (PLA)
+    double bed_x = 250, bed_y = 210;  // bed size; the model is centred on it
+    bool bed_check = true;
+    bool relative_e = false;
+    int nozzle_temperature = 210, first_layer_nozzle_temperature = 215;
+    int bed_temperature = 60, first_layer_bed_temperature = 60;
+    double perimeter_speed = 40, cavity_speed = 60, cover_speed = 50, bridge_speed = 25;
+    double travel_speed = 150, first_layer_speed = 20, max_print_speed = 100;
+    double acceleration = 1000, travel_acceleration = 1500;  // mm/s^2
+    double retract_length = 0.8, retract_speed = 35, retract_min_travel = 2.0, z_hop = 0.0;
+    double bridge_flow = 1.0;
+    int fan_speed = 255, bridge_fan_speed = 255;
+    std::string start_gcode = "G28 ; home all axes\nG1 Z5 F3000\nG92 E0\n";
+    std::string end_gcode = "M104 S0\nM140 S0\nM107\nG91\nG1 Z10 F600\nG90\nG28 X0\nM84\n";
+    // Raw values of the loaded profile's other keys (printer_model, max_print_height, ...): the
+    // placeholders of its custom G-code may name them (gcode/placeholders.hpp).
+    std::map<std::string, std::string> profile_values;
+
+    // Derived quantities, in micrometres.
+    Coord nozzle_radius() const { return to_units(nozzle / 2); }  // s
+    Coord line_width() const { return to_units(nozzle); }         // w
+    Coord dilation_per_layer() const {                            // r
+        return to_units(layer_height * std::tan(max_overhang * std::numbers::pi / 180.0));
+    }
+    Coord restriction() const { return to_units(restriction_factor * nozzle / 2); }  // t
+    Coord opening() const { return to_units(opening_factor * nozzle / 2); }          // s'
+};
+
+}  // namespace carve

@@ -1,0 +1,47 @@
+// The figures of one run, filled in by src/run and read by the outputs (stats JSON, summary,
+// HTML report). It lives here, below src/run, so that the outputs need not include the
+// orchestration that calls them.
+#pragma once
+
+#include <optional>
+#include <vector>
+
+#include "check/gcode_analysis.hpp"
+#include "gcode/gcode.hpp"
+#include "mesh/mesh.hpp"
+
+namespace carve {
+
+// Figures of one run; the stats JSON is made from these.
+struct RunResult {
+    MeshReport mesh;
+    PrintStats print;
+    int layers = 0;
+    int cavities = 0;  // cavities that hold anything
+    int bridges = 0;
+    int cover_bridges = 0;       // of them, covers bridging a cavity below
+    int minima_found = 0;        // local minima and ceilings over a cavity, all slices
+    int minima_unsupported = 0;  // of them, left without a support that prints
+    int ceilings_found = 0;      // of the minima, covers over a cavity below
+    int ceilings_unsupported = 0;
+    // Extruded volume by feature (index: Feature), the remainder's solid fill apart, and the
+    // walls of each cavity (index j; 0 unused).
+    double feature_mm3[5] = {0, 0, 0, 0, 0};
+    double remainder_fill_mm3 = 0;
+    std::vector<double> cavity_wall_mm3;
+    double bridge_length_mm = 0;
+    double carvable_volume_mm3 = 0;
+    std::vector<double> cavity_volume_mm3;  // per cavity C^j
+    double remainder_volume_mm3 = 0;        // V^k
+    double cover_volume_mm3 = 0;
+    double processing_time_s = 0;
+    double peak_memory_mb = 0;
+    std::vector<double> layer_material_mm3;  // per layer, bottom up (for the report's plot)
+    std::optional<GcodeAnalysis> check;      // with RunOptions::check_output
+    double check_time_s = 0;                 // its cost, not in processing_time_s
+    double material_percent() const {
+        return mesh.volume_mm3 > 0 ? 100.0 * print.extruded_volume_mm3 / mesh.volume_mm3 : 0;
+    }
+};
+
+}  // namespace carve

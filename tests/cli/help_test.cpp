@@ -1,0 +1,219 @@
+// The documentation of the command line: every option of `carve slice|info|check --help` states
+// its default (a "[...]" marker) and, for a number, its unit; the man page docs/carve.1 covers
+// every option with the same default and renders without groff warnings.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "support/carve_run.hpp"
+
+using carve::test::read;
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct HelpEntry {
+    std::string names;        // "-o,--output" or "model"
+    std::string type;         // "TEXT", "FLOAT:FLOAT in [0.01 - 2]", "" for flags
+    std::string description;  // joined over its wrapped lines
+};
+
+std::string output_of(const std::string& cmd, int* status = nullptr) {
+    std::string out;
+    FILE* p = popen(cmd.c_str(), "r");
+    if (!p) return out;
+    char buf[4096];
+    size_t n;
+    while ((n = fread(buf, 1, sizeof buf, p)) > 0) out.append(buf, n);
+    const int raw = pclose(p);
+    if (status) *status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+    return out;
+}
+
+// CLI11's layout: "  NAMES TYPE   description", the description in a column of its own, on the
+// next line when the names are long, and wrapped lines indented to that column.
+std::vector<HelpEntry> parse_help(const std::string& text) {
+    std::vector<HelpEntry> entries;
+    std::stringstream in(text);
+    std::string line;
+    bool in_list = false;
+    static const std::regex entry(R"(^  (\S+)(?: ((?:\S| (?=\S))+))?(?:\s{2,}(.*))?$)");
+    while (std::getline(in, line)) {
+        if (line == "Options:" || line == "Positionals:") {
+            in_list = true;
+            continue;
+        }
+        if (!in_list || line.empty()) continue;
+        std::smatch m;
+        if (line.size() > 10 && line.find_first_not_of(' ') >= 10 && !entries.empty()) {
+            std::string& d = entries.back().description;
+            d += (d.empty() ? "" : " ") + line.substr(line.find_first_not_of(' '));
+        } else if (std::regex_match(line, m, entry)) {
+            entries.push_back({m[1], m[2], m[3]});
+        } else {
+            ADD_FAILURE() << "unparsed help line: " << line;
+        }
+    }
+    for (HelpEntry& e : entries) {
+        // Flags print their negation default as "{false}" glued to the name.
+        e.names = std::regex_replace(e.names, std::regex(R"(\{.*\}$)"), "");
+        while (!e.description.empty() && e.description.back() == ' ') e.description.pop_back();
+    }
+    return entries;
+}
+
+std::vector<HelpEntry> help_of(const std::string& sub) {
+    int status = -1;
+    const std::string text = output_of(std::string(CARVE_BINARY) + " " + sub + " --help", &status);
+    EXPECT_EQ(status, 0) << sub;
+    return parse_help(text);
+}
+
+std::string long_name(const std::string& names) {
+    const size_t at = names.rfind("--");
+    return at == std::string::npos ? names : names.substr(at);
+}
+
+std::string default_marker(const std::string& description) {
+    std::smatch m;
+    static const std::regex marker(R"((\[[^\[\]]+\])$)");
+    return std::regex_search(description, m, marker) ? std::string(m[1]) : "";
+}
+
+const std::vector<std::string> kSubcommands = {"slice", "info", "check"};
+
+// The .TP blocks of the man page with roff's escapes undone: "--layer-height MM ..." etc.
+std::vector<std::string> man_blocks() {
+    std::string man = read(fs::path(CARVE_SOURCE_DIR) / "docs" / "carve.1");
+    std::vector<std::string> blocks;
+    std::stringstream in(man);
+    std::string line, block;
+    bool open = false;
+    auto close = [&] {
+        if (open) blocks.push_back(block);
+        block.clear();
+        open = false;
+    };
+    while (std::getline(in, line)) {
+        if (line.rfind(".TP", 0) == 0) {
+            close();
+            open = true;
+            continue;
+        }
+        if (line.rfind(".SH", 0) == 0 || line.rfind(".SS", 0) == 0) {
+            close();
+            continue;
+        }
+        if (!open) continue;
+        // Drop the macro names (.B, .BI, .BR) and the quotes of their arguments.
+        line = std::regex_replace(line, std::regex(R"(^\.[A-Z]+ ?)"), "");
+        line = std::regex_replace(line, std::regex("\""), "");
+        line = std::regex_replace(line, std::regex(R"(\\-)"), "-");
+        block += line + " ";
+    }
+    close();
+    return blocks;
+}
+
+}  // namespace
+
+TEST(Help, EveryOptionStatesItsDefaultAndItsUnit) {
+    static const std::regex unit(
+        R"((^|[ ,(])(mm|mm/s|mm/s\^2|C|degrees|ratio|g/cm\^3|layers|lines|threads|vertices)([ ;,)\[]|$))");
+    int checked = 0;
+    for (const std::string& sub : kSubcommands) {
+        const std::vector<HelpEntry> entries = help_of(sub);
+        EXPECT_GE(entries.size(), 3u) << sub;
+        for (const HelpEntry& e : entries) {
+            if (e.names == "-h,--help") continue;
+            ++checked;
+            EXPECT_NE(default_marker(e.description), "")
+                << sub << " " << e.names << ": no [default] at the end of '" << e.description
+                << "'";
+            const bool number = e.type.rfind("FLOAT", 0) == 0 || e.type.rfind("INT", 0) == 0;
+            if (number) {
+                EXPECT_TRUE(std::regex_search(e.description, unit))
+                    << sub << " " << e.names << " (" << e.type << "): no unit in '" << e.description
+                    << "'";
+            }
+        }
+    }
+    EXPECT_GT(checked, 50);  // the parser saw the options, it did not skip them
+}
+
+TEST(Help, ThePlainDescriptionsParse) {
+    // The parser itself: a wrapped description and a flag with a negation default.
+    const auto e = parse_help(
+        "Options:\n  --a FLOAT:FLOAT in [1 - 2]\n                              Aaa, mm [1]\n"
+        "  --keep{false}   Keep [off]\n  -q,--quiet                  Quiet\n");
+    ASSERT_EQ(e.size(), 3u);
+    EXPECT_EQ(e[0].description, "Aaa, mm [1]");
+    EXPECT_EQ(e[1].names, "--keep");
+    EXPECT_EQ(default_marker(e[2].description), "");
+}
+
+TEST(ManPage, CoversEveryOptionWithTheSameDefault) {
+    const std::vector<std::string> blocks = man_blocks();
+    ASSERT_GT(blocks.size(), 40u);
+    for (const std::string& sub : kSubcommands) {
+        for (const HelpEntry& e : help_of(sub)) {
+            const std::string name = long_name(e.names);
+            if (name == "--help" || name.rfind("--", 0) != 0) continue;
+            const std::string marker = default_marker(e.description);
+            bool named = false, same_default = false;
+            const std::regex word("(^| )" + std::regex_replace(name, std::regex(R"([\^\$])"), "") +
+                                  "( |,|$)");
+            for (const std::string& b : blocks) {
+                // The option's own block: its name opens the block (its heading line).
+                if (!std::regex_search(b.substr(0, b.find(' ', name.size() + 1)), word)) continue;
+                named = true;
+                if (!marker.empty() && b.find(marker) != std::string::npos) same_default = true;
+            }
+            EXPECT_TRUE(named) << sub << " " << name << " is missing from docs/carve.1";
+            EXPECT_TRUE(same_default)
+                << sub << " " << name << ": docs/carve.1 does not give the default " << marker;
+        }
+    }
+}
+
+TEST(ManPage, NamesNoOptionThatCarveDoesNotHave) {
+    std::set<std::string> known;
+    for (const std::string& sub : kSubcommands)
+        for (const HelpEntry& e : help_of(sub)) known.insert(long_name(e.names));
+    for (const std::string& b : man_blocks()) {
+        std::smatch m;
+        if (std::regex_search(b, m, std::regex(R"(^(--[a-z][a-z0-9-]*))"))) {
+            EXPECT_TRUE(known.count(m[1])) << m[1] << " is in docs/carve.1 but not in --help";
+        }
+    }
+}
+
+TEST(ManPage, RendersWithoutWarnings) {
+    if (access("/usr/bin/groff", X_OK) != 0) GTEST_SKIP() << "groff is not installed";
+    const fs::path man = fs::path(CARVE_SOURCE_DIR) / "docs" / "carve.1";
+    int status = -1;
+    // -ww: every warning; -z: no output, only the diagnostics (on stderr, captured here).
+    const std::string diagnostics =
+        output_of("/usr/bin/groff -man -ww -z " + man.string() + " 2>&1", &status);
+    EXPECT_EQ(status, 0);
+    EXPECT_EQ(diagnostics, "");
+    // And through man(1) as a user reads it, at a narrow width that forces wrapping.
+    if (access("/usr/bin/man", X_OK) == 0) {
+        const std::string text =
+            output_of("MANWIDTH=60 /usr/bin/man -l " + man.string() + " 2>&1 | col -b", &status);
+        EXPECT_EQ(status, 0);
+        EXPECT_NE(text.find("EXIT STATUS"), std::string::npos);
+        EXPECT_NE(text.find("--raster-pixel"), std::string::npos);
+        EXPECT_EQ(text.find("warning"), std::string::npos) << text;
+    }
+}

@@ -1,0 +1,636 @@
+// Mesh loading: every broken input in models/bad, the real and synthetic models with their
+// published volumes, OBJ and 3MF files written here, and the repair of orientation and voids.
+#include "mesh/mesh.hpp"
+
+#include <gtest/gtest.h>
+#include <sys/resource.h>
+#include <unistd.h>
+#include <zip.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <set>
+#include <string>
+
+#include "base/error.hpp"
+#include "report/mesh_info.hpp"
+
+using namespace carve;
+namespace fs = std::filesystem;
+
+namespace {
+
+const std::string kModels = CARVE_MODELS_DIR;
+
+std::string bad(const std::string& name) {
+    return kModels + "/bad/" + name;
+}
+
+// A fresh directory for the files the tests write, removed at the end of the program.
+class TempDir {
+  public:
+    TempDir() {
+        dir_ = fs::temp_directory_path() / ("carve_mesh_test_" + std::to_string(::getpid()));
+        fs::create_directories(dir_);
+    }
+    ~TempDir() {
+        std::error_code ec;
+        fs::remove_all(dir_, ec);
+    }
+    std::string file(const std::string& name) const { return (dir_ / name).string(); }
+    std::string dir() const { return dir_.string(); }
+
+  private:
+    fs::path dir_;
+};
+
+const TempDir& temp() {
+    static TempDir t;
+    return t;
+}
+
+void write_file(const std::string& path, const std::string& bytes) {
+    std::ofstream out(path, std::ios::binary);
+    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+}
+
+std::string binary_stl(const Mesh& m, const std::string& header) {
+    std::string out(80, ' ');
+    std::memcpy(out.data(), header.data(), std::min<size_t>(header.size(), 80));
+    uint32_t n = static_cast<uint32_t>(m.triangles.size());
+    out.append(reinterpret_cast<const char*>(&n), 4);
+    for (const auto& t : m.triangles) {
+        float rec[12] = {0, 0, 0};
+        for (int k = 0; k < 3; ++k) {
+            const Vec3& v = m.vertices[t[k]];
+            rec[3 + 3 * k] = float(v.x), rec[4 + 3 * k] = float(v.y), rec[5 + 3 * k] = float(v.z);
+        }
+        out.append(reinterpret_cast<const char*>(rec), sizeof rec);
+        out.append(2, '\0');
+    }
+    return out;
+}
+
+// The 20 mm cube [0,20]^3 as 8 corners and 6 counter-clockwise quads (seen from outside).
+const double kCorner[8][3] = {{0, 0, 0},  {20, 0, 0},  {20, 20, 0},  {0, 20, 0},
+                              {0, 0, 20}, {20, 0, 20}, {20, 20, 20}, {0, 20, 20}};
+const int kQuads[6][4] = {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4},
+                          {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 0, 4, 7}};
+
+Mesh cube_mesh(double size = 20, Vec3 at = {}) {
+    Mesh m;
+    for (const auto& c : kCorner)
+        m.vertices.push_back(
+            {at.x + c[0] * size / 20, at.y + c[1] * size / 20, at.z + c[2] * size / 20});
+    for (const auto& q : kQuads) {
+        m.triangles.push_back({uint32_t(q[0]), uint32_t(q[1]), uint32_t(q[2])});
+        m.triangles.push_back({uint32_t(q[0]), uint32_t(q[2]), uint32_t(q[3])});
+    }
+    return m;
+}
+
+bool has_warning(const MeshReport& r, const std::string& words) {
+    for (const auto& w : r.warnings)
+        if (w.find(words) != std::string::npos) return true;
+    return false;
+}
+
+std::string all_warnings(const MeshReport& r) {
+    std::string s;
+    for (const auto& w : r.warnings) s += w + " | ";
+    return s;
+}
+
+// Expects load_mesh to throw InputError whose single line contains every word given.
+void expect_input_error(const std::string& path, std::initializer_list<std::string> words) {
+    MeshReport r;
+    try {
+        load_mesh(path, r);
+        ADD_FAILURE() << path << " loaded without error";
+    } catch (const InputError& e) {
+        const std::string msg = e.what();
+        EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
+        EXPECT_NE(msg.find(fs::path(path).filename().string()), std::string::npos)
+            << "message does not name the file: " << msg;
+        for (const auto& w : words) EXPECT_NE(msg.find(w), std::string::npos) << msg;
+    }
+}
+
+MeshReport load_ok(const std::string& path, Mesh* out = nullptr) {
+    MeshReport r;
+    Mesh m = load_mesh(path, r);
+    EXPECT_EQ(m.triangles.size(), r.triangles);
+    EXPECT_EQ(m.vertices.size(), r.vertices);
+    if (out) *out = std::move(m);
+    return r;
+}
+
+}  // namespace
+
+// ---- models/bad ----
+
+TEST(MeshBad, EmptyFileIsAnInputError) {
+    expect_input_error(bad("empty.stl"), {"empty"});
+}
+
+TEST(MeshBad, TruncatedBinaryIsAnInputError) {
+    expect_input_error(bad("truncated.stl"), {"truncated", "12 triangles", "459 bytes"});
+}
+
+TEST(MeshBad, NanCoordinatesAreAnInputError) {
+    expect_input_error(bad("nan_coords.stl"), {"NaN", "triangle 3"});
+}
+
+TEST(MeshBad, AsciiCubeLoads) {
+    MeshReport r = load_ok(bad("ascii_cube.stl"));
+    EXPECT_EQ(r.format, "ASCII STL");
+    EXPECT_EQ(r.triangles, 12u);
+    EXPECT_EQ(r.vertices, 8u);
+    EXPECT_TRUE(r.closed());
+    EXPECT_NEAR(r.volume_mm3, 8000.0, 1e-6);
+    EXPECT_TRUE(r.warnings.empty()) << all_warnings(r);
+}
+
+TEST(MeshBad, FlippedAllInwardIsTurnedOut) {
+    MeshReport r = load_ok(bad("flipped_all_inward.stl"));
+    EXPECT_NEAR(r.volume_mm3, 8000.0, 1e-6);
+    EXPECT_TRUE(r.inverted);
+    EXPECT_EQ(r.flipped_triangles, 0u);
+    EXPECT_TRUE(has_warning(r, "inside out")) << all_warnings(r);
+}
+
+TEST(MeshBad, FlippedSomeAreFixed) {
+    MeshReport r = load_ok(bad("flipped_some.stl"));
+    EXPECT_NEAR(r.volume_mm3, 8000.0, 1e-6);
+    EXPECT_EQ(r.flipped_triangles, 3u);
+    EXPECT_FALSE(r.inverted);
+    EXPECT_TRUE(r.closed());
+    EXPECT_TRUE(has_warning(r, "flipped 3 facets")) << all_warnings(r);
+}
+
+TEST(MeshBad, WrongNormalsOnlyNeedNoFlip) {
+    MeshReport r = load_ok(bad("wrong_normals_only.stl"));
+    EXPECT_NEAR(r.volume_mm3, 8000.0, 1e-6);
+    EXPECT_EQ(r.flipped_triangles, 0u);
+    EXPECT_FALSE(r.inverted);
+    EXPECT_TRUE(r.warnings.empty()) << all_warnings(r);
+}
+
+TEST(MeshBad, DegenerateSliverIsDroppedAndTheCubeStaysClosed) {
+    MeshReport r = load_ok(bad("degenerate_sliver.stl"));
+    EXPECT_EQ(r.triangles_read, 14u);
+    EXPECT_EQ(r.degenerate_dropped, 1u);
+    EXPECT_EQ(r.zero_area_splits, 1u);
+    EXPECT_EQ(r.triangles, 14u);  // 13 minus the sliver plus the split neighbour
+    EXPECT_TRUE(r.closed()) << r.open_edges << " open, " << r.nonmanifold_edges << " non-manifold";
+    EXPECT_NEAR(r.volume_mm3, 8000.0, 1e-6);
+    EXPECT_TRUE(has_warning(r, "dropped 1 degenerate triangle")) << all_warnings(r);
+}
+
+TEST(MeshBad, DegenerateCollapsedIsDropped) {
+    MeshReport r = load_ok(bad("degenerate_collapsed.stl"));
+    EXPECT_EQ(r.triangles_read, 13u);
+    EXPECT_EQ(r.degenerate_dropped, 1u);
+    EXPECT_EQ(r.triangles, 12u);
+    EXPECT_TRUE(r.closed());
+    EXPECT_NEAR(r.volume_mm3, 8000.0, 1e-6);
+    EXPECT_TRUE(has_warning(r, "dropped 1 degenerate triangle")) << all_warnings(r);
+}
+
+TEST(MeshBad, OpenCubeReportsFourOpenEdges) {
+    MeshReport r = load_ok(bad("open_cube_missing_top.stl"));
+    EXPECT_EQ(r.triangles, 10u);
+    EXPECT_EQ(r.open_edges, 4u);
+    EXPECT_EQ(r.nonmanifold_edges, 0u);
+    EXPECT_FALSE(r.closed());
+    EXPECT_EQ(r.flipped_triangles, 0u);
+    EXPECT_FALSE(r.inverted);
+    EXPECT_TRUE(has_warning(r, "mesh is not closed: 4 open edges")) << all_warnings(r);
+}
+
+TEST(MeshBad, CubesSharingAnEdgeHaveOneNonManifoldEdge) {
+    MeshReport r = load_ok(bad("nonmanifold_two_cubes_shared_edge.stl"));
+    EXPECT_EQ(r.triangles, 24u);
+    EXPECT_EQ(r.nonmanifold_edges, 1u);
+    EXPECT_EQ(r.open_edges, 0u);
+    EXPECT_EQ(r.shells, 2u);
+    EXPECT_NEAR(r.volume_mm3, 2000.0, 1e-6);
+    EXPECT_TRUE(has_warning(r, "1 non-manifold edge")) << all_warnings(r);
+}
+
+TEST(MeshBad, CubesSharingAVertexLoad) {
+    MeshReport r = load_ok(bad("nonmanifold_two_cubes_shared_vertex.stl"));
+    EXPECT_EQ(r.triangles, 24u);
+    EXPECT_EQ(r.vertices, 15u);
+    EXPECT_TRUE(r.closed());
+    EXPECT_EQ(r.shells, 2u);
+    EXPECT_EQ(r.internal_voids, 0u);
+    EXPECT_NEAR(r.volume_mm3, 2000.0, 1e-6);
+    EXPECT_TRUE(r.warnings.empty()) << all_warnings(r);
+}
+
+TEST(MeshBad, EveryFileInTheFolderIsCovered) {
+    // A new file in bad/ needs a test here.
+    const std::set<std::string> known = {"empty.stl",
+                                         "truncated.stl",
+                                         "nan_coords.stl",
+                                         "ascii_cube.stl",
+                                         "flipped_all_inward.stl",
+                                         "flipped_some.stl",
+                                         "wrong_normals_only.stl",
+                                         "degenerate_sliver.stl",
+                                         "degenerate_collapsed.stl",
+                                         "open_cube_missing_top.stl",
+                                         "nonmanifold_two_cubes_shared_edge.stl",
+                                         "nonmanifold_two_cubes_shared_vertex.stl",
+                                         "MODELS.md"};
+    for (const auto& entry : fs::directory_iterator(kModels + "/bad"))
+        EXPECT_TRUE(known.count(entry.path().filename().string())) << entry.path();
+}
+
+// ---- real models (MODELS.md) ----
+
+struct RealModel {
+    const char* file;
+    size_t triangles;
+    double volume_cm3;
+    double size_mm[3];
+};
+
+class RealModels : public ::testing::TestWithParam<RealModel> {};
+
+TEST_P(RealModels, LoadClosedWithThePublishedVolume) {
+    const RealModel& m = GetParam();
+    MeshReport r = load_ok(kModels + "/" + m.file);
+    EXPECT_EQ(r.format, "binary STL");
+    EXPECT_EQ(r.triangles, m.triangles);
+    EXPECT_TRUE(r.closed());
+    EXPECT_EQ(r.shells, 1u);
+    EXPECT_TRUE(r.warnings.empty()) << all_warnings(r);
+    EXPECT_NEAR(r.volume_mm3 / 1000.0, m.volume_cm3, m.volume_cm3 * 1e-3);
+    const double size[3] = {r.bbox.max.x - r.bbox.min.x, r.bbox.max.y - r.bbox.min.y,
+                            r.bbox.max.z - r.bbox.min.z};
+    for (int k = 0; k < 3; ++k) EXPECT_NEAR(size[k], m.size_mm[k], 0.006) << "axis " << k;
+    EXPECT_NEAR(r.bbox.min.z, 0.0, 1e-4);
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Models, RealModels,
+    ::testing::Values(RealModel{"skull.stl", 100002, 362.3, {74.99, 104.54, 120.00}},
+                      RealModel{"skull_x4_400k.stl", 400008, 362.3, {74.99, 104.54, 120.00}},
+                      RealModel{"elephant.stl", 88928, 155.3, {107.93, 90.24, 150.00}},
+                      RealModel{"fandisk.stl", 12946, 71.9, {73.65, 40.89, 80.00}},
+                      RealModel{"man.stl", 34986, 42.3, {63.28, 44.45, 150.00}},
+                      RealModel{"cat.stl", 15894, 82.3, {107.16, 40.00, 120.00}}),
+    [](const auto& info) { return fs::path(info.param.file).stem().string(); });
+
+// ---- synthetic models ----
+
+TEST(MeshSynthetic, BoxWithInternalVoidKeepsTheVoid) {
+    MeshReport r = load_ok(kModels + "/synthetic/box_with_internal_void.stl");
+    EXPECT_EQ(r.triangles, 4104u);
+    EXPECT_EQ(r.shells, 2u);
+    EXPECT_EQ(r.internal_voids, 1u);
+    EXPECT_TRUE(r.closed());
+    EXPECT_FALSE(r.inverted);
+    EXPECT_TRUE(r.warnings.empty()) << all_warnings(r);
+    EXPECT_NEAR(r.volume_mm3 / 1000.0, 56.79, 56.79 * 1e-3);
+}
+
+TEST(MeshSynthetic, OtherShapesHaveTheirPublishedVolumes) {
+    struct Case {
+        const char* file;
+        double cm3;
+        size_t shells;
+    } cases[] = {{"fig3_cube_indent.stl", 1.620, 1},
+                 {"sphere_40mm.stl", 33.45, 1},
+                 {"torus.stl", 59.03, 1},
+                 {"tall_box_30x30x80.stl", 72.0, 1},
+                 {"two_spheres_overlapping.stl", 28.16, 2}};
+    for (const Case& c : cases) {
+        MeshReport r = load_ok(kModels + "/synthetic/" + c.file);
+        EXPECT_NEAR(r.volume_mm3 / 1000.0, c.cm3, c.cm3 * 1e-3) << c.file;
+        EXPECT_EQ(r.shells, c.shells) << c.file;
+        EXPECT_EQ(r.internal_voids, 0u) << c.file;  // overlapping spheres are not a void
+        EXPECT_TRUE(r.closed()) << c.file;
+        EXPECT_TRUE(r.warnings.empty()) << c.file << ": " << all_warnings(r);
+    }
+}
+
+// ---- orientation repair on meshes built here ----
+
+TEST(MeshRepair, VoidFacingOutwardsIsTurnedToFaceIntoTheVoid) {
+    MeshReport first;
+    Mesh m = load_mesh(kModels + "/synthetic/box_with_internal_void.stl", first);
+    // Turn every triangle of the inner (void) shell outwards: those within the sphere's radius.
+    for (auto& t : m.triangles) {
+        const Vec3& p = m.vertices[t[0]];
+        if (std::sqrt(p.x * p.x + p.y * p.y + p.z * p.z) < 13.0) std::swap(t[1], t[2]);
+    }
+    MeshReport r;
+    analyse_and_repair(m, r);
+    EXPECT_EQ(r.inverted_shells, 1u);
+    EXPECT_EQ(r.internal_voids, 1u);
+    EXPECT_NEAR(r.volume_mm3, first.volume_mm3, 1e-6 * first.volume_mm3);
+    EXPECT_TRUE(has_warning(r, "1 shell of 2")) << all_warnings(r);
+}
+
+TEST(MeshRepair, WholeVoidBoxInsideOutIsTurnedAround) {
+    MeshReport first;
+    Mesh m = load_mesh(kModels + "/synthetic/box_with_internal_void.stl", first);
+    for (auto& t : m.triangles) std::swap(t[1], t[2]);
+    MeshReport r;
+    analyse_and_repair(m, r);
+    EXPECT_EQ(r.inverted_shells, 2u);
+    EXPECT_NEAR(r.volume_mm3, first.volume_mm3, 1e-6 * first.volume_mm3);
+}
+
+TEST(MeshRepair, BallInsideAVoidIsSolidAgain) {
+    // Outer cube 60, void cube 40 inside it, solid cube 20 inside the void: depths 0, 1, 2.
+    Mesh m;
+    auto add = [&](const Mesh& part, bool inward) {
+        const uint32_t base = static_cast<uint32_t>(m.vertices.size());
+        m.vertices.insert(m.vertices.end(), part.vertices.begin(), part.vertices.end());
+        for (auto t : part.triangles) {
+            if (inward) std::swap(t[1], t[2]);
+            m.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
+        }
+    };
+    add(cube_mesh(60, {0, 0, 0}), true);  // all three start inside out
+    add(cube_mesh(40, {10, 10, 10}), false);
+    add(cube_mesh(20, {20, 20, 20}), true);
+    MeshReport r;
+    analyse_and_repair(m, r);
+    EXPECT_EQ(r.shells, 3u);
+    EXPECT_EQ(r.internal_voids, 1u);
+    EXPECT_EQ(r.inverted_shells, 3u);
+    EXPECT_NEAR(r.volume_mm3, 216000.0 - 64000.0 + 8000.0, 1e-6);
+}
+
+TEST(MeshRepair, DuplicateTrianglesAreDropped) {
+    Mesh m = cube_mesh();
+    m.triangles.push_back(m.triangles[3]);
+    m.triangles.push_back({m.triangles[5][0], m.triangles[5][2], m.triangles[5][1]});
+    MeshReport r;
+    analyse_and_repair(m, r);
+    // The repeated triangle goes; the pair facing opposite ways (5 and its reverse) both go,
+    // leaving an open cube.
+    EXPECT_EQ(r.duplicate_dropped, 3u);
+    EXPECT_EQ(r.triangles, 11u);
+    EXPECT_EQ(r.open_edges, 3u);
+    EXPECT_TRUE(has_warning(r, "dropped 3 duplicate triangles")) << all_warnings(r);
+}
+
+TEST(MeshRepair, MeasuresAndMoves) {
+    Mesh m = cube_mesh(10, {5, -5, 2});
+    EXPECT_NEAR(signed_volume(m), 1000.0, 1e-9);
+    BBox3 b = bounding_box(m);
+    EXPECT_DOUBLE_EQ(b.min.x, 5);
+    EXPECT_DOUBLE_EQ(b.max.y, 5);
+    translate(m, {-5, 5, -2});
+    b = bounding_box(m);
+    EXPECT_DOUBLE_EQ(b.min.x, 0);
+    EXPECT_DOUBLE_EQ(b.min.y, 0);
+    EXPECT_DOUBLE_EQ(b.min.z, 0);
+}
+
+// ---- other formats and awkward files written here ----
+
+TEST(MeshFormats, BinaryStlWhoseHeaderSaysSolid) {
+    const std::string path = temp().file("solid_header.stl");
+    write_file(path, binary_stl(cube_mesh(), "solid cube written by a careless exporter"));
+    MeshReport r = load_ok(path);
+    EXPECT_EQ(r.format, "binary STL");
+    EXPECT_EQ(r.triangles, 12u);
+    EXPECT_NEAR(r.volume_mm3, 8000.0, 1e-6);
+}
+
+TEST(MeshFormats, ObjWithQuadsNegativeIndicesAndSlashes) {
+    MeshReport stl = load_ok(bad("ascii_cube.stl"));
+    std::string obj = "# cube\nmtllib none.mtl\no cube\n";
+    for (const auto& c : kCorner)
+        obj += "v " + std::to_string(c[0]) + " " + std::to_string(c[1]) + " " +
+               std::to_string(c[2]) + "\n";
+    obj += "vt 0 0\nvn 0 0 1\ng sides\ns off\n";
+    // Two faces with plain indices, two with v/t/n, one with v//n and one with negative indices.
+    const int(&q)[6][4] = kQuads;
+    obj += "f 1 4 3 2\nf 5 6 7 8\n";
+    obj += "f 1/1/1 2/1/1 6/1/1 5/1/1\nf 2/1/1 3/1/1 7/1/1 6/1/1\n";
+    obj += "f 3//1 4//1 8//1 7//1\n";
+    obj += "f " + std::to_string(q[5][0] - 8) + " " + std::to_string(q[5][1] - 8) + " " +
+           std::to_string(q[5][2] - 8) + " " + std::to_string(q[5][3] - 8) + "\n";
+    const std::string path = temp().file("cube.obj");
+    write_file(path, obj);
+    MeshReport r = load_ok(path);
+    EXPECT_EQ(r.format, "OBJ");
+    EXPECT_EQ(r.triangles, 12u);
+    EXPECT_TRUE(r.closed());
+    EXPECT_NEAR(r.volume_mm3, stl.volume_mm3, 1e-9);
+    EXPECT_TRUE(r.warnings.empty()) << all_warnings(r);
+}
+
+TEST(MeshFormats, MalformedObjNamesTheLine) {
+    const std::string path = temp().file("broken.obj");
+    write_file(path, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 7\n");
+    expect_input_error(path, {"line 4", "vertex 7"});
+    write_file(path, "v 0 0 zero\n");
+    expect_input_error(path, {"line 1", "zero"});
+}
+
+namespace {
+
+std::string model_xml(const std::string& build, const std::string& unit = "millimeter") {
+    std::string xml =
+        "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
+        "<model unit=\"" +
+        unit +
+        "\" xml:lang=\"en-US\" "
+        "xmlns=\"http://schemas.microsoft.com/3dmanufacturing/core/2015/02\">\n"
+        "<!-- a comment with <vertex x=\"99\"/> inside -->\n"
+        "<resources>\n<object id=\"1\" type=\"model\">\n<mesh>\n<vertices>\n";
+    for (const auto& c : kCorner)
+        xml += "<vertex x=\"" + std::to_string(c[0]) + "\" y='" + std::to_string(c[1]) + "' z=\"" +
+               std::to_string(c[2]) + "\" />\n";
+    xml += "</vertices>\n<triangles>\n";
+    for (const auto& q : kQuads) {
+        xml += "<triangle v1=\"" + std::to_string(q[0]) + "\" v2=\"" + std::to_string(q[1]) +
+               "\" v3=\"" + std::to_string(q[2]) + "\"/>\n";
+        xml += "<triangle v1=\"" + std::to_string(q[0]) + "\" v2=\"" + std::to_string(q[2]) +
+               "\" v3=\"" + std::to_string(q[3]) + "\"/>\n";
+    }
+    xml +=
+        "</triangles>\n</mesh>\n</object>\n"
+        "<object id=\"2\" type=\"model\"><components>"
+        "<component objectid=\"1\" transform=\"1 0 0 0 1 0 0 0 1 100 0 0\"/>"
+        "</components></object>\n</resources>\n<build>\n" +
+        build + "</build>\n</model>\n";
+    return xml;
+}
+
+void write_3mf(const std::string& path, const std::string& model) {
+    std::remove(path.c_str());
+    int err = 0;
+    zip_t* z = zip_open(path.c_str(), ZIP_CREATE | ZIP_TRUNCATE, &err);
+    ASSERT_NE(z, nullptr);
+    auto add = [&](const char* name, const std::string& text) {
+        char* copy = static_cast<char*>(std::malloc(text.size()));
+        std::memcpy(copy, text.data(), text.size());
+        zip_source_t* s = zip_source_buffer(z, copy, text.size(), 1);
+        ASSERT_NE(s, nullptr);
+        ASSERT_GE(zip_file_add(z, name, s, ZIP_FL_OVERWRITE), 0);
+    };
+    add("[Content_Types].xml",
+        "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<Types "
+        "xmlns=\"http://schemas.openxmlformats.org/package/2006/content-types\"><Default "
+        "Extension=\"rels\" "
+        "ContentType=\"application/vnd.openxmlformats-package.relationships+xml\"/><Default "
+        "Extension=\"model\" "
+        "ContentType=\"application/vnd.ms-package.3dmanufacturing-3dmodel+xml\"/>"
+        "</Types>");
+    add("_rels/.rels",
+        "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<Relationships "
+        "xmlns=\"http://schemas.openxmlformats.org/package/2006/relationships\"><Relationship "
+        "Target=\"/3D/3dmodel.model\" Id=\"rel0\" "
+        "Type=\"http://schemas.microsoft.com/3dmanufacturing/2013/01/3dmodel\"/></Relationships>");
+    add("3D/3dmodel.model", model);
+    ASSERT_EQ(zip_close(z), 0);
+}
+
+}  // namespace
+
+TEST(MeshFormats, ThreeMfCube) {
+    MeshReport stl = load_ok(bad("ascii_cube.stl"));
+    const std::string path = temp().file("cube.3mf");
+    write_3mf(path, model_xml("<item objectid=\"1\" transform=\"1 0 0 0 1 0 0 0 1 5 6 7\"/>\n"));
+    MeshReport r = load_ok(path);
+    EXPECT_EQ(r.format, "3MF");
+    EXPECT_EQ(r.triangles, 12u);
+    EXPECT_TRUE(r.closed());
+    EXPECT_NEAR(r.volume_mm3, stl.volume_mm3, 1e-9);
+    EXPECT_DOUBLE_EQ(r.bbox.min.x, 5.0);
+    EXPECT_DOUBLE_EQ(r.bbox.max.z, 27.0);
+    EXPECT_TRUE(r.warnings.empty()) << all_warnings(r);
+}
+
+TEST(MeshFormats, ThreeMfItemsComponentsMirrorAndUnits) {
+    // Object 1 placed as is, object 2 (object 1 moved by 100 in x) mirrored in x: two cubes.
+    const std::string path = temp().file("two.3mf");
+    write_3mf(path, model_xml("<item objectid=\"1\"/>\n"
+                              "<item objectid=\"2\" transform=\"-1 0 0 0 1 0 0 0 1 0 0 0\"/>\n"));
+    MeshReport r = load_ok(path);
+    EXPECT_EQ(r.triangles, 24u);
+    EXPECT_EQ(r.shells, 2u);
+    EXPECT_EQ(r.inverted_shells, 0u);  // the mirror's winding was swapped back on reading
+    EXPECT_NEAR(r.volume_mm3, 16000.0, 1e-6);
+    EXPECT_DOUBLE_EQ(r.bbox.min.x, -120.0);
+
+    write_3mf(path, model_xml("<item objectid=\"1\"/>\n", "centimeter"));
+    r = load_ok(path);
+    EXPECT_NEAR(r.volume_mm3, 8000.0 * 1000.0, 1e-3);
+
+    write_3mf(path, model_xml("<item objectid=\"9\"/>\n"));
+    expect_input_error(path, {"object 9"});
+}
+
+TEST(MeshFormats, DamagedThreeMfIsAnInputError) {
+    const std::string path = temp().file("damaged.3mf");
+    write_3mf(path, model_xml("<item objectid=\"1\"/>\n"));
+    std::ifstream in(path, std::ios::binary);
+    std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    write_file(path, bytes.substr(0, bytes.size() / 2));
+    expect_input_error(path, {"3MF"});
+}
+
+TEST(MeshFormats, ThreeMfWithAForgedSizeIsRefusedWithoutAllocatingIt) {
+    // The model part's uncompressed size, as stated in the zip headers, set to 3.75 GiB in a
+    // file of a few kilobytes. The reader used to allocate and zero that much (3.9 GB peak RSS)
+    // before noticing that the data is not there.
+    const std::string path = temp().file("forged.3mf");
+    write_3mf(path, model_xml("<item objectid=\"1\"/>\n"));
+    std::ifstream in(path, std::ios::binary);
+    std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    in.close();
+    const std::string name = "3D/3dmodel.model";
+    int patched = 0;
+    for (size_t at = bytes.find(name); at != std::string::npos; at = bytes.find(name, at + 1)) {
+        const uint32_t forged = 0xF0000000u;
+        if (at >= 30 && bytes.compare(at - 30, 4, "PK\x03\x04") == 0)
+            std::memcpy(bytes.data() + at - 30 + 22, &forged, 4), ++patched;
+        if (at >= 46 && bytes.compare(at - 46, 4, "PK\x01\x02") == 0)
+            std::memcpy(bytes.data() + at - 46 + 24, &forged, 4), ++patched;
+    }
+    ASSERT_EQ(patched, 2);
+    write_file(path, bytes);
+    rusage before{}, after{};
+    getrusage(RUSAGE_SELF, &before);
+    expect_input_error(path, {"3MF", "damaged"});
+    getrusage(RUSAGE_SELF, &after);
+    EXPECT_LT(after.ru_maxrss - before.ru_maxrss, 512 * 1024) << "kilobytes of peak memory";
+}
+
+TEST(MeshErrors, MissingFile) {
+    expect_input_error(temp().file("no_such_model.stl"), {"No such file"});
+}
+
+TEST(MeshErrors, Directory) {
+    expect_input_error(temp().dir(), {"directory"});
+}
+
+TEST(MeshErrors, RandomBytes) {
+    std::mt19937 rng(42);
+    std::string bytes(3000, '\0');
+    for (char& c : bytes) c = static_cast<char>(rng());
+    write_file(temp().file("noise.bin"), bytes);
+    expect_input_error(temp().file("noise.bin"), {"unknown mesh format"});
+    write_file(temp().file("noise.stl"), bytes);
+    expect_input_error(temp().file("noise.stl"), {"binary STL"});
+}
+
+TEST(MeshErrors, TruncatedAsciiStl) {
+    std::ifstream in(bad("ascii_cube.stl"));
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    write_file(temp().file("ascii_cut.stl"), text.substr(0, text.size() - 40));
+    expect_input_error(temp().file("ascii_cut.stl"), {"ASCII STL", "line"});
+}
+
+TEST(MeshErrors, NoTrianglesLeft) {
+    write_file(temp().file("flat.stl"),
+               "solid flat\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\n"
+               "vertex 2 0 0\nendloop\nendfacet\nendsolid flat\n");
+    expect_input_error(temp().file("flat.stl"), {"degenerate"});
+    write_file(temp().file("none.stl"), "solid none\nendsolid none\n");
+    expect_input_error(temp().file("none.stl"), {"no triangles"});
+}
+
+TEST(MeshErrors, CoordinatesBeyondAKilometre) {
+    Mesh m = cube_mesh(2e6);
+    write_file(temp().file("huge.stl"), binary_stl(m, "huge"));
+    expect_input_error(temp().file("huge.stl"), {"1 km", "wrong units"});
+}
+
+// ---- mesh_info ----
+
+TEST(MeshInfo, JsonAndText) {
+    MeshReport r = load_ok(bad("open_cube_missing_top.stl"));
+    nlohmann::json j = to_json(r);
+    for (const char* key :
+         {"model_volume_mm3", "triangles", "vertices", "bbox_min", "bbox_max", "size_mm", "closed",
+          "open_edges", "nonmanifold_edges", "shells", "format", "warnings"})
+        EXPECT_TRUE(j.contains(key)) << key;
+    EXPECT_EQ(j["triangles"], 10);
+    EXPECT_EQ(j["closed"], false);
+    EXPECT_EQ(j["open_edges"], 4);
+    EXPECT_EQ(j["bbox_max"][2], 20.0);
+    EXPECT_EQ(j["size_mm"][0], 20.0);
+    EXPECT_EQ(j["warnings"].size(), r.warnings.size());
+    const std::string text = describe(r);
+    EXPECT_NE(text.find("binary STL"), std::string::npos) << text;
+    EXPECT_NE(text.find("20.00 x 20.00 x 20.00 mm"), std::string::npos) << text;
+    EXPECT_NE(text.find("4 open edges"), std::string::npos) << text;
+    EXPECT_NE(text.find("cm^3"), std::string::npos) << text;
+}

@@ -1,0 +1,283 @@
+// HTML report on hand-made layers: path simplification and encoding, a well-formed page with
+// one data entry per layer bottom up, nothing loaded from the network, the size budget, and the
+// atomic write.
+#include "report/html_report.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <numbers>
+#include <sstream>
+#include <string>
+
+#include "base/error.hpp"
+#include "geometry/morphology.hpp"
+#include "geometry/polygon.hpp"
+
+using namespace carve;
+
+namespace {
+
+constexpr Coord kMm = 1000;
+
+Paths rect(Coord x0, Coord y0, Coord x1, Coord y1) {
+    return {{{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}}};
+}
+
+Path circle(Coord cx, Coord cy, double r, int n) {
+    Path p;
+    for (int k = 0; k < n; ++k) {
+        const double a = 2 * std::numbers::pi * k / n;
+        p.push_back({cx + std::llround(r * std::cos(a)), cy + std::llround(r * std::sin(a))});
+    }
+    return p;
+}
+
+double seg_dist(const Point& p, const Point& a, const Point& b) {
+    const double dx = double(b.X - a.X), dy = double(b.Y - a.Y);
+    const double len2 = dx * dx + dy * dy;
+    double t = len2 > 0 ? ((p.X - a.X) * dx + (p.Y - a.Y) * dy) / len2 : 0.0;
+    t = std::clamp(t, 0.0, 1.0);
+    return std::hypot(a.X + t * dx - p.X, a.Y + t * dy - p.Y);
+}
+
+// One hand-made layer: a 20 mm square, covers on the bottom and top layers, a round cavity C^1
+// and a slot C^2 in the middle one, with a bridge.
+struct HandLayer {
+    LayerPartition part;
+    LayerToolpaths paths;
+};
+
+HandLayer make_layer(const Settings& st, int index, bool cover) {
+    HandLayer h;
+    LayerPartition& l = h.part;
+    l.index = index;
+    l.z = (index + 0.5) * st.layer_height;
+    l.outline = rect(0, 0, 20 * kMm, 20 * kMm);
+    l.wall_region = erode(l.outline, st.nozzle_radius());
+    l.shell_paths_region = l.wall_region;
+    h.paths.index = index;
+    h.paths.z = (index + 1) * st.layer_height;
+    Extrusion wall;
+    wall.feature = Feature::OuterWall;
+    wall.points = l.wall_region.front();
+    wall.closed = true;
+    h.paths.extrusions.push_back(wall);
+    if (cover) {
+        l.covers = l.wall_region;
+        for (Coord y = 1 * kMm; y < 19 * kMm; y += 400) {
+            Extrusion e;
+            e.feature = Feature::Cover;
+            e.points = {{600, y}, {19400, y}};
+            h.paths.extrusions.push_back(e);
+        }
+        return h;
+    }
+    l.carvable = l.wall_region;
+    l.cavities.push_back({circle(7 * kMm, 10 * kMm, 4 * kMm, 360)});
+    l.cavities.push_back(rect(13 * kMm, 3 * kMm, 16 * kMm, 17 * kMm));
+    l.remainder = subtract(subtract(l.carvable, l.cavities[0]), l.cavities[1]);
+    for (int j = 0; j < 2; ++j) {
+        Extrusion e;
+        e.feature = Feature::CavityWall;
+        e.cavity = j + 1;
+        e.points = l.cavities[j].front();
+        e.closed = true;
+        h.paths.extrusions.push_back(e);
+    }
+    Bridge b;
+    b.cavity = 1;
+    b.region = rect(6 * kMm, 9 * kMm, 8 * kMm, 11 * kMm);
+    b.lines = {{{3 * kMm, 10 * kMm}, {11 * kMm, 10 * kMm}}};
+    l.bridges.push_back(b);
+    Extrusion e;
+    e.feature = Feature::Bridge;
+    e.cavity = 1;
+    e.points = b.lines.front();
+    h.paths.extrusions.push_back(e);
+    return h;
+}
+
+RunResult fake_run() {
+    RunResult run;
+    run.mesh.volume_mm3 = 20 * 20 * 0.6;
+    run.mesh.triangles = 12;
+    run.mesh.bbox.max = {20, 20, 0.6};
+    run.layers = 3;
+    run.cavities = 2;
+    run.bridges = 1;
+    run.processing_time_s = 0.25;
+    return run;  // print stats left empty: the report falls back on its own sums
+}
+
+std::string read_all(const std::filesystem::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+}
+
+size_t count(const std::string& text, const std::string& what) {
+    size_t n = 0;
+    for (size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
+    return n;
+}
+
+std::filesystem::path temp_file(const std::string& name) {
+    const auto p = std::filesystem::temp_directory_path() / ("carve_html_test_" + name);
+    std::filesystem::remove(p);
+    return p;
+}
+
+std::string write_report(const std::filesystem::path& path, size_t budget = 0,
+                         std::vector<ReportLayer>* layers_out = nullptr) {
+    Settings st;
+    st.layer_height = 0.2;
+    HtmlReportWriter writer(path.string(), st);
+    if (budget) writer.set_budget(budget);
+    for (int i = 2; i >= 0; --i) {  // top down, like the sweep
+        const HandLayer h = make_layer(st, i, i != 1);
+        writer.add_layer(h.part, h.paths);
+    }
+    if (layers_out) *layers_out = writer.layers();
+    nlohmann::json stats = {{"model", "/some/where/cube.stl"}, {"layers", 3}};
+    writer.finish(fake_run(), stats);
+    return read_all(path);
+}
+
+}  // namespace
+
+TEST(SimplifyPath, CircleWithinTolerance) {
+    const Path c = circle(0, 0, 10 * kMm, 2000);
+    const Path s = html::simplify_path(c, true, 50);
+    EXPECT_LT(s.size(), size_t(200));
+    EXPECT_GT(s.size(), size_t(20));
+    // Every original point lies within the tolerance of the simplified loop.
+    double worst = 0;
+    for (const Point& p : c) {
+        double best = 1e18;
+        for (size_t i = 0; i < s.size(); ++i)
+            best = std::min(best, seg_dist(p, s[i], s[(i + 1) % s.size()]));
+        worst = std::max(worst, best);
+    }
+    EXPECT_LE(worst, 50.0 + 1e-6);
+}
+
+TEST(SimplifyPath, StraightLineCollapses) {
+    Path line;
+    for (int k = 0; k <= 100; ++k) line.push_back({k * 100, (k % 2) * 10});
+    const Path s = html::simplify_path(line, false, 50);
+    ASSERT_EQ(s.size(), size_t(2));
+    EXPECT_EQ(s.front(), line.front());
+    EXPECT_EQ(s.back(), line.back());
+}
+
+TEST(SvgPathData, RelativeCoordinatesOnTheGrid) {
+    EXPECT_EQ(html::svg_path_data(rect(0, 0, kMm, kMm), true, 50, 10), "M0 0l100 0 0 100-100 0z");
+    EXPECT_EQ(html::svg_path_data(Paths{{{-1234, 5678}, {4321, -8765}}}, false, 50, 10),
+              "M-123 568l555-1445");
+    // Points that fall on one grid node vanish; a path reduced to one point is dropped.
+    EXPECT_EQ(html::svg_path_data(Paths{{{0, 0}, {3, 2}}}, false, 50, 10), "");
+}
+
+TEST(HtmlReport, WellFormedSelfContainedPage) {
+    const auto path = temp_file("page.html");
+    std::vector<ReportLayer> layers;
+    const std::string page = write_report(path, 0, &layers);
+    ASSERT_FALSE(page.empty());
+    EXPECT_EQ(page.rfind("<!DOCTYPE html>", 0), 0u);
+    EXPECT_NE(page.find("</html>"), std::string::npos);
+    EXPECT_NE(page.find("id=\"slider\""), std::string::npos);
+    EXPECT_NE(page.find("cube.stl"), std::string::npos);
+    // One data entry per layer, bottom up.
+    EXPECT_EQ(count(page, "{\"i\":"), 3u);
+    const size_t l0 = page.find("{\"i\":0,"), l1 = page.find("{\"i\":1,"),
+                 l2 = page.find("{\"i\":2,");
+    ASSERT_NE(l0, std::string::npos);
+    ASSERT_NE(l2, std::string::npos);
+    EXPECT_LT(l0, l1);
+    EXPECT_LT(l1, l2);
+    // Nothing from the network: no URL at all, no external script or style sheet.
+    EXPECT_EQ(page.find("http:"), std::string::npos);
+    EXPECT_EQ(page.find("https:"), std::string::npos);
+    EXPECT_EQ(page.find("<script src"), std::string::npos);
+    EXPECT_EQ(page.find("<link"), std::string::npos);
+    // Balanced structure.
+    EXPECT_EQ(count(page, "<section"), count(page, "</section>"));
+    EXPECT_EQ(count(page, "<div"), count(page, "</div>"));
+    EXPECT_EQ(count(page, "<svg"), count(page, "</svg>"));
+    EXPECT_EQ(count(page, "<script>"), 1u);
+    EXPECT_EQ(count(page, "</script>"), 1u);
+    // The drawing has the features: outer wall, covers, cavity walls by cavity, bridges.
+    EXPECT_NE(page.find("[\"o\",0,\"M"), std::string::npos);
+    EXPECT_NE(page.find("[\"c\",0,\"M"), std::string::npos);
+    EXPECT_NE(page.find("[\"w\",1,\"M"), std::string::npos);
+    EXPECT_NE(page.find("[\"w\",2,\"M"), std::string::npos);
+    EXPECT_NE(page.find("[\"b\",0,\"M"), std::string::npos);
+    EXPECT_NE(page.find("#ff00ff"), std::string::npos);
+    EXPECT_NE(page.find("0.15"), std::string::npos);  // the stated infill formula
+    EXPECT_FALSE(std::filesystem::exists(path.string() + ".tmp"));
+
+    // Per-layer numbers: the bridge layer's material is its path lengths x w x h.
+    ASSERT_EQ(layers.size(), 3u);
+    const ReportLayer& mid = layers[1];
+    EXPECT_EQ(mid.index, 1);
+    EXPECT_EQ(mid.bridges, 1);
+    ASSERT_EQ(mid.cavity_mm2.size(), 2u);
+    EXPECT_NEAR(mid.cavity_mm2[0], std::numbers::pi * 16, 0.1);
+    EXPECT_NEAR(mid.cavity_mm2[1], 3 * 14, 1e-6);
+    const double lengths = 4 * 19.6 + 2 * std::numbers::pi * 4 + 2 * (3 + 14) + 8;
+    EXPECT_NEAR(mid.material_mm3, lengths * 0.4 * 0.2, 0.05);
+    // The conventional estimate: 2 perimeters + 15 % of the interior (no covers here).
+    EXPECT_NEAR(mid.conventional_mm3, 2 * 80 * 0.4 * 0.2 + 0.15 * 19.6 * 19.6 * 0.2, 0.05);
+    EXPECT_NEAR(layers[0].conventional_mm3, 2 * 80 * 0.4 * 0.2 + 19.6 * 19.6 * 0.2, 0.05);
+    std::filesystem::remove(path);
+}
+
+TEST(HtmlReport, BudgetSimplifiesThenSubsamples) {
+    const auto path = temp_file("budget.html");
+    std::vector<ReportLayer> layers;
+    const std::string page = write_report(path, 2000, &layers);
+    // Every layer keeps its numbers, coarser drawings first, then only some are drawn.
+    EXPECT_EQ(count(page, "{\"i\":"), 3u);
+    double coarsest = 0;
+    for (const ReportLayer& l : layers) coarsest = std::max(coarsest, l.tolerance_mm);
+    EXPECT_GT(coarsest, 0.05);
+    EXPECT_NE(page.find("only one layer in "), std::string::npos);
+    std::filesystem::remove(path);
+}
+
+TEST(HtmlReport, ModelNameWithoutStatsEntry) {
+    const auto path = temp_file("named.html");
+    Settings st;
+    HtmlReportWriter writer(path.string(), st);
+    writer.set_model_name("/models/fandisk.stl");
+    const HandLayer h = make_layer(st, 0, true);
+    writer.add_layer(h.part, h.paths);
+    writer.finish(fake_run(), nlohmann::json::object());
+    EXPECT_NE(read_all(path).find("<h1>fandisk.stl</h1>"), std::string::npos);
+    std::filesystem::remove(path);
+}
+
+TEST(HtmlReport, NothingLeftBehindWithoutFinish) {
+    const auto path = temp_file("abandoned.html");
+    {
+        Settings st;
+        HtmlReportWriter writer(path.string(), st);
+        const HandLayer h = make_layer(st, 0, true);
+        writer.add_layer(h.part, h.paths);
+    }
+    EXPECT_FALSE(std::filesystem::exists(path));
+    EXPECT_FALSE(std::filesystem::exists(path.string() + ".tmp"));
+}
+
+TEST(HtmlReport, UnwritablePathIsAnInputError) {
+    Settings st;
+    HtmlReportWriter writer("/nonexistent-dir/for/sure/report.html", st);
+    const HandLayer h = make_layer(st, 0, true);
+    writer.add_layer(h.part, h.paths);
+    EXPECT_THROW(writer.finish(fake_run(), nlohmann::json::object()), InputError);
+}
