@@ -169,9 +169,10 @@ ScanRows scan_lines(const Scanned& scanned, const Rotation& rot, double first, d
 }
 
 // Lines over `need` in the frame turned by `rot`, where they are horizontal; returns their
-// total length. The lines are in the turned frame.
+// total length, or the sum of their squared lengths if `squared`. The lines are in the turned
+// frame.
 double horizontal_lines(const Scanned& need, const Scanned& span, const Rotation& rot,
-                        Coord spacing, Paths* lines) {
+                        Coord spacing, Paths* lines, bool squared = false) {
     const HeightRange b = height_range(need.region, rot);
     if (b.empty) return 0;
     double total = 0;
@@ -192,7 +193,7 @@ double horizontal_lines(const Scanned& need, const Scanned& span, const Rotation
                 return h.second > lo && h.first < hi;
             });
             if (!over) continue;
-            total += x1 - x0;
+            total += squared ? (x1 - x0) * (x1 - x0) : x1 - x0;
             if (lines) {
                 // Alternate directions so that the nozzle zig-zags across the bridge.
                 Point a(static_cast<Coord>(std::llround(x0)), static_cast<Coord>(std::llround(y)));
@@ -310,14 +311,16 @@ std::vector<Paths> unsupported_regions(const Paths& cavity_here, const Paths& ca
     return out;
 }
 
-Bridge plan_bridge(const Paths& need, const Paths& span, const BridgeOptions& options) {
+Bridge plan_bridge(const Paths& need, const Paths& span, const BridgeOptions& options,
+                   bool shortest_spans) {
     Bridge best;
     double best_length = -1;
     const double step = options.angle_step_deg > 0 ? options.angle_step_deg : 5;
     const Scanned need_scan(need), span_scan(span);
     for (double angle = 0; angle < 180 - 1e-9; angle += step) {
         const Rotation rot(-angle);  // bring lines at `angle` to horizontal
-        const double len = horizontal_lines(need_scan, span_scan, rot, options.line_width, nullptr);
+        const double len = horizontal_lines(need_scan, span_scan, rot, options.line_width,
+                                            nullptr, shortest_spans);
         if (len > 0 && (best_length < 0 || len < best_length)) {
             best_length = len;
             best.angle_deg = angle;
@@ -455,7 +458,10 @@ void add_cover_bridges(LayerPartition& layer, const LayerPartition& below,
             const Paths span = unite(
                 intersect(clip_to_box(paths_meeting(cavity, piece_boxes, win), win), covers_near),
                 need);
-            Bridge br = plan_bridge(need, span, options);
+            // Over a cavity filled wall to wall every direction has about the same total
+            // length (the area over the spacing), so the plain total cannot tell an 8 mm span
+            // from a 40 mm one: the sum of squared spans can (a line sags with its span).
+            Bridge br = plan_bridge(need, span, options, true);
             ++layer.minima_found;
             ++layer.ceilings_found;
             // Kept even when a line is longer than a printable span: solid lines in its place

@@ -34,7 +34,9 @@ std::vector<Paths> unsupported_regions(const Paths& cavity_here, const Paths& ca
 // Parallel lines spaced w that cover `need`, each running across `span` (the cavity with the
 // minimum filled) from boundary to boundary, at the angle of the step that minimises their
 // total length.
-Bridge plan_bridge(const Paths& need, const Paths& span, const BridgeOptions& options);
+// With `shortest_spans`, the angle minimises the sum of the squared line lengths instead.
+Bridge plan_bridge(const Paths& need, const Paths& span, const BridgeOptions& options,
+                   bool shortest_spans = false);
 
 // plan_bridge, and where a line would span more than max_length, the minimum cut into pieces
 // half a span wide, each bridged on its own. Pieces no line within max_length reaches are
