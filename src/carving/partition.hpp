@@ -45,6 +45,7 @@ struct LayerPartition {
     // lines would be longer than the printable span.
     int minima_found = 0;
     int minima_unsupported = 0;
+    int minima_held_by_wall = 0;  // no bridge, but within a line width of the wall below
     int ceilings_found = 0;  // of them, covers over a cavity below
     int ceilings_unsupported = 0;
 };

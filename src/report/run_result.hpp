@@ -22,6 +22,7 @@ struct RunResult {
     int cover_bridges = 0;       // of them, covers bridging a cavity below
     int minima_found = 0;        // local minima and ceilings over a cavity, all slices
     int minima_unsupported = 0;  // of them, left without a support that prints
+    int minima_held_by_wall = 0;  // no bridge, but within a line width of the wall below
     int ceilings_found = 0;      // of the minima, covers over a cavity below
     int ceilings_unsupported = 0;
     // Extruded volume by feature (index: Feature), the remainder's solid fill apart, and the

@@ -40,8 +40,10 @@ nlohmann::json stats_json(const RunResult& run, const Settings& settings) {
     j["cover_volume_mm3"] = run.cover_volume_mm3;
     j["cover_bridges"] = run.cover_bridges;
     j["minima_found"] = run.minima_found;
-    j["minima_bridged"] = run.minima_found - run.minima_unsupported;  // wholly, by bridges
-    j["minima_supported_otherwise"] = 0;  // every support today is a bridge
+    j["minima_bridged"] =
+        run.minima_found - run.minima_unsupported - run.minima_held_by_wall;  // wholly, by bridges
+    // Held by the wall below: no deeper than a line width inside the cavity below.
+    j["minima_supported_otherwise"] = run.minima_held_by_wall;
     j["minima_unsupported"] = run.minima_unsupported;
     j["ceilings_found"] = run.ceilings_found;
     j["ceilings_unsupported"] = run.ceilings_unsupported;

@@ -189,6 +189,7 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
         result.layer_material_mm3[layer->index] = toolpath_volume_mm3(paths, settings);
         result.minima_found += layer->minima_found;
         result.minima_unsupported += layer->minima_unsupported;
+        result.minima_held_by_wall += layer->minima_held_by_wall;
         result.ceilings_found += layer->ceilings_found;
         result.ceilings_unsupported += layer->ceilings_unsupported;
         for (const Extrusion& e : paths.extrusions) {

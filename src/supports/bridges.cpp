@@ -347,22 +347,38 @@ std::vector<Bridge> plan_bridges(const Paths& need, const Paths& span,
     }
     // One direction for a long or bent minimum makes some of its lines cross the cavity the
     // long way. Cut into cells half a span wide, each piece finds its own direction, most
-    // often across the narrow cavity around it.
+    // often across the narrow cavity around it; a cell that still finds none is cut in four,
+    // down to cells four line widths wide (at the corner of an L-shaped corridor no direction
+    // is short: only a small piece there is left out).
+    const Coord smallest = 4 * options.line_width;
+    const double min_area =
+        options.min_area_r2 * double(options.dilation) * double(options.dilation);
+    std::vector<std::pair<BBox2, Coord>> cells;
     const BBox2 box = bounds(need);
-    const Coord cell = std::max<Coord>(options.max_length / 2, 4 * options.line_width);
-    for (Coord y = box.min_y; y < box.max_y; y += cell)
-        for (Coord x = box.min_x; x < box.max_x; x += cell) {
-            const Paths piece = clip_to_box(need, {x, y, x + cell, y + cell, false});
-            if (std::abs(area(piece)) < options.min_area_r2 * double(options.dilation) *
-                                            double(options.dilation))
-                continue;
-            Bridge p = plan_bridge(piece, span, options);
-            if (p.lines.empty() || longest_line(p.lines) > double(options.max_length)) {
-                whole = false;
-                continue;
-            }
+    const Coord first = std::max<Coord>(options.max_length / 2, smallest);
+    for (Coord y = box.min_y; y < box.max_y; y += first)
+        for (Coord x = box.min_x; x < box.max_x; x += first)
+            cells.push_back({{x, y, x + first, y + first, false}, first});
+    while (!cells.empty()) {
+        const auto [c, size] = cells.back();
+        cells.pop_back();
+        const Paths piece = clip_to_box(need, c);
+        if (std::abs(area(piece)) < min_area) continue;
+        Bridge p = plan_bridge(piece, span, options);
+        if (!p.lines.empty() && longest_line(p.lines) <= double(options.max_length)) {
             out.push_back(std::move(p));
+            continue;
         }
+        if (size / 2 < smallest) {
+            whole = false;
+            continue;
+        }
+        const Coord h = size / 2;
+        for (int k = 0; k < 4; ++k) {
+            const Coord x = c.min_x + (k % 2) * h, y = c.min_y + (k / 2) * h;
+            cells.push_back({{x, y, k % 2 ? c.max_x : x + h, k / 2 ? c.max_y : y + h, false}, h});
+        }
+    }
     return out;
 }
 
@@ -517,8 +533,21 @@ void add_bridges(LayerPartition& layer, const LayerPartition* below, const Bridg
                 layer.bridges.push_back(std::move(b));
             }
             // What no bridge within a printable span reaches is left to hang on its own: a
-            // longer span sags worse than the small minimum it would hold (counted).
-            if (!whole) ++layer.minima_unsupported;
+            // longer span sags worse than the small minimum it would hold (counted). But a
+            // minimum no deeper than a line width inside the cavity below (a sliver along a
+            // wall, from a tear a little faster than r) is held by that wall: each line over
+            // it overhangs the line below by less than its width, a 63-degree slope at the
+            // defaults.
+            if (!whole) {
+                const Paths below_near = clip_to_box(
+                    paths_meeting(below->cavities[j], path_bounds(below->cavities[j]), w), w);
+                const Paths deep = intersect(need, erode(below_near, options.line_width));
+                if (std::abs(area(deep)) < options.min_area_r2 * double(options.dilation) *
+                                               double(options.dilation))
+                    ++layer.minima_held_by_wall;
+                else
+                    ++layer.minima_unsupported;
+            }
         }
     }
     add_cover_bridges(layer, *below, options);
