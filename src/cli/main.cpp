@@ -238,7 +238,8 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(1, 5));
     slice
         ->add_option("--max-bridge-length", settings.max_bridge_length,
-                     "Longest span a bridge may have, mm; longer ones are left out [10]")
+                     "Longest span a bridge may have, mm; a longer one is split into pieces bridged "
+                     "apart, and what no shorter line reaches is left out [10]")
         ->check(CLI::Range(1.0, 500.0));
     slice
         ->add_option("--max-vertices-per-layer", settings.max_vertices_per_layer,
