@@ -99,11 +99,36 @@ Paths components_not_covered(const std::vector<Paths>& comps, const Paths& uncov
 // `abandoned` counts the components whose medial axis failed in every frame (they get no seed:
 // reported to the user as a warning by the caller).
 Paths seeds(const Paths& remainder, const Paths& propagated, const Paths& uncovered,
-            const SkeletonOptions& options, Coord tear_limit, int& abandoned) {
+            const SkeletonOptions& options, Coord tear_limit, Coord whole, const Paths& left_above,
+            Coord r, int& abandoned) {
     const std::vector<Paths> comps = components(remainder);
     if (tear_limit <= 0) {
-        const Paths open = components_not_covered(comps, uncovered);
+        Paths open = components_not_covered(comps, uncovered);
         if (open.empty()) return {};
+        // A component too narrow to hold a disk of diameter `whole` is carved whole: its
+        // ceiling is printed as bridges from wall to wall (supports/bridges.hpp, covers over a
+        // cavity), where a tear along its axis would build a 45-degree roof of walls under it
+        // and nest further cavities in the wedges beside the roof.
+        Paths whole_parts;
+        if (whole > 0) {
+            Paths wide;
+            for (Paths& comp : components(open)) {
+                const BBox2 b = bounds(comp);
+                const bool narrow = std::min(b.max_x - b.min_x, b.max_y - b.min_y) < whole ||
+                                    erode(comp, whole / 2).empty();
+                Paths& to = narrow ? whole_parts : wide;
+                std::move(comp.begin(), comp.end(), std::back_inserter(to));
+            }
+            // Not under what this iteration left solid in the slice above (V^j_{i+1}), deeper
+            // than r: the walls around it would hang over the cavity. Under the cavity above,
+            // a cover or an earlier cavity, nothing rests on the void but what is bridged.
+            if (!whole_parts.empty() && !left_above.empty()) {
+                const Paths near = contours_near(left_above, whole_parts, r);
+                if (!near.empty()) whole_parts = subtract(whole_parts, erode(near, r));
+            }
+            open = std::move(wide);
+            if (open.empty()) return whole_parts;
+        }
         const Paths lines = medial_axis(open, options);
         abandoned += skel::last_stats().abandoned;
         // Not clipped to V: the caller only ever takes V \ G minus it, and outside `open` any
@@ -112,8 +137,10 @@ Paths seeds(const Paths& remainder, const Paths& propagated, const Paths& uncove
         // add to G (a third of the axis on fandisk and cat). contours_near() reads each path's
         // box alone, so it selects polylines as well.
         const Paths near = contours_near(lines, uncovered, options.thickness);
-        if (near.empty()) return {};
-        return dilate_lines(near, options.thickness);
+        if (near.empty()) return whole_parts;
+        Paths out = dilate_lines(near, options.thickness);
+        if (whole_parts.empty()) return out;
+        return unite(out, whole_parts);
     }
     const Paths reach = propagated.empty() ? Paths{} : dilate(propagated, tear_limit);
     const BBox2 open_box = bounds(uncovered);
@@ -162,6 +189,7 @@ CarvingSweep::CarvingSweep(LayerSource& input, const Settings& settings, int fir
     : input_(input), settings_(settings), first_(std::min(first, sweep_iterations(settings))) {
     const int k = sweep_iterations(settings);
     previous_.resize(count < 0 ? k - first_ : std::min(count, k - first_));
+    left_previous_.resize(previous_.size());
 }
 
 std::optional<LayerPartition> CarvingSweep::next() {
@@ -173,10 +201,12 @@ std::optional<LayerPartition> CarvingSweep::next() {
     const Coord w = settings_.line_width();
     const SkeletonOptions options = seed_options(settings_);
     const Coord tear = settings_.tear_limit > 0 ? to_units(settings_.tear_limit) : 0;
+    const Coord whole = settings_.whole_width > 0 ? to_units(settings_.whole_width) : 0;
 
     Paths remainder = first_ == 0 ? layer->carvable : std::move(layer->remainder);  // V^{j-1}_i
     layer->cavities.reserve(layer->cavities.size() + previous_.size());
-    for (Paths& above : previous_) {  // C^j_{i+1}, replaced by C^j_i
+    for (size_t j = 0; j < previous_.size(); ++j) {
+        Paths& above = previous_[j];  // C^j_{i+1}, replaced by C^j_i
         layer->uncarved.push_back(remainder);
         Paths cavity;
         Paths specks;  // passed on to V^j as they are
@@ -205,7 +235,9 @@ std::optional<LayerPartition> CarvingSweep::next() {
                 const bool seed = !settings_.cavities_auto || !erode(remainder, w).empty();
                 Paths s;
                 int abandoned = 0;
-                if (seed) s = seeds(remainder, propagated, uncovered, options, tear, abandoned);
+                if (seed)
+                    s = seeds(remainder, propagated, uncovered, options, tear, whole,
+                              left_previous_[j], r, abandoned);
                 if (abandoned > 0) {
                     const BBox2 b = bounds(uncovered);
                     layer->warnings.push_back(fmt::format(
@@ -228,6 +260,7 @@ std::optional<LayerPartition> CarvingSweep::next() {
             }
         }
         remainder.insert(remainder.end(), specks.begin(), specks.end());
+        if (whole > 0) left_previous_[j] = remainder;  // V^j_i, for the slice below
         layer->cavities.push_back(cavity);
         above = std::move(cavity);
     }

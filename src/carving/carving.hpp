@@ -31,7 +31,8 @@ class CarvingSweep : public LayerSource {
     LayerSource& input_;
     const Settings& settings_;
     int first_;
-    std::vector<Paths> previous_;  // C^j_{i+1}, j = first+1 .. first+count
+    std::vector<Paths> previous_;       // C^j_{i+1}, j = first+1 .. first+count
+    std::vector<Paths> left_previous_;  // V^j_{i+1}, with a whole width only
 };
 
 }  // namespace carve

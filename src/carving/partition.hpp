@@ -18,6 +18,9 @@ struct Bridge {
     Paths lines;     // open polylines, printed in this order
     double angle_deg = 0;
     bool island = true;  // island minimum (true) or edge-like minimum (false)
+    // A cover of this slice over a cavity of the slice below (a ceiling carved whole): the
+    // lines replace the cover's solid lines there.
+    bool cover = false;
 };
 
 struct LayerPartition {
@@ -41,6 +44,14 @@ struct LayerPartition {
     // need not redo the differences. Empty when unknown (a hand-made layer).
     std::vector<Paths> uncarved;
     std::vector<Bridge> bridges;  // filled in by the supports stage
+    // Local minima of this slice (cavity minima and ceilings over a cavity below) the supports
+    // stage found, and how many of them it left without a support that prints: a bridge whose
+    // lines would be longer than the printable span.
+    int minima_found = 0;
+    int minima_unsupported = 0;
+    int minima_held_by_wall = 0;  // no bridge, but within a line width of the wall below
+    int ceilings_found = 0;       // of them, covers over a cavity below
+    int ceilings_unsupported = 0;
 };
 
 // A stage that hands out layers one at a time, top down (the sweep, a queue between threads).

@@ -69,6 +69,9 @@ std::vector<SettingSpec> make_table() {
          "How far a cavity may tear open along its seed per slice beyond the dilated cavity, "
          "mm; smaller leaves less unsupported but uses more material (the report proposes r/2 "
          "= 0.1) [0 = no limit]"},
+        {"whole-width", "", "mm", 0.0, 1000.0, &S::whole_width,
+         "A part of the volume to carve narrower than this is carved whole and its ceiling "
+         "printed as bridges, mm; 0 tears every part along its axis [4]"},
         {"scale", "", "ratio", 0.01, 100.0, &S::scale,
          "Scale the model uniformly by this factor, ratio [1]"},
         {"threads", "", "threads", 1, 5, &S::threads,
@@ -76,7 +79,8 @@ std::vector<SettingSpec> make_table() {
          "behind the carving sweep, 3 also splits the sweep after the first cavity, 4 also "
          "slices ahead of it, 5 also plans toolpaths behind the bridges, threads [5]"},
         {"max-bridge-length", "", "mm", 1.0, 500.0, &S::max_bridge_length,
-         "Longest span a bridge may have, mm; longer ones are left out [10]"},
+         "Longest span a bridge may have, mm; a longer one is split into pieces bridged apart, "
+         "and what no shorter line reaches is left out [10]"},
         {"max-vertices-per-layer", "", "vertices", 0, 1e9, &S::max_vertices_per_layer,
          "Give up when one slice has more contour vertices than this; 0 = no limit, vertices "
          "[5000000]"},

@@ -43,6 +43,12 @@ struct Settings {
     // (the report's conclusion proposes r/2). 0: the whole pruned medial axis opens in one
     // slice, as in the report's algorithm. Smaller is better supported and costs material.
     double tear_limit = 0.0;
+    // mm; a component of V^{j-1} that holds no disk this wide is carved whole in one slice and
+    // its ceiling bridged (0: every component tears along its medial axis, as in the report).
+    // 4 mm, not the 10 mm a bridge can span: `carve check` counts the middle of a span more
+    // than 2 mm from its anchors as hanging, and a flat 60 x 60 x 12 mm box went from 0 to
+    // 72 mm2 hanging inside at 6 or 10 mm (a thin-bladed plate from 2 to 264-294 mm2).
+    double whole_width = 4.0;
     double max_bridge_length = 10.0;  // mm; a longer span would sag more than the minimum it holds
     // Resource guard: a slice with more contour vertices stops the run (0 = no limit). Millions
     // of vertices per layer would make carving run for hours.

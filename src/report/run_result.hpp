@@ -19,6 +19,17 @@ struct RunResult {
     int layers = 0;
     int cavities = 0;  // cavities that hold anything
     int bridges = 0;
+    int cover_bridges = 0;        // of them, covers bridging a cavity below
+    int minima_found = 0;         // local minima and ceilings over a cavity, all slices
+    int minima_unsupported = 0;   // of them, left without a support that prints
+    int minima_held_by_wall = 0;  // no bridge, but within a line width of the wall below
+    int ceilings_found = 0;       // of the minima, covers over a cavity below
+    int ceilings_unsupported = 0;
+    // Extruded volume by feature (index: Feature), the remainder's solid fill apart, and the
+    // walls of each cavity (index j; 0 unused).
+    double feature_mm3[5] = {0, 0, 0, 0, 0};
+    double remainder_fill_mm3 = 0;
+    std::vector<double> cavity_wall_mm3;
     double bridge_length_mm = 0;
     double carvable_volume_mm3 = 0;
     std::vector<double> cavity_volume_mm3;  // per cavity C^j

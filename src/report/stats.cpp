@@ -32,6 +32,26 @@ nlohmann::json stats_json(const RunResult& run, const Settings& settings) {
     j["cavity_volume_mm3"] = run.cavity_volume_mm3;
     j["remainder_volume_mm3"] = run.remainder_volume_mm3;
     j["cover_volume_mm3"] = run.cover_volume_mm3;
+    j["cover_bridges"] = run.cover_bridges;
+    j["minima_found"] = run.minima_found;
+    j["minima_bridged"] =
+        run.minima_found - run.minima_unsupported - run.minima_held_by_wall;  // wholly, by bridges
+    // Held by the wall below: no deeper than a line width inside the cavity below.
+    j["minima_supported_otherwise"] = run.minima_held_by_wall;
+    j["minima_unsupported"] = run.minima_unsupported;
+    j["ceilings_found"] = run.ceilings_found;
+    j["ceilings_unsupported"] = run.ceilings_unsupported;
+    nlohmann::json m;
+    m["outer_wall_mm3"] = run.feature_mm3[0];
+    m["shells_mm3"] = run.feature_mm3[1];
+    m["covers_mm3"] = run.feature_mm3[2];
+    m["cavity_walls_mm3"] = run.feature_mm3[3];
+    m["bridges_mm3"] = run.feature_mm3[4];
+    m["remainder_mm3"] = run.remainder_fill_mm3;
+    std::vector<double> walls(run.cavity_wall_mm3.begin() + (run.cavity_wall_mm3.empty() ? 0 : 1),
+                              run.cavity_wall_mm3.end());
+    m["walls_of_cavity_mm3"] = walls;
+    j["material_by_feature"] = m;
     j["mesh_closed"] = run.mesh.closed();
     j["mesh_warnings"] = run.mesh.warnings;
     if (run.check) {
@@ -50,6 +70,7 @@ nlohmann::json stats_json(const RunResult& run, const Settings& settings) {
     s["walls"] = settings.walls == WallMode::Single ? "single" : "double";
     s["filament_diameter_mm"] = settings.filament_diameter;
     s["tear_limit_mm"] = settings.tear_limit;
+    s["whole_width_mm"] = settings.whole_width;
     s["max_bridge_length_mm"] = settings.prune_bridges ? settings.max_bridge_length : 0.0;
     s["prune_bridges"] = settings.prune_bridges;
     s["printer"] = settings.printer_name;

@@ -229,8 +229,29 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
         result.remainder_volume_mm3 += area_mm2(layer->remainder) * h;
         result.cover_volume_mm3 += area_mm2(layer->covers) * h;
         result.layer_material_mm3[layer->index] = toolpath_volume_mm3(paths, settings);
+        result.minima_found += layer->minima_found;
+        result.minima_unsupported += layer->minima_unsupported;
+        result.minima_held_by_wall += layer->minima_held_by_wall;
+        result.ceilings_found += layer->ceilings_found;
+        result.ceilings_unsupported += layer->ceilings_unsupported;
+        for (const Extrusion& e : paths.extrusions) {
+            const double v = to_mm(static_cast<Coord>(length(Paths{e.points}, e.closed))) *
+                             settings.nozzle * settings.layer_height * e.flow;
+            int f = static_cast<int>(e.feature);
+            if (e.feature == Feature::CavityWall) {
+                if (result.cavity_wall_mm3.size() <= size_t(e.cavity))
+                    result.cavity_wall_mm3.resize(e.cavity + 1, 0.0);
+                result.cavity_wall_mm3[e.cavity] += v;
+            }
+            if (e.feature == Feature::Cover && e.cavity < 0) f = -1;
+            if (f >= 0)
+                result.feature_mm3[f] += v;
+            else
+                result.remainder_fill_mm3 += v;
+        }
         for (const Bridge& b : layer->bridges) {
             ++result.bridges;
+            if (b.cover) ++result.cover_bridges;
             result.bridge_length_mm += to_mm(static_cast<Coord>(length(b.lines, false)));
         }
         ++done;

@@ -34,7 +34,15 @@ std::vector<Paths> unsupported_regions(const Paths& cavity_here, const Paths& ca
 // Parallel lines spaced w that cover `need`, each running across `span` (the cavity with the
 // minimum filled) from boundary to boundary, at the angle of the step that minimises their
 // total length.
-Bridge plan_bridge(const Paths& need, const Paths& span, const BridgeOptions& options);
+// With `shortest_spans`, the angle minimises the sum of the squared line lengths instead.
+Bridge plan_bridge(const Paths& need, const Paths& span, const BridgeOptions& options,
+                   bool shortest_spans = false);
+
+// plan_bridge, and where a line would span more than max_length, the minimum cut into pieces
+// half a span wide, each bridged on its own. Pieces no line within max_length reaches are
+// left out; `whole` says whether every part of the minimum got a bridge.
+std::vector<Bridge> plan_bridges(const Paths& need, const Paths& span, const BridgeOptions& options,
+                                 bool& whole);
 
 // Fills in layer.bridges for slice i given the carved slice below (nullptr at layer 0).
 void add_bridges(LayerPartition& layer, const LayerPartition* below, const BridgeOptions& options);

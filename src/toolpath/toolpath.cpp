@@ -192,6 +192,11 @@ LayerToolpaths plan_layer(const LayerPartition& layer, const Settings& settings)
         } else {
             fill = intersect(layer.covers, erode(inner, keep_off));
         }
+        // Where the cover bridges a cavity below, its bridge lines take the place of these.
+        Paths bridged;
+        for (const Bridge& b : layer.bridges)
+            if (b.cover) bridged.insert(bridged.end(), b.lines.begin(), b.lines.end());
+        if (!bridged.empty() && !fill.empty()) fill = subtract(fill, dilate_lines(bridged, w));
         const double angle = (layer.index % 2 == 0) ? 45.0 : -45.0;
         cover_lines = fill_solid(fill, angle, w, Feature::Cover);
     }
@@ -251,6 +256,7 @@ LayerToolpaths plan_layer(const LayerPartition& layer, const Settings& settings)
         const Coord overlap = static_cast<Coord>(std::llround(kCoverOverlap * double(w)));
         const double angle = (layer.index % 2 == 0) ? 45.0 : -45.0;
         solid_lines = fill_solid(erode(layer.remainder, w - overlap), angle, w, Feature::Cover);
+        for (Extrusion& e : solid_lines) e.cavity = -1;  // the stats tell it from the covers
     }
 
     // 5. Order, island by island (an island: a connected piece of the model's slice O_i). The

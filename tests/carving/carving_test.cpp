@@ -2,8 +2,11 @@
 #include "carving/carving.hpp"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
+#include <cstdint>
+#include <cstdio>
 #include <filesystem>
 
 #include "geometry/morphology.hpp"
@@ -211,4 +214,52 @@ TEST(Carving, TearLimitBoundsHowFastCavitiesOpen) {
     EXPECT_LT(f.worst_support_violation_mm2, 0.001);
     // Opening slower carves less: the uncarved remainder is what the limit costs.
     EXPECT_GT(f.remainder_mm3, free.remainder_mm3);
+}
+
+namespace {
+
+// A closed box as a binary STL in the temporary folder; returns its path.
+std::string box_stl(const std::string& name, float x1, float y1, float z1) {
+    const float v[8][3] = {{0, 0, 0},  {x1, 0, 0},  {x1, y1, 0},  {0, y1, 0},
+                           {0, 0, z1}, {x1, 0, z1}, {x1, y1, z1}, {0, y1, z1}};
+    const int f[12][3] = {{0, 2, 1}, {0, 3, 2}, {4, 5, 6}, {4, 6, 7}, {0, 1, 5}, {0, 5, 4},
+                          {1, 2, 6}, {1, 6, 5}, {2, 3, 7}, {2, 7, 6}, {3, 0, 4}, {3, 4, 7}};
+    const std::string path =
+        (std::filesystem::temp_directory_path() / (name + std::to_string(getpid()) + ".stl"))
+            .string();
+    std::FILE* out = std::fopen(path.c_str(), "wb");
+    char header[80] = {};
+    std::fwrite(header, 1, 80, out);
+    const uint32_t n = 12;
+    std::fwrite(&n, 4, 1, out);
+    for (const auto& t : f) {
+        const float normal[3] = {0, 0, 0};
+        std::fwrite(normal, 4, 3, out);
+        for (int k = 0; k < 3; ++k) std::fwrite(v[t[k]], 4, 3, out);
+        const uint16_t attr = 0;
+        std::fwrite(&attr, 2, 1, out);
+    }
+    std::fclose(out);
+    return path;
+}
+
+}  // namespace
+
+TEST(Carving, NarrowPartIsCarvedWholeByTheFirstCavity) {
+    // An 8 mm wide box holds no 10 mm disk: with a 10 mm whole width the first cavity is
+    // all of the carvable volume from its top down, and the partition and self-support
+    // invariants hold. Torn along its axis instead (whole width 0), the first cavity opens as
+    // a strip and grows at 45 degrees, leaving wedges to later cavities.
+    const std::string path = box_stl("narrow_box_", 8, 40, 20);
+    Settings s;
+    s.whole_width = 10.0;
+    const SweepFigures whole = sweep(path, s);
+    EXPECT_GT(whole.cavity_mm3[0], 0.995 * whole.carvable_mm3);
+    EXPECT_LT(whole.worst_partition_error, 1e-3);
+    EXPECT_LT(whole.worst_support_violation_mm2, 0.01);
+    s.whole_width = 0;
+    const SweepFigures torn = sweep(path, s);
+    EXPECT_LT(torn.cavity_mm3[0], 0.95 * torn.carvable_mm3);  // 92 % today: the roof wedges
+    EXPECT_LT(torn.worst_support_violation_mm2, 0.01);
+    std::filesystem::remove(path);
 }

@@ -138,6 +138,8 @@ TEST(Bridges, SpansLongerThanThePrinterBridgesAreLeftOut) {
     o.max_length = 10000;
     add_bridges(upper, &lower, o);
     EXPECT_TRUE(upper.bridges.empty());
+    EXPECT_EQ(upper.minima_found, 1);
+    EXPECT_EQ(upper.minima_unsupported, 1);  // counted in the stats
     // With a small cavity around the same minimum the bridge is short and kept.
     auto [small_upper, small_lower] = vanishing_island(6000, 14000);
     add_bridges(small_upper, &small_lower, o);
@@ -216,4 +218,72 @@ TEST(Bridges, WhatEachIterationLeftFollowsTheMinimaOnARealModel) {
     EXPECT_LT(worst_union, 40000.0);
     EXPECT_LT(worst_partition, 40000.0);
     RecordProperty("worst_union_um2", std::to_string(worst_union));
+}
+
+TEST(Bridges, CeilingOverACavityCarvedWholeIsBridgedAcrossItsShortSide) {
+    // An 8 x 40 mm part carved whole (CarvingSweep with a whole width): the slice above is all
+    // cover, the slice below all cavity. The cover is bridged wall to wall, across the 8 mm
+    // side: the least total length cannot choose (every direction totals the area over the
+    // spacing), the least sum of squared spans does.
+    LayerPartition upper, lower;
+    upper.covers = {rect(0, 0, 8000, 40000)};
+    lower.carvable = {rect(0, 0, 8000, 40000)};
+    lower.cavities = {lower.carvable};
+    BridgeOptions o = options();
+    o.max_length = 10000;
+    add_bridges(upper, &lower, o);
+    ASSERT_EQ(upper.bridges.size(), 1u);
+    const Bridge& b = upper.bridges[0];
+    EXPECT_TRUE(b.cover);
+    EXPECT_EQ(upper.minima_found, 1);
+    EXPECT_EQ(upper.ceilings_found, 1);
+    EXPECT_EQ(upper.minima_unsupported, 0);
+    double longest = 0;
+    for (const Path& line : b.lines) longest = std::max(longest, length(Paths{line}, false));
+    EXPECT_LE(longest, 8000.0 + 5);
+    // The lines cover the ceiling but a line width along its ends.
+    const Paths printed = dilate_lines(b.lines, 200);
+    EXPECT_LT(std::abs(area(subtract(upper.covers, printed))), 0.03 * 8000.0 * 40000.0);
+}
+
+TEST(Bridges, CoverOverWallsIsNotBridged) {
+    // A cover over a cavity only a line width wide (a seed strip): held by the walls beside
+    // it, no bridge.
+    LayerPartition upper, lower;
+    upper.covers = {rect(0, 0, 20000, 20000)};
+    lower.carvable = upper.covers;
+    lower.cavities = {{rect(9800, 0, 10200, 20000)}};
+    add_bridges(upper, &lower, options());
+    EXPECT_TRUE(upper.bridges.empty());
+    EXPECT_EQ(upper.minima_found, 0);
+}
+
+TEST(Bridges, LongMinimumIsSplitIntoPiecesEachBridgedAcrossItsOwnNarrowSide) {
+    // An L-shaped corridor 3.6 mm wide with arms 30 mm long, and in the slice above a 1 mm
+    // strip along the middle of both arms (an L-shaped island hole that vanishes below). At
+    // one angle some lines run 30 mm along an arm; cut into cells, each piece is bridged
+    // across its own arm, 3.6 mm (pieces are bridged only within 4 mm).
+    const Paths corridor = unite({rect(0, 0, 30000, 3600)}, {rect(0, 0, 3600, 30000)});
+    const Paths strip = unite({rect(1300, 1300, 30000, 2300)}, {rect(1300, 1300, 2300, 30000)});
+    LayerPartition upper, lower;
+    upper.carvable = lower.carvable = {rect(-5000, -5000, 35000, 35000)};
+    upper.cavities = {subtract(corridor, strip)};
+    lower.cavities = {corridor};
+    BridgeOptions o = options();
+    o.max_length = 10000;
+    add_bridges(upper, &lower, o);
+    EXPECT_EQ(upper.minima_found, 1);
+    // The corner, where no direction is short, is left out and the minimum counted.
+    EXPECT_EQ(upper.minima_unsupported, 1);
+    ASSERT_GE(upper.bridges.size(), 2u);
+    double longest = 0;
+    Paths printed;
+    for (const Bridge& b : upper.bridges)
+        for (const Path& line : b.lines) {
+            longest = std::max(longest, length(Paths{line}, false));
+            printed.push_back(line);
+        }
+    EXPECT_LE(longest, 4000.0);
+    // All but the cells about the corner (the strip holds 57 mm^2; 4 mm^2 left today).
+    EXPECT_LT(std::abs(area(subtract(strip, dilate_lines(printed, 200)))), 6e6);
 }
