@@ -226,11 +226,9 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(0.01, 100.0));
     slice
         ->add_option("--threads", settings.threads,
-                     "Pipeline threads: 1 runs every stage in turn, 2 plans bridges, toolpaths "
-                     "and G-code behind the carving sweep, 3 also splits the sweep after the "
-                     "first cavity, 4 also slices ahead of it, 5 also plans toolpaths behind "
-                     "the bridges, threads [5]")
-        ->check(CLI::Range(1, 5));
+                     "Threads the per-layer work runs on, any number from 1 (everything on "
+                     "one thread); the G-code is the same for every count, threads [all cores]")
+        ->check(CLI::Range(1, 4096));
     slice
         ->add_option("--max-bridge-length", settings.max_bridge_length,
                      "Longest span a bridge may have, mm; longer ones are left out [10]")

@@ -28,9 +28,15 @@ struct RunOptions {
     // exact place. Off by default: it costs as much again as the slicing (cat: 3.1 s on top of
     // 2.6 s, skull: 14 s on top of 11 s, loaded 2-core machine).
     bool check_output = false;
+    // Called on a worker thread for each layer, in the parallel filter after its toolpaths
+    // are planned. Tests throw from it to see an error in a parallel stage reach the caller.
+    std::function<void(int layer)> in_parallel_stage;
 };
 
 RunResult run_slice(const Settings& settings, const RunOptions& options);
+
+// The threads a run uses: --threads, or every core the process may run on.
+int thread_count(const Settings& settings);
 
 double peak_memory_mb();
 
