@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <deque>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -82,8 +83,11 @@ void profile_geometry() {
 
 // One layer on its way through the pipeline.
 struct Token {
-    int seq = 0;       // place in the stream, 0 for the top layer
-    bool end = false;  // comes after layer 0: releases the layer the hold-back filter keeps
+    int seq = 0;       // place in the stream, 0 for the top slice
+    bool end = false;  // after the last slice: flushes the covers' window and the hold-back
+    std::optional<Slice> slice;                // as cut, until eroded
+    std::shared_ptr<const CoverSlice> cover;   // ... and eroded, until the window takes it
+    std::vector<std::shared_ptr<const CoverSlice>> window;  // layer i's 2c+1 slices, top down
     LayerPartition layer;
     std::optional<LayerPartition> below;  // the cavities of slice i - 1 as the sweep left them
     LayerToolpaths paths;
@@ -166,7 +170,7 @@ class SpanTimer {
 // The serial parts (mesh loading before the pipeline, G-code assembly after it) and the
 // pipeline's critical path against all the CPU the run used, with Amdahl's projection.
 std::string span_table(const SpanLog& span, const std::vector<std::string>& filter_names,
-                       double load_s, double finish_s) {
+                       double load_s, double finish_s, int threads) {
     double pipeline_s = 0;
     std::string out = "pipeline filter CPU s\n";
     for (int f = 0; f < span.filters; ++f) {
@@ -183,8 +187,7 @@ std::string span_table(const SpanLog& span, const std::vector<std::string>& filt
         "serial: load {:.3f} + pipeline critical path {:.3f} + G-code assembly {:.3f} = {:.3f} s "
         "of {:.3f} s CPU: serial fraction {:.1f} %\n"
         "Amdahl: {:.2f}x on 2 cores, {:.2f}x on 8, {:.2f}x on 16 (ran on {} threads)\n",
-        load_s, path_s, finish_s, serial_s, work_s, 100 * f, amdahl(2), amdahl(8), amdahl(16),
-        tbb::this_task_arena::max_concurrency());
+        load_s, path_s, finish_s, serial_s, work_s, 100 * f, amdahl(2), amdahl(8), amdahl(16), threads);
     return out;
 }
 
@@ -248,7 +251,6 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
                     settings.max_vertices_per_layer));
         });
     }
-    CarvableStream carvable(slicer, settings);
     GcodeWriter writer(options.gcode_path, settings, offset_x, offset_y, layer_count);
     std::unique_ptr<SvgLayerWriter> svg;
     if (!options.svg_dir.empty())
@@ -277,38 +279,76 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
     double sliced_volume = 0;  // what the slices hold: the model's volume if the mesh is open
 
     // The layers flow top down through a oneTBB pipeline. Serial in-order filters for what
-    // carries state from one slice to the next: slicing with the covers' window; one filter
-    // per carving iteration, so that the k iterations run as a wavefront (C^j at slice i
-    // needs C^j at slice i+1 and V^{j-1} at slice i only: iteration j of one slice overlaps
-    // iteration j+1 of the slice above); holding a slice back until the one below is carved
-    // (the bridges need it); the writers and sums at the end, in layer order so that every
-    // figure and byte is the same whatever the thread count. Between them one parallel
-    // filter does what depends on its own layer only: bridges (against a copy of the slice
-    // below as the sweep left it), toolpaths, their G-code spill encoding and material.
+    // carries state from one slice to the next: the slicer's active set; the covers' window
+    // of 2c+1 slices; one filter per carving iteration, so that the k iterations run as a
+    // wavefront (C^j at slice i needs C^j at slice i+1 and V^{j-1} at slice i only: iteration
+    // j of one slice overlaps iteration j+1 of the slice above); holding a slice back until
+    // the one below is carved (the bridges need it); the writers and sums at the end, in layer
+    // order so that every figure and byte is the same whatever the thread count. Between them
+    // parallel filters do what depends on its own slice or window only: the erosions of each
+    // slice, the covers of each layer, then bridges (against a copy of the slice below as the
+    // sweep left it), toolpaths, their G-code spill encoding and material.
     const int k = sweep_iterations(settings);
-    const int kSource = 0, kHold = k + 1, kWork = k + 2, kSink = k + 3, filter_count = k + 4;
-    SpanLog span(profiling_enabled() ? layer_count + 1 : 0, filter_count);
+    const int c = std::max(0, settings.covers);
+    const int kSlice = 0, kErode = 1, kWindow = 2, kCovers = 3, kSweep = 4;
+    const int kHold = kSweep + k, kWork = kHold + 1, kSink = kWork + 1, filter_count = kSink + 1;
+    // The slicer's tokens, then c + 1 that flush the window (c layers) and the hold-back.
+    SpanLog span(profiling_enabled() ? layer_count + c + 1 : 0, filter_count);
     span.serial.assign(filter_count, true);
-    span.serial[kWork] = false;
+    span.serial[kErode] = span.serial[kCovers] = span.serial[kWork] = false;
 
-    int next_seq = 0;
-    bool ended = false;
+    int next_seq = 0, ends_left = c + 1;
     auto source = tbb::make_filter<void, TokenPtr>(
         tbb::filter_mode::serial_in_order, [&](tbb::flow_control& fc) -> TokenPtr {
-            if (ended) {
+            auto t = std::make_shared<Token>();
+            t->seq = next_seq++;
+            SpanTimer timer(span, t->seq, kSlice);
+            if (auto slice = slicer.next()) {
+                t->slice = std::move(*slice);
+            } else if (ends_left-- > 0) {
+                t->end = true;
+            } else {
                 fc.stop();
                 return {};
             }
-            auto t = std::make_shared<Token>();
-            t->seq = next_seq++;
-            SpanTimer timer(span, t->seq, kSource);
-            if (auto layer = carvable.next())
-                t->layer = std::move(*layer);
-            else
-                t->end = ended = true;  // releases layer 0, which the hold-back filter keeps
             return t;
         });
-    tbb::filter<void, TokenPtr> chain = source;
+    auto erode = tbb::make_filter<TokenPtr, TokenPtr>(
+        tbb::filter_mode::parallel, [&](TokenPtr t) -> TokenPtr {
+            if (!t->slice) return t;
+            SpanTimer timer(span, t->seq, kErode);
+            t->cover = std::make_shared<const CoverSlice>(cover_slice(std::move(*t->slice), settings));
+            t->slice.reset();
+            return t;
+        });
+    // Layer i is ready once slice i - c is in (or the slicer is done); the token that brought
+    // that slice carries layer i on, with the window's slices shared, not copied.
+    std::deque<std::shared_ptr<const CoverSlice>> window;  // top down
+    int next_layer = layer_count - 1;
+    auto gather = tbb::make_filter<TokenPtr, TokenPtr>(
+        tbb::filter_mode::serial_in_order, [&](TokenPtr t) -> TokenPtr {
+            SpanTimer timer(span, t->seq, kWindow);
+            if (t->cover) window.push_back(std::move(t->cover));
+            const bool ready = next_layer >= 0 && (t->end || window.back()->slice.index <= next_layer - c);
+            if (!ready) return t->end ? t : nullptr;
+            const int i = next_layer--;
+            while (!window.empty() && window.front()->slice.index > i + c) window.pop_front();
+            t->end = false;
+            t->layer.index = i;
+            t->window.assign(window.begin(), window.end());
+            return t;
+        });
+    auto covers = tbb::make_filter<TokenPtr, TokenPtr>(
+        tbb::filter_mode::parallel, [&](TokenPtr t) -> TokenPtr {
+            if (!t || t->end) return t;
+            SpanTimer timer(span, t->seq, kCovers);
+            std::vector<const CoverSlice*> slices;
+            for (const auto& e : t->window) slices.push_back(e.get());
+            t->layer = carvable_layer(t->layer.index, slices, settings);
+            t->window.clear();
+            return t;
+        });
+    tbb::filter<void, TokenPtr> chain = source & erode & gather & covers;
     // CarvingSweep pulls its layers from a source; each iteration's filter hands it the one
     // layer it is to carve.
     std::vector<std::unique_ptr<HandOver>> feeds(k);
@@ -318,8 +358,8 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
         sweeps[j] = std::make_unique<CarvingSweep>(*feeds[j], settings, j, 1);
         chain = chain & tbb::make_filter<TokenPtr, TokenPtr>(
                             tbb::filter_mode::serial_in_order, [&, j](TokenPtr t) -> TokenPtr {
-                                if (t->end) return t;
-                                SpanTimer timer(span, t->seq, 1 + j);
+                                if (!t || t->end) return t;
+                                SpanTimer timer(span, t->seq, kSweep + j);
                                 feeds[j]->put(std::move(t->layer));
                                 t->layer = std::move(*sweeps[j]->next());
                                 return t;
@@ -328,6 +368,7 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
     TokenPtr held;  // slice i + 1, waiting for slice i
     auto hold = tbb::make_filter<TokenPtr, TokenPtr>(
         tbb::filter_mode::serial_in_order, [&](TokenPtr t) -> TokenPtr {
+            if (!t) return t;
             TokenPtr out = std::move(held);
             SpanTimer timer(span, out ? out->seq : t->seq, kHold);
             if (out && !t->end) {
@@ -447,11 +488,11 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
     result.peak_memory_mb = peak_memory_mb();
     if (html) html->finish(result, stats_json(result, settings));
     if (profiling_enabled()) {
-        std::vector<std::string> names{"slice+covers"};
+        std::vector<std::string> names{"slice", "erode", "window", "covers"};
         for (int j = 1; j <= k; ++j) names.push_back(fmt::format("sweep C{}", j));
         names.insert(names.end(), {"hold back", "bridges+paths", "writers"});
         std::fputs(profile_table().c_str(), stderr);
-        std::fputs(span_table(span, names, load_s, finish_s).c_str(), stderr);
+        std::fputs(span_table(span, names, load_s, finish_s, threads).c_str(), stderr);
     }
     return result;
 }
