@@ -60,7 +60,7 @@ def carve_run(carve, model_path, gcode, log_path, extra=(), prefix=(), env=None)
 
 
 def profile_figures(out):
-    m = re.search(r'serial: load ([\d.]+) \+ pipeline critical path ([\d.]+) \+ G-code assembly '
+    m = re.search(r'serial: load ([\d.]+) \+ pipeline critical path ([\d.]+) \+ assembly '
                   r'([\d.]+) = ([\d.]+) s of ([\d.]+) s CPU: serial fraction ([\d.]+) %', out)
     a = re.search(r'Amdahl: ([\d.]+)x on 2 cores, ([\d.]+)x on 8, ([\d.]+)x on 16 \(ran on (\d+)', out)
     longest = max(((float(t), n.strip()) for n, t, kind in

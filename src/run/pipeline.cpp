@@ -167,8 +167,9 @@ class SpanTimer {
     int64_t start_ = -1;
 };
 
-// The serial parts (mesh loading before the pipeline, G-code assembly after it) and the
-// pipeline's critical path against all the CPU the run used, with Amdahl's projection.
+// The serial parts (mesh loading before the pipeline; after it the G-code assembly, the resin
+// zip and the HTML report) and the pipeline's critical path against all the CPU the run used,
+// with Amdahl's projection.
 std::string span_table(const SpanLog& span, const std::vector<std::string>& filter_names,
                        double load_s, double finish_s, int threads) {
     double pipeline_s = 0;
@@ -184,7 +185,7 @@ std::string span_table(const SpanLog& span, const std::vector<std::string>& filt
     const double f = work_s > 0 ? serial_s / work_s : 1;
     auto amdahl = [f](int cores) { return 1 / (f + (1 - f) / cores); };
     out += fmt::format(
-        "serial: load {:.3f} + pipeline critical path {:.3f} + G-code assembly {:.3f} = {:.3f} s "
+        "serial: load {:.3f} + pipeline critical path {:.3f} + assembly {:.3f} = {:.3f} s "
         "of {:.3f} s CPU: serial fraction {:.1f} %\n"
         "Amdahl: {:.2f}x on 2 cores, {:.2f}x on 8, {:.2f}x on 16 (ran on {} threads)\n",
         load_s, path_s, finish_s, serial_s, work_s, 100 * f, amdahl(2), amdahl(8), amdahl(16), threads);
@@ -287,7 +288,7 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
     // order so that every figure and byte is the same whatever the thread count. Between them
     // parallel filters do what depends on its own slice or window only: the erosions of each
     // slice, the covers of each layer, then bridges (against a copy of the slice below as the
-    // sweep left it), toolpaths, their G-code spill encoding and material.
+    // sweep left it), toolpaths, their G-code spill encoding, material, SVG and resin images.
     const int k = sweep_iterations(settings);
     const int c = std::max(0, settings.covers);
     const int kSlice = 0, kErode = 1, kWindow = 2, kCovers = 3, kSweep = 4;
@@ -393,6 +394,10 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
             t->paths = plan_layer(t->layer, settings);
             if (options.in_parallel_stage) options.in_parallel_stage(t->layer.index);
             writer.add_layer(t->paths);  // thread-safe: the spill is indexed by layer
+            // Pictures of one layer each, to files of their own (the HTML report stays in the
+            // serial filter: it shares a size budget between the layers in the order they come).
+            if (svg) svg->add(t->layer, &t->paths);
+            if (raster) raster->add_layer(t->layer);
             t->material = toolpath_volume_mm3(t->paths, settings);
             return t;
         });
@@ -401,9 +406,7 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
             if (!t) return;
             SpanTimer timer(span, t->seq, kSink);
             const LayerPartition& layer = t->layer;
-            if (svg) svg->add(layer, &t->paths);
             if (html) html->add_layer(layer, t->paths);
-            if (raster) raster->add_layer(layer);
 
             sliced_volume += area_mm2(layer.outline) * h;
             result.carvable_volume_mm3 += area_mm2(layer.carvable) * h;
@@ -470,7 +473,7 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
     };
     const int64_t finish_start_ns = thread_cpu_ns();
     result.print = writer.finish(header);
-    const double finish_s = double(thread_cpu_ns() - finish_start_ns) * 1e-9;
+    double finish_s = double(thread_cpu_ns() - finish_start_ns) * 1e-9;
     result.processing_time_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (options.check_output) {
@@ -484,9 +487,11 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
         result.check_time_s =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - check_start).count();
     }
+    const int64_t writers_start_ns = thread_cpu_ns();  // the resin zip and the HTML: serial too
     if (raster) raster->finish();
     result.peak_memory_mb = peak_memory_mb();
     if (html) html->finish(result, stats_json(result, settings));
+    finish_s += double(thread_cpu_ns() - writers_start_ns) * 1e-9;
     if (profiling_enabled()) {
         std::vector<std::string> names{"slice", "erode", "window", "covers"};
         for (int j = 1; j <= k; ++j) names.push_back(fmt::format("sweep C{}", j));
