@@ -47,8 +47,7 @@ LayerPartition carvable_layer(int i, const std::vector<const CoverSlice*>& windo
     if (in_range == 2 * c + 1) {
         layer.carvable = own->shell_paths_region;
         for (const CoverSlice* other : window) {
-            if (other == own || other->slice.index < i - c || other->slice.index > i + c)
-                continue;
+            if (other == own || other->slice.index < i - c || other->slice.index > i + c) continue;
             if (layer.carvable.empty()) break;
             layer.carvable = intersect(layer.carvable, other->shell_paths_region);
         }

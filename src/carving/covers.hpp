@@ -40,7 +40,7 @@ class CarvableStream : public LayerSource {
     TopDownSlicer& slicer_;
     const Settings& settings_;
     std::deque<CoverSlice> window_;  // slices i + covers (front) .. i - covers (back), top-down
-    int next_index_ = 0;        // index of the next layer to emit
+    int next_index_ = 0;             // index of the next layer to emit
     bool exhausted_ = false;
 };
 

@@ -237,7 +237,8 @@ void RasterWriter::add_layer(const LayerPartition& layer) {
     // call has its own image, and only the list of figures is shared.
     Impl& m = *impl_;
     const Paths solid = resin_solid(layer, m.shell, m.min_wall, m.bridge_half);
-    std::vector<uint8_t> image(static_cast<size_t>(m.grid.width) * static_cast<size_t>(m.grid.height), 0);
+    std::vector<uint8_t> image(
+        static_cast<size_t>(m.grid.width) * static_cast<size_t>(m.grid.height), 0);
     rasterize(solid, m.grid, image, 255);
     RasterLayerStats s;
     s.index = layer.index;

@@ -3,12 +3,11 @@
 
 #include <fmt/format.h>
 #include <sys/resource.h>
-#include <unistd.h>
-
 #include <tbb/global_control.h>
 #include <tbb/info.h>
 #include <tbb/parallel_pipeline.h>
 #include <tbb/task_arena.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
@@ -18,15 +17,15 @@
 #include <optional>
 #include <vector>
 
-#include "carving/carving.hpp"
 #include "base/error.hpp"
 #include "base/stage_timer.hpp"
+#include "carving/carving.hpp"
 #include "geometry/polygon.hpp"
 #include "geometry/probe.hpp"
 #include "report/html_report.hpp"
-#include "resin/raster.hpp"
 #include "report/stats.hpp"
 #include "report/svg.hpp"
+#include "resin/raster.hpp"
 #include "slice/slicer.hpp"
 #include "supports/bridges.hpp"
 #include "toolpath/toolpath.hpp"
@@ -73,11 +72,10 @@ double toolpath_volume_mm3(const LayerToolpaths& paths, const Settings& settings
 // Geometry sits below the stage timer and times its booleans and morphology through a probe;
 // the profile shows them as stages of their own.
 void profile_geometry() {
-    static const GeometryProbe probe{thread_cpu_ns, [](GeometryOp op, int64_t ns) {
-                                         add_stage_time(op == GeometryOp::kBoolean ? Stage::kBoolean
-                                                                                   : Stage::kMorphology,
-                                                        ns);
-                                     }};
+    static const GeometryProbe probe{
+        thread_cpu_ns, [](GeometryOp op, int64_t ns) {
+            add_stage_time(op == GeometryOp::kBoolean ? Stage::kBoolean : Stage::kMorphology, ns);
+        }};
     set_geometry_probe(&probe);
 }
 
@@ -85,8 +83,8 @@ void profile_geometry() {
 struct Token {
     int seq = 0;       // place in the stream, 0 for the top slice
     bool end = false;  // after the last slice: flushes the covers' window and the hold-back
-    std::optional<Slice> slice;                // as cut, until eroded
-    std::shared_ptr<const CoverSlice> cover;   // ... and eroded, until the window takes it
+    std::optional<Slice> slice;               // as cut, until eroded
+    std::shared_ptr<const CoverSlice> cover;  // ... and eroded, until the window takes it
     std::vector<std::shared_ptr<const CoverSlice>> window;  // layer i's 2c+1 slices, top down
     LayerPartition layer;
     std::optional<LayerPartition> below;  // the cavities of slice i - 1 as the sweep left them
@@ -188,7 +186,8 @@ std::string span_table(const SpanLog& span, const std::vector<std::string>& filt
         "serial: load {:.3f} + pipeline critical path {:.3f} + assembly {:.3f} = {:.3f} s "
         "of {:.3f} s CPU: serial fraction {:.1f} %\n"
         "Amdahl: {:.2f}x on 2 cores, {:.2f}x on 8, {:.2f}x on 16 (ran on {} threads)\n",
-        load_s, path_s, finish_s, serial_s, work_s, 100 * f, amdahl(2), amdahl(8), amdahl(16), threads);
+        load_s, path_s, finish_s, serial_s, work_s, 100 * f, amdahl(2), amdahl(8), amdahl(16),
+        threads);
     return out;
 }
 
@@ -199,9 +198,6 @@ int thread_count(const Settings& settings) {
     // where std::thread::hardware_concurrency() still counts every core of the machine.
     return settings.threads > 0 ? settings.threads : tbb::info::default_concurrency();
 }
-
-namespace {
-}  // namespace
 
 RunResult run_slice(const Settings& settings, const RunOptions& options) {
     const auto start = std::chrono::steady_clock::now();
@@ -299,26 +295,27 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
     span.serial[kErode] = span.serial[kCovers] = span.serial[kWork] = false;
 
     int next_seq = 0, ends_left = c + 1;
-    auto source = tbb::make_filter<void, TokenPtr>(
-        tbb::filter_mode::serial_in_order, [&](tbb::flow_control& fc) -> TokenPtr {
-            auto t = std::make_shared<Token>();
-            t->seq = next_seq++;
-            SpanTimer timer(span, t->seq, kSlice);
-            if (auto slice = slicer.next()) {
-                t->slice = std::move(*slice);
-            } else if (ends_left-- > 0) {
-                t->end = true;
-            } else {
-                fc.stop();
-                return {};
-            }
-            return t;
-        });
+    auto source = tbb::make_filter<void, TokenPtr>(tbb::filter_mode::serial_in_order,
+                                                   [&](tbb::flow_control& fc) -> TokenPtr {
+                                                       auto t = std::make_shared<Token>();
+                                                       t->seq = next_seq++;
+                                                       SpanTimer timer(span, t->seq, kSlice);
+                                                       if (auto slice = slicer.next()) {
+                                                           t->slice = std::move(*slice);
+                                                       } else if (ends_left-- > 0) {
+                                                           t->end = true;
+                                                       } else {
+                                                           fc.stop();
+                                                           return {};
+                                                       }
+                                                       return t;
+                                                   });
     auto erode = tbb::make_filter<TokenPtr, TokenPtr>(
         tbb::filter_mode::parallel, [&](TokenPtr t) -> TokenPtr {
             if (!t->slice) return t;
             SpanTimer timer(span, t->seq, kErode);
-            t->cover = std::make_shared<const CoverSlice>(cover_slice(std::move(*t->slice), settings));
+            t->cover =
+                std::make_shared<const CoverSlice>(cover_slice(std::move(*t->slice), settings));
             t->slice.reset();
             return t;
         });
@@ -330,7 +327,8 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
         tbb::filter_mode::serial_in_order, [&](TokenPtr t) -> TokenPtr {
             SpanTimer timer(span, t->seq, kWindow);
             if (t->cover) window.push_back(std::move(t->cover));
-            const bool ready = next_layer >= 0 && (t->end || window.back()->slice.index <= next_layer - c);
+            const bool ready =
+                next_layer >= 0 && (t->end || window.back()->slice.index <= next_layer - c);
             if (!ready) return t->end ? t : nullptr;
             const int i = next_layer--;
             while (!window.empty() && window.front()->slice.index > i + c) window.pop_front();
@@ -401,8 +399,8 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
             t->material = toolpath_volume_mm3(t->paths, settings);
             return t;
         });
-    auto sink = tbb::make_filter<TokenPtr, void>(
-        tbb::filter_mode::serial_in_order, [&](TokenPtr t) {
+    auto sink =
+        tbb::make_filter<TokenPtr, void>(tbb::filter_mode::serial_in_order, [&](TokenPtr t) {
             if (!t) return;
             SpanTimer timer(span, t->seq, kSink);
             const LayerPartition& layer = t->layer;
@@ -424,14 +422,12 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
             if (options.progress && options.progress_bar &&
                 (done % 10 == 0 || done == layer_count)) {
                 const double t_s =
-                    std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
-                        .count();
+                    std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
                 progress_bar(done, layer_count, t_s);
             } else if (options.progress && !options.progress_bar &&
                        (done % tenth == 0 || done == layer_count)) {
                 const double t_s =
-                    std::chrono::duration<double>(std::chrono::steady_clock::now() - start)
-                        .count();
+                    std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
                 progress_line(done, layer_count, t_s);
             }
         });
@@ -448,9 +444,7 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
         // An exception in any filter cancels the pipeline; parallel_pipeline waits for the
         // filters still running and rethrows it here, with its type and message, before
         // this frame's stages and writers are destroyed.
-        arena.execute([&] {
-            tbb::parallel_pipeline(tokens, chain & hold & work & sink);
-        });
+        arena.execute([&] { tbb::parallel_pipeline(tokens, chain & hold & work & sink); });
     }
     for (double v : result.cavity_volume_mm3)
         if (v > 0) ++result.cavities;

@@ -19,7 +19,8 @@ namespace carve {
 namespace {
 
 fs::path scratch() {
-    const fs::path d = fs::temp_directory_path() / ("carve_pipeline_test_" + std::to_string(getpid()));
+    const fs::path d =
+        fs::temp_directory_path() / ("carve_pipeline_test_" + std::to_string(getpid()));
     fs::create_directories(d);
     return d;
 }
@@ -67,14 +68,16 @@ TEST_P(PipelineThreads, OtherExceptionTypesKeepTheirType) {
     const fs::path gcode = scratch() / "logic.gcode";
     RunOptions o = options_for(gcode);
     o.in_parallel_stage = [](int layer) {
-        if (layer % 50 == 3) throw std::logic_error("broken invariant at layer " + std::to_string(layer));
+        if (layer % 50 == 3)
+            throw std::logic_error("broken invariant at layer " + std::to_string(layer));
     };
     EXPECT_THROW(
         {
             try {
                 run_slice(settings, o);
             } catch (const std::logic_error& e) {
-                EXPECT_NE(std::string(e.what()).find("broken invariant at layer"), std::string::npos);
+                EXPECT_NE(std::string(e.what()).find("broken invariant at layer"),
+                          std::string::npos);
                 throw;
             }
         },
