@@ -9,8 +9,8 @@ Writes bench/results/parallel.md and parallel.json. Per model, carve (default th
 core) and CuraEngine grid 15 % are run in turn, --repeat rounds, medians kept. skull and
 fandisk are then run under `taskset -c 0` and `taskset -c 0,1` in turn. The serial fraction is
 carve's own measure (CARVE_PROFILE=1): mesh loading, the critical path of the pipeline's
-filters and the G-code assembly, over the CPU of every filter. The machine's core count and
-load average before and after are printed with the figures: on a shared machine wall-time
+filters and the assembly after it (G-code, resin zip, HTML), over the CPU of every filter. The
+machine's core count and load average before and after are printed with the figures: on a shared machine wall-time
 ratios mean little unless the load was low.
 """
 
@@ -173,8 +173,8 @@ def main():
                   f"**{f(r, 'speedup_1_to_2')}** | {f(r, 'serial_percent', '.1f')} | "
                   f"{r.get('longest_serial_filter', '')} {f(r, 'longest_serial_filter_s', '.3f')} | "
                   f"{f(r, 'amdahl_8')} / {f(r, 'amdahl_16')} |")
-    md += ['', 'Serial % = (mesh loading + critical path of the pipeline + G-code assembly) / '
-           'CPU of the whole run, from `CARVE_PROFILE=1` (thread CPU per layer and filter); '
+    md += ['', 'Serial % = (mesh loading + critical path of the pipeline + assembly: G-code, '
+           'resin zip, HTML) / CPU of the whole run, from `CARVE_PROFILE=1` (thread CPU per layer and filter); '
            'Amdahl = 1 / (s + (1 - s) / n).', '']
     open(os.path.join(bl.RESULTS, 'parallel.md'), 'w').write('\n'.join(md))
     print('\n'.join(md))
