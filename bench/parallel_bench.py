@@ -83,6 +83,7 @@ def main():
     ap.add_argument('--repeat', type=int, default=3)
     ap.add_argument('--work', default='/tmp/carve_parallel_bench')
     ap.add_argument('--no-cura', action='store_true')
+    ap.add_argument('--out', default='parallel', help='results name in bench/results [parallel]')
     args = ap.parse_args()
     os.makedirs(args.work, exist_ok=True)
     started = datetime.datetime.utcnow()
@@ -152,7 +153,7 @@ def main():
     info = dict(started_utc=started.strftime('%Y-%m-%d %H:%M'), cores=cores, usable_cores=usable,
                 load_before=load_before, load_after=load_after, commit=commit,
                 repeat=args.repeat, rows=rows)
-    json.dump(info, open(os.path.join(bl.RESULTS, 'parallel.json'), 'w'), indent=1)
+    json.dump(info, open(os.path.join(bl.RESULTS, args.out + '.json'), 'w'), indent=1)
 
     def f(row, key, spec='.2f'):
         return format(row[key], spec) if key in row else '-'
@@ -176,7 +177,7 @@ def main():
     md += ['', 'Serial % = (mesh loading + critical path of the pipeline + assembly: G-code, '
            'resin zip, HTML) / CPU of the whole run, from `CARVE_PROFILE=1` (thread CPU per layer and filter); '
            'Amdahl = 1 / (s + (1 - s) / n).', '']
-    open(os.path.join(bl.RESULTS, 'parallel.md'), 'w').write('\n'.join(md))
+    open(os.path.join(bl.RESULTS, args.out + '.md'), 'w').write('\n'.join(md))
     print('\n'.join(md))
 
 
