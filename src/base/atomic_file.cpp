@@ -86,7 +86,17 @@ void remove_registered() {
     for (Slot& s : g_slots) {
         const int state = s.state.load(std::memory_order_acquire);
         if (state == 2) ::unlink(s.path);
-        if (state == 3) remove_folder_raw(s.path);
+        if (state == 3) {
+            // Worker threads go on writing pictures into the folder while this handler runs on
+            // one thread: a file created between the listing and rmdir kept the folder. Renamed
+            // first, the folder takes no new file (the workers open the old path), and what is
+            // in it goes with it. The new name still matches the stale pattern of the next run.
+            static char moved[kPathMax + 8];
+            const size_t n = std::strlen(s.path);
+            std::memcpy(moved, s.path, n);
+            std::memcpy(moved + n, ".gone", 6);
+            remove_folder_raw(::rename(s.path, moved) == 0 ? moved : s.path);
+        }
     }
 }
 

@@ -7,42 +7,30 @@
 
 namespace carve {
 
-CarvableStream::CarvableStream(TopDownSlicer& slicer, const Settings& settings)
-    : slicer_(slicer), settings_(settings), next_index_(slicer.layer_count() - 1) {}
-
-std::optional<LayerPartition> CarvableStream::next() {
-    if (next_index_ < 0) return std::nullopt;
-    const int i = next_index_--;
-    const int c = std::max(0, settings_.covers);
-
-    const Coord s = settings_.nozzle_radius();
-    const Coord w = settings_.line_width();
-    // Pull slices down to i - c (the window's lowest); slices above i + c fall out.
-    while (!exhausted_ && (window_.empty() || window_.back().slice.index > i - c)) {
-        auto slice = slicer_.next();
-        if (!slice) {
-            exhausted_ = true;
-            break;
-        }
-        StageTimer timer(Stage::kCovers);
-        Entry e{std::move(*slice), {}, {}};
-        // The outer wall's centreline runs at s inside the model's outline, so that the printed
-        // wall fills the outline exactly; each extra shell sits one line width further in.
-        e.wall_region = erode(e.slice.region, s);
-        e.shell_paths_region =
-            settings_.shells > 0 ? erode(e.wall_region, w * settings_.shells) : e.wall_region;
-        window_.push_back(std::move(e));
-    }
-    while (!window_.empty() && window_.front().slice.index > i + c) window_.pop_front();
-
+CoverSlice cover_slice(Slice slice, const Settings& settings) {
     StageTimer timer(Stage::kCovers);
+    const Coord s = settings.nozzle_radius();
+    const Coord w = settings.line_width();
+    CoverSlice e{std::move(slice), {}, {}};
+    // The outer wall's centreline runs at s inside the model's outline, so that the printed
+    // wall fills the outline exactly; each extra shell sits one line width further in.
+    e.wall_region = erode(e.slice.region, s);
+    e.shell_paths_region =
+        settings.shells > 0 ? erode(e.wall_region, w * settings.shells) : e.wall_region;
+    return e;
+}
+
+LayerPartition carvable_layer(int i, const std::vector<const CoverSlice*>& window,
+                              const Settings& settings) {
+    StageTimer timer(Stage::kCovers);
+    const int c = std::max(0, settings.covers);
     LayerPartition layer;
-    const Entry* own = nullptr;
+    const CoverSlice* own = nullptr;
     int in_range = 0;
-    for (const Entry& e : window_) {
-        if (e.slice.index < i - c || e.slice.index > i + c) continue;
+    for (const CoverSlice* e : window) {
+        if (e->slice.index < i - c || e->slice.index > i + c) continue;
         ++in_range;
-        if (e.slice.index == i) own = &e;
+        if (e->slice.index == i) own = e;
     }
     layer.index = i;
     if (!own) return layer;  // an empty layer (a gap in the model): nothing to print
@@ -58,14 +46,36 @@ std::optional<LayerPartition> CarvableStream::next() {
     // the window's common outline.
     if (in_range == 2 * c + 1) {
         layer.carvable = own->shell_paths_region;
-        for (const Entry& other : window_) {
-            if (&other == own || other.slice.index < i - c || other.slice.index > i + c) continue;
+        for (const CoverSlice* other : window) {
+            if (other == own || other->slice.index < i - c || other->slice.index > i + c) continue;
             if (layer.carvable.empty()) break;
-            layer.carvable = intersect(layer.carvable, other.shell_paths_region);
+            layer.carvable = intersect(layer.carvable, other->shell_paths_region);
         }
     }
     layer.covers = subtract(layer.shell_paths_region, layer.carvable);
     return layer;
+}
+
+CarvableStream::CarvableStream(TopDownSlicer& slicer, const Settings& settings)
+    : slicer_(slicer), settings_(settings), next_index_(slicer.layer_count() - 1) {}
+
+std::optional<LayerPartition> CarvableStream::next() {
+    if (next_index_ < 0) return std::nullopt;
+    const int i = next_index_--;
+    const int c = std::max(0, settings_.covers);
+    // Pull slices down to i - c (the window's lowest); slices above i + c fall out.
+    while (!exhausted_ && (window_.empty() || window_.back().slice.index > i - c)) {
+        auto slice = slicer_.next();
+        if (!slice) {
+            exhausted_ = true;
+            break;
+        }
+        window_.push_back(cover_slice(std::move(*slice), settings_));
+    }
+    while (!window_.empty() && window_.front().slice.index > i + c) window_.pop_front();
+    std::vector<const CoverSlice*> window;
+    for (const CoverSlice& e : window_) window.push_back(&e);
+    return carvable_layer(i, window, settings_);
 }
 
 }  // namespace carve

@@ -7,12 +7,27 @@
 
 #include <deque>
 #include <optional>
+#include <vector>
 
 #include "carving/partition.hpp"
 #include "config/settings.hpp"
 #include "slice/slicer.hpp"
 
 namespace carve {
+
+// A slice with the erosions every layer of its window needs, made once when it enters.
+struct CoverSlice {
+    Slice slice;
+    Paths wall_region;         // O_k eroded by s
+    Paths shell_paths_region;  // ... and by the extra shells
+};
+
+// The two steps of the stream as functions of their inputs alone, so that a scheduler may run
+// them for several slices at once: the erosions of one slice, and layer i from the slices of
+// its window (those with index i - covers .. i + covers, top down; others are ignored).
+CoverSlice cover_slice(Slice slice, const Settings& settings);
+LayerPartition carvable_layer(int i, const std::vector<const CoverSlice*>& window,
+                              const Settings& settings);
 
 class CarvableStream : public LayerSource {
   public:
@@ -24,15 +39,8 @@ class CarvableStream : public LayerSource {
   private:
     TopDownSlicer& slicer_;
     const Settings& settings_;
-    // A slice of the window with its own erosions, made once when it enters: every layer of the
-    // window needs them.
-    struct Entry {
-        Slice slice;
-        Paths wall_region;         // O_k eroded by s
-        Paths shell_paths_region;  // ... and by the extra shells
-    };
-    std::deque<Entry> window_;  // slices i + covers (front) .. i - covers (back), top-down
-    int next_index_ = 0;        // index of the next layer to emit
+    std::deque<CoverSlice> window_;  // slices i + covers (front) .. i - covers (back), top-down
+    int next_index_ = 0;             // index of the next layer to emit
     bool exhausted_ = false;
 };
 

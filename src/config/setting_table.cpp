@@ -74,10 +74,9 @@ std::vector<SettingSpec> make_table() {
          "printed as bridges, mm; 0 tears every part along its axis [4]"},
         {"scale", "", "ratio", 0.01, 100.0, &S::scale,
          "Scale the model uniformly by this factor, ratio [1]"},
-        {"threads", "", "threads", 1, 5, &S::threads,
-         "Pipeline threads: 1 runs every stage in turn, 2 plans bridges, toolpaths and G-code "
-         "behind the carving sweep, 3 also splits the sweep after the first cavity, 4 also "
-         "slices ahead of it, 5 also plans toolpaths behind the bridges, threads [5]"},
+        {"threads", "", "threads", 0, 512, &S::threads,
+         "Threads the per-layer work runs on, from 1 (everything on one thread) up; the G-code "
+         "is the same for every count, threads [0 = every core]"},
         {"max-bridge-length", "", "mm", 1.0, 500.0, &S::max_bridge_length,
          "Longest span a bridge may have, mm; a longer one is split into pieces bridged apart, "
          "and what no shorter line reaches is left out [10]"},

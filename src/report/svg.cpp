@@ -326,7 +326,12 @@ std::string SvgLayerWriter::add(const LayerPartition& layer, const LayerToolpath
     if (!wants(layer.index)) return {};
     const std::string file = (std::filesystem::path(dir_) / file_name(layer.index)).string();
     write_layer_svg(file, layer, paths, options_);
-    written_.push_back(file);
+    std::lock_guard lock(*mutex_);
+    // Names hold the index zero-padded to 4 digits, so shorter then lexicographic is layer order.
+    auto before = [](const std::string& a, const std::string& b) {
+        return a.size() != b.size() ? a.size() < b.size() : a < b;
+    };
+    written_.insert(std::upper_bound(written_.begin(), written_.end(), file, before), file);
     return file;
 }
 

@@ -5,6 +5,8 @@
 // run layer by layer (`--svg DIR`) and for debugging a stage; the HTML report has its own viewer.
 #pragma once
 
+#include <memory>
+#include <mutex>
 #include <set>
 #include <string>
 #include <string_view>
@@ -49,7 +51,9 @@ class SvgLayerWriter {
 
     bool wants(int index) const;
     // Writes the layer if it is chosen; returns the file written, or "" if it was not chosen.
+    // Several threads may add layers at once.
     std::string add(const LayerPartition& layer, const LayerToolpaths* paths);
+    // The files written so far, in layer order whatever order they came in.
     const std::vector<std::string>& written() const { return written_; }
     static std::string file_name(int index);  // "layer_0123.svg"
     // `count` layer indices spread evenly over 0 .. layer_count - 1, first and last included.
@@ -62,6 +66,7 @@ class SvgLayerWriter {
     int every_ = 0;  // > 0: every n-th layer instead of the list
     SvgOptions options_;
     std::vector<std::string> written_;
+    std::unique_ptr<std::mutex> mutex_ = std::make_unique<std::mutex>();  // guards written_
 };
 
 }  // namespace carve

@@ -1,6 +1,6 @@
 // Resin slice stack: partition -> cured region -> scanline fill -> PNG, then one zip at the end.
-// Each PNG goes to disk as soon as its layer is drawn, so memory holds one image whatever the
-// height of the object.
+// Each PNG goes to disk as soon as its layer is drawn, so memory holds one image per layer being
+// drawn (at most one per thread) whatever the height of the object.
 #include "resin/raster.hpp"
 
 #include <fmt/format.h>
@@ -14,6 +14,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <mutex>
 #include <nlohmann/json.hpp>
 
 #include "base/atomic_file.hpp"
@@ -197,7 +198,7 @@ struct RasterWriter::Impl {
     RasterGrid grid;
     Coord shell = 0, min_wall = 0, bridge_half = 0;
     double layer_height = 0.2;
-    std::vector<uint8_t> image;
+    std::mutex mutex;  // guards stats
     std::vector<RasterLayerStats> stats;
     bool finished = false;
 };
@@ -232,23 +233,25 @@ RasterWriter::RasterWriter(std::string dir, const Settings& settings, BBox2 boun
 RasterWriter::~RasterWriter() = default;
 
 void RasterWriter::add_layer(const LayerPartition& layer) {
+    // Several layers may be drawn at once (the run calls this from its parallel filter): each
+    // call has its own image, and only the list of figures is shared.
     Impl& m = *impl_;
     const Paths solid = resin_solid(layer, m.shell, m.min_wall, m.bridge_half);
-    m.image.assign(static_cast<size_t>(m.grid.width) * static_cast<size_t>(m.grid.height), 0);
-    rasterize(solid, m.grid, m.image, 255);
+    std::vector<uint8_t> image(
+        static_cast<size_t>(m.grid.width) * static_cast<size_t>(m.grid.height), 0);
+    rasterize(solid, m.grid, image, 255);
     RasterLayerStats s;
     s.index = layer.index;
-    s.white_pixels = std::count(m.image.begin(), m.image.end(), uint8_t{255});
+    s.white_pixels = std::count(image.begin(), image.end(), uint8_t{255});
+    write_png((m.dir / layer_name(layer.index)).string(), m.grid.width, m.grid.height, image);
+    std::lock_guard lock(m.mutex);
     m.stats.push_back(s);
-    write_png((m.dir / layer_name(layer.index)).string(), m.grid.width, m.grid.height, m.image);
 }
 
 void RasterWriter::finish() {
     Impl& m = *impl_;
     if (m.finished) return;
     m.finished = true;
-    m.image.clear();
-    m.image.shrink_to_fit();
     std::sort(
         m.stats.begin(), m.stats.end(),
         [](const RasterLayerStats& a, const RasterLayerStats& b) { return a.index < b.index; });

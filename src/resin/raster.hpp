@@ -51,8 +51,8 @@ class RasterWriter {
     RasterWriter(const RasterWriter&) = delete;
     RasterWriter& operator=(const RasterWriter&) = delete;
 
-    // Layers arrive in any order (the sweep gives them top down); each becomes
-    // DIR/layer_NNNNN.png with NNNNN = layer.index, bottom up.
+    // Layers arrive in any order (the sweep gives them top down), from several threads at once
+    // if need be; each becomes DIR/layer_NNNNN.png with NNNNN = layer.index, bottom up.
     void add_layer(const LayerPartition& layer);
     // Writes DIR/raster.json (grid, pixel size, layer height) and DIR/layers.zip holding every
     // PNG and the JSON.

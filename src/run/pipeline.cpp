@@ -3,10 +3,19 @@
 
 #include <fmt/format.h>
 #include <sys/resource.h>
+#include <tbb/global_control.h>
+#include <tbb/info.h>
+#include <tbb/parallel_pipeline.h>
+#include <tbb/task_arena.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <deque>
+#include <memory>
+#include <optional>
+#include <vector>
 
 #include "base/atomic_file.hpp"
 #include "base/error.hpp"
@@ -18,7 +27,6 @@
 #include "report/stats.hpp"
 #include "report/svg.hpp"
 #include "resin/raster.hpp"
-#include "run/layer_queue.hpp"
 #include "slice/slicer.hpp"
 #include "supports/bridges.hpp"
 #include "toolpath/toolpath.hpp"
@@ -72,7 +80,125 @@ void profile_geometry() {
     set_geometry_probe(&probe);
 }
 
+// One layer on its way through the pipeline.
+struct Token {
+    int seq = 0;       // place in the stream, 0 for the top slice
+    bool end = false;  // after the last slice: flushes the covers' window and the hold-back
+    std::optional<Slice> slice;               // as cut, until eroded
+    std::shared_ptr<const CoverSlice> cover;  // ... and eroded, until the window takes it
+    std::vector<std::shared_ptr<const CoverSlice>> window;  // layer i's 2c+1 slices, top down
+    LayerPartition layer;
+    std::optional<LayerPartition> below;  // the cavities of slice i - 1 as the sweep left them
+    LayerToolpaths paths;
+    double material = 0;
+};
+// Shared pointers because a cancelled pipeline drops the tokens it holds: they free
+// themselves.
+using TokenPtr = std::shared_ptr<Token>;
+
+// CarvingSweep pulls layers from a source; this one holds the single layer that a filter
+// hands it.
+class HandOver : public LayerSource {
+  public:
+    void put(LayerPartition layer) { held_ = std::move(layer); }
+    std::optional<LayerPartition> next() override {
+        std::optional<LayerPartition> out = std::move(held_);
+        held_.reset();
+        return out;
+    }
+
+  private:
+    std::optional<LayerPartition> held_;
+};
+
+// Under CARVE_PROFILE, the thread CPU time each layer spent in each filter, from which the
+// critical path follows: a filter's work on a layer waits for the filter before it on the same
+// layer, and a serial filter's also for its own work on the layer before. That chain is the
+// CPU time no other thread can overlap, whatever the number of cores. (The hold-back filter
+// releases layer n when layer n + 1 arrives; the log books it on the released layer, which
+// shortens the chain by at most one layer's sweep.)
+struct SpanLog {
+    SpanLog(int rows, int filter_count)
+        : filters(filter_count), ns(size_t(rows) * size_t(filter_count), 0) {}
+    int filters;
+    std::vector<int64_t> ns;   // [seq][filter]
+    std::vector<bool> serial;  // a filter that takes one layer at a time, in order
+    bool on() const { return !ns.empty(); }
+    int rows() const { return filters > 0 ? int(ns.size() / size_t(filters)) : 0; }
+
+    double filter_s(int f) const {
+        int64_t sum = 0;
+        for (int n = 0; n < rows(); ++n) sum += ns[size_t(n) * filters + f];
+        return double(sum) * 1e-9;
+    }
+    double critical_path_s() const {
+        std::vector<int64_t> done(ns.size(), 0);  // when each cell finishes at the earliest
+        int64_t longest = 0;
+        for (int n = 0; n < rows(); ++n)
+            for (int f = 0; f < filters; ++f) {
+                const size_t at = size_t(n) * filters + f;
+                int64_t ready = f > 0 ? done[at - 1] : 0;
+                if (serial[f] && n > 0) ready = std::max(ready, done[at - filters]);
+                done[at] = ready + ns[at];
+                longest = std::max(longest, done[at]);
+            }
+        return double(longest) * 1e-9;
+    }
+};
+
+class SpanTimer {
+  public:
+    SpanTimer(SpanLog& log, int seq, int filter) : log_(log) {
+        if (log.on() && seq < log.rows()) {
+            at_ = size_t(seq) * log.filters + filter;
+            start_ = thread_cpu_ns();
+        }
+    }
+    ~SpanTimer() {
+        if (start_ >= 0) log_.ns[at_] += thread_cpu_ns() - start_;
+    }
+    SpanTimer(const SpanTimer&) = delete;
+    SpanTimer& operator=(const SpanTimer&) = delete;
+
+  private:
+    SpanLog& log_;
+    size_t at_ = 0;
+    int64_t start_ = -1;
+};
+
+// The serial parts (mesh loading before the pipeline; after it the G-code assembly, the resin
+// zip and the HTML report) and the pipeline's critical path against all the CPU the run used,
+// with Amdahl's projection.
+std::string span_table(const SpanLog& span, const std::vector<std::string>& filter_names,
+                       double load_s, double finish_s, int threads) {
+    double pipeline_s = 0;
+    std::string out = "pipeline filter CPU s\n";
+    for (int f = 0; f < span.filters; ++f) {
+        pipeline_s += span.filter_s(f);
+        out += fmt::format("  {:<12} {:8.3f}{}\n", filter_names[f], span.filter_s(f),
+                           span.serial[f] ? "  serial" : "  parallel");
+    }
+    const double path_s = span.critical_path_s();
+    const double work_s = load_s + pipeline_s + finish_s;
+    const double serial_s = load_s + path_s + finish_s;
+    const double f = work_s > 0 ? serial_s / work_s : 1;
+    auto amdahl = [f](int cores) { return 1 / (f + (1 - f) / cores); };
+    out += fmt::format(
+        "serial: load {:.3f} + pipeline critical path {:.3f} + assembly {:.3f} = {:.3f} s "
+        "of {:.3f} s CPU: serial fraction {:.1f} %\n"
+        "Amdahl: {:.2f}x on 2 cores, {:.2f}x on 8, {:.2f}x on 16 (ran on {} threads)\n",
+        load_s, path_s, finish_s, serial_s, work_s, 100 * f, amdahl(2), amdahl(8), amdahl(16),
+        threads);
+    return out;
+}
+
 }  // namespace
+
+int thread_count(const Settings& settings) {
+    // oneTBB's default follows the process's CPU affinity mask: under `taskset -c 0` it is 1,
+    // where std::thread::hardware_concurrency() still counts every core of the machine.
+    return settings.threads > 0 ? settings.threads : tbb::info::default_concurrency();
+}
 
 RunResult run_slice(const Settings& settings, const RunOptions& options) {
     const auto start = std::chrono::steady_clock::now();
@@ -81,6 +207,7 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
     };
     RunResult result;
     if (profiling_enabled()) profile_geometry();
+    const int64_t load_start_ns = thread_cpu_ns();  // the main thread alone until the pipeline
 
     Mesh mesh = load_mesh(options.model_path, result.mesh);
     for (const std::string& w : result.mesh.warnings) note(w);
@@ -150,31 +277,6 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
                     settings.max_vertices_per_layer));
         });
     }
-    CarvableStream carvable(slicer, settings);
-    // Up to five threads, each a stretch of the stream handing layers on through a bounded
-    // queue: slicing and covers; the first carving iteration (C^1); the others (C^2..C^k);
-    // bridges; toolpaths and G-code. Each sweep stage must run in slice order, but C^1 of a
-    // slice only needs C^1 of the slice above, so the two sweep stages overlap like a
-    // wavefront. Fewer threads merge neighbouring stretches, cutting first where the work is
-    // most even (2: slicing and the sweep | the rest; 3: also after C^1; 4: also after the
-    // covers). On two cores the threads mostly just keep both busy; the total CPU is the limit.
-    // Each queue is declared after the stage its thread pulls from, so that when an error
-    // unwinds this frame the thread is joined before that stage is destroyed.
-    auto queue_after = [&settings](LayerSource& stage, int min_threads) {
-        return settings.threads >= min_threads ? std::make_unique<ThreadedSource>(stage)
-                                               : std::unique_ptr<ThreadedSource>{};
-    };
-    auto from = [](std::unique_ptr<ThreadedSource>& queue, LayerSource& stage) -> LayerSource& {
-        return queue ? static_cast<LayerSource&>(*queue) : stage;
-    };
-    auto sliced = queue_after(carvable, 4);
-    CarvingSweep first_cavity(from(sliced, carvable), settings, 0, 1);
-    auto first_carved = queue_after(first_cavity, 3);
-    CarvingSweep other_cavities(from(first_carved, first_cavity), settings, 1);
-    auto carved = queue_after(other_cavities, 2);
-    BridgeStage bridged(from(carved, other_cavities), settings);
-    auto supported = queue_after(bridged, 5);
-    LayerSource& supports = from(supported, bridged);
     // Every output of the run is complete under a temporary name before any is renamed into
     // place (group.commit_all() at the end); a run failing at any point leaves none of them,
     // and the folders of pictures are written into temporary folders moved in at the end.
@@ -214,58 +316,199 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
     const double h = settings.layer_height;
     int done = 0;
     double sliced_volume = 0;  // what the slices hold: the model's volume if the mesh is open
-    while (auto layer = supports.next()) {
-        for (const std::string& w : layer->warnings) note(w);
-        LayerToolpaths paths = plan_layer(*layer, settings);
-        if (svg) svg->add(*layer, &paths);
-        if (html) html->add_layer(*layer, paths);
-        if (raster) raster->add_layer(*layer);
-        writer.add_layer(paths);
 
-        sliced_volume += area_mm2(layer->outline) * h;
-        result.carvable_volume_mm3 += area_mm2(layer->carvable) * h;
-        for (size_t j = 0; j < layer->cavities.size(); ++j)
-            result.cavity_volume_mm3[j] += area_mm2(layer->cavities[j]) * h;
-        result.remainder_volume_mm3 += area_mm2(layer->remainder) * h;
-        result.cover_volume_mm3 += area_mm2(layer->covers) * h;
-        result.layer_material_mm3[layer->index] = toolpath_volume_mm3(paths, settings);
-        result.minima_found += layer->minima_found;
-        result.minima_unsupported += layer->minima_unsupported;
-        result.minima_held_by_wall += layer->minima_held_by_wall;
-        result.ceilings_found += layer->ceilings_found;
-        result.ceilings_unsupported += layer->ceilings_unsupported;
-        for (const Extrusion& e : paths.extrusions) {
-            const double v = to_mm(static_cast<Coord>(length(Paths{e.points}, e.closed))) *
-                             settings.nozzle * settings.layer_height * e.flow;
-            int f = static_cast<int>(e.feature);
-            if (e.feature == Feature::CavityWall) {
-                if (result.cavity_wall_mm3.size() <= size_t(e.cavity))
-                    result.cavity_wall_mm3.resize(e.cavity + 1, 0.0);
-                result.cavity_wall_mm3[e.cavity] += v;
+    // The layers flow top down through a oneTBB pipeline. Serial in-order filters for what
+    // carries state from one slice to the next: the slicer's active set; the covers' window
+    // of 2c+1 slices; one filter per carving iteration, so that the k iterations run as a
+    // wavefront (C^j at slice i needs C^j at slice i+1 and V^{j-1} at slice i only: iteration
+    // j of one slice overlaps iteration j+1 of the slice above); holding a slice back until
+    // the one below is carved (the bridges need it); the writers and sums at the end, in layer
+    // order so that every figure and byte is the same whatever the thread count. Between them
+    // parallel filters do what depends on its own slice or window only: the erosions of each
+    // slice, the covers of each layer, then bridges (against a copy of the slice below as the
+    // sweep left it), toolpaths, their G-code spill encoding, material, SVG and resin images.
+    const int k = sweep_iterations(settings);
+    const int c = std::max(0, settings.covers);
+    const int kSlice = 0, kErode = 1, kWindow = 2, kCovers = 3, kSweep = 4;
+    const int kHold = kSweep + k, kWork = kHold + 1, kSink = kWork + 1, filter_count = kSink + 1;
+    // The slicer's tokens, then c + 1 that flush the window (c layers) and the hold-back.
+    SpanLog span(profiling_enabled() ? layer_count + c + 1 : 0, filter_count);
+    span.serial.assign(filter_count, true);
+    span.serial[kErode] = span.serial[kCovers] = span.serial[kWork] = false;
+
+    int next_seq = 0, ends_left = c + 1;
+    auto source = tbb::make_filter<void, TokenPtr>(tbb::filter_mode::serial_in_order,
+                                                   [&](tbb::flow_control& fc) -> TokenPtr {
+                                                       auto t = std::make_shared<Token>();
+                                                       t->seq = next_seq++;
+                                                       SpanTimer timer(span, t->seq, kSlice);
+                                                       if (auto slice = slicer.next()) {
+                                                           t->slice = std::move(*slice);
+                                                       } else if (ends_left-- > 0) {
+                                                           t->end = true;
+                                                       } else {
+                                                           fc.stop();
+                                                           return {};
+                                                       }
+                                                       return t;
+                                                   });
+    auto erode = tbb::make_filter<TokenPtr, TokenPtr>(
+        tbb::filter_mode::parallel, [&](TokenPtr t) -> TokenPtr {
+            if (!t->slice) return t;
+            SpanTimer timer(span, t->seq, kErode);
+            t->cover =
+                std::make_shared<const CoverSlice>(cover_slice(std::move(*t->slice), settings));
+            t->slice.reset();
+            return t;
+        });
+    // Layer i is ready once slice i - c is in (or the slicer is done); the token that brought
+    // that slice carries layer i on, with the window's slices shared, not copied.
+    std::deque<std::shared_ptr<const CoverSlice>> window;  // top down
+    int next_layer = layer_count - 1;
+    auto gather = tbb::make_filter<TokenPtr, TokenPtr>(
+        tbb::filter_mode::serial_in_order, [&](TokenPtr t) -> TokenPtr {
+            SpanTimer timer(span, t->seq, kWindow);
+            if (t->cover) window.push_back(std::move(t->cover));
+            const bool ready =
+                next_layer >= 0 && (t->end || window.back()->slice.index <= next_layer - c);
+            if (!ready) return t->end ? t : nullptr;
+            const int i = next_layer--;
+            while (!window.empty() && window.front()->slice.index > i + c) window.pop_front();
+            t->end = false;
+            t->layer.index = i;
+            t->window.assign(window.begin(), window.end());
+            return t;
+        });
+    auto covers = tbb::make_filter<TokenPtr, TokenPtr>(
+        tbb::filter_mode::parallel, [&](TokenPtr t) -> TokenPtr {
+            if (!t || t->end) return t;
+            SpanTimer timer(span, t->seq, kCovers);
+            std::vector<const CoverSlice*> slices;
+            for (const auto& e : t->window) slices.push_back(e.get());
+            t->layer = carvable_layer(t->layer.index, slices, settings);
+            t->window.clear();
+            return t;
+        });
+    tbb::filter<void, TokenPtr> chain = source & erode & gather & covers;
+    // CarvingSweep pulls its layers from a source; each iteration's filter hands it the one
+    // layer it is to carve.
+    std::vector<std::unique_ptr<HandOver>> feeds(k);
+    std::vector<std::unique_ptr<CarvingSweep>> sweeps(k);
+    for (int j = 0; j < k; ++j) {
+        feeds[j] = std::make_unique<HandOver>();
+        sweeps[j] = std::make_unique<CarvingSweep>(*feeds[j], settings, j, 1);
+        chain = chain & tbb::make_filter<TokenPtr, TokenPtr>(
+                            tbb::filter_mode::serial_in_order, [&, j](TokenPtr t) -> TokenPtr {
+                                if (!t || t->end) return t;
+                                SpanTimer timer(span, t->seq, kSweep + j);
+                                feeds[j]->put(std::move(t->layer));
+                                t->layer = std::move(*sweeps[j]->next());
+                                return t;
+                            });
+    }
+    TokenPtr held;  // slice i + 1, waiting for slice i
+    auto hold = tbb::make_filter<TokenPtr, TokenPtr>(
+        tbb::filter_mode::serial_in_order, [&](TokenPtr t) -> TokenPtr {
+            if (!t) return t;
+            TokenPtr out = std::move(held);
+            SpanTimer timer(span, out ? out->seq : t->seq, kHold);
+            if (out && !t->end) {
+                // A copy: the parallel filter changes slice i's cavities (its own bridges)
+                // while slice i + 1's bridges read them as they were.
+                out->below.emplace();
+                out->below->cavities = t->layer.cavities;
             }
-            if (e.feature == Feature::Cover && e.cavity < 0) f = -1;
-            if (f >= 0)
-                result.feature_mm3[f] += v;
-            else
-                result.remainder_fill_mm3 += v;
-        }
-        for (const Bridge& b : layer->bridges) {
-            ++result.bridges;
-            if (b.cover) ++result.cover_bridges;
-            result.bridge_length_mm += to_mm(static_cast<Coord>(length(b.lines, false)));
-        }
-        ++done;
-        const int tenth = std::max(1, layer_count / 10);
-        if (options.progress && options.progress_bar && (done % 10 == 0 || done == layer_count)) {
-            const double t =
-                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-            progress_bar(done, layer_count, t);
-        } else if (options.progress && !options.progress_bar &&
-                   (done % tenth == 0 || done == layer_count)) {
-            const double t =
-                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-            progress_line(done, layer_count, t);
-        }
+            held = t->end ? nullptr : std::move(t);
+            return out;  // null for the top slice's token: nothing to release yet
+        });
+    const BridgeOptions bridging = bridge_options(settings);
+    auto work = tbb::make_filter<TokenPtr, TokenPtr>(
+        tbb::filter_mode::parallel, [&](TokenPtr t) -> TokenPtr {
+            if (!t) return t;
+            SpanTimer timer(span, t->seq, kWork);
+            {
+                StageTimer bridges_timer(Stage::kBridges);
+                add_bridges(t->layer, t->below ? &*t->below : nullptr, bridging);
+            }
+            t->below.reset();
+            t->paths = plan_layer(t->layer, settings);
+            if (options.in_parallel_stage) options.in_parallel_stage(t->layer.index);
+            writer.add_layer(t->paths);  // thread-safe: the spill is indexed by layer
+            // Pictures of one layer each, to files of their own (the HTML report stays in the
+            // serial filter: it shares a size budget between the layers in the order they come).
+            if (svg) svg->add(t->layer, &t->paths);
+            if (raster) raster->add_layer(t->layer);
+            t->material = toolpath_volume_mm3(t->paths, settings);
+            return t;
+        });
+    auto sink =
+        tbb::make_filter<TokenPtr, void>(tbb::filter_mode::serial_in_order, [&](TokenPtr t) {
+            if (!t) return;
+            SpanTimer timer(span, t->seq, kSink);
+            const LayerPartition& layer = t->layer;
+            for (const std::string& w : layer.warnings) note(w);
+            if (html) html->add_layer(layer, t->paths);
+
+            sliced_volume += area_mm2(layer.outline) * h;
+            result.carvable_volume_mm3 += area_mm2(layer.carvable) * h;
+            for (size_t j = 0; j < layer.cavities.size(); ++j)
+                result.cavity_volume_mm3[j] += area_mm2(layer.cavities[j]) * h;
+            result.remainder_volume_mm3 += area_mm2(layer.remainder) * h;
+            result.cover_volume_mm3 += area_mm2(layer.covers) * h;
+            result.layer_material_mm3[layer.index] = t->material;
+            result.minima_found += layer.minima_found;
+            result.minima_unsupported += layer.minima_unsupported;
+            result.minima_held_by_wall += layer.minima_held_by_wall;
+            result.ceilings_found += layer.ceilings_found;
+            result.ceilings_unsupported += layer.ceilings_unsupported;
+            for (const Extrusion& e : t->paths.extrusions) {
+                const double v = to_mm(static_cast<Coord>(length(Paths{e.points}, e.closed))) *
+                                 settings.nozzle * settings.layer_height * e.flow;
+                int f = static_cast<int>(e.feature);
+                if (e.feature == Feature::CavityWall) {
+                    if (result.cavity_wall_mm3.size() <= size_t(e.cavity))
+                        result.cavity_wall_mm3.resize(e.cavity + 1, 0.0);
+                    result.cavity_wall_mm3[e.cavity] += v;
+                }
+                if (e.feature == Feature::Cover && e.cavity < 0) f = -1;
+                if (f >= 0)
+                    result.feature_mm3[f] += v;
+                else
+                    result.remainder_fill_mm3 += v;
+            }
+            for (const Bridge& b : layer.bridges) {
+                ++result.bridges;
+                if (b.cover) ++result.cover_bridges;
+                result.bridge_length_mm += to_mm(static_cast<Coord>(length(b.lines, false)));
+            }
+            ++done;
+            const int tenth = std::max(1, layer_count / 10);
+            if (options.progress && options.progress_bar &&
+                (done % 10 == 0 || done == layer_count)) {
+                const double t_s =
+                    std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+                progress_bar(done, layer_count, t_s);
+            } else if (options.progress && !options.progress_bar &&
+                       (done % tenth == 0 || done == layer_count)) {
+                const double t_s =
+                    std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+                progress_line(done, layer_count, t_s);
+            }
+        });
+
+    const double load_s = double(thread_cpu_ns() - load_start_ns) * 1e-9;
+    const int threads = thread_count(settings);
+    // Tokens bound the layers in flight, so memory stays flat in the model's height whatever
+    // the thread count: room for one layer in each serial filter plus two per thread for the
+    // parallel one, whose layers vary tenfold in cost (fandisk's face tops).
+    const size_t tokens = size_t(filter_count) + 2 * size_t(threads);
+    {
+        tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(threads));
+        tbb::task_arena arena(threads);
+        // An exception in any filter cancels the pipeline; parallel_pipeline waits for the
+        // filters still running and rethrows it here, with its type and message, before
+        // this frame's stages and writers are destroyed.
+        arena.execute([&] { tbb::parallel_pipeline(tokens, chain & hold & work & sink); });
     }
     for (double v : result.cavity_volume_mm3)
         if (v > 0) ++result.cavities;
@@ -286,7 +529,9 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
         fmt::format("model_volume_mm3 = {:.1f}", result.mesh.volume_mm3),
         fmt::format("cavities = {}", result.cavities),
     };
+    const int64_t finish_start_ns = thread_cpu_ns();
     result.print = writer.finish(header);
+    double finish_s = double(thread_cpu_ns() - finish_start_ns) * 1e-9;
     result.processing_time_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (options.check_output) {
@@ -300,6 +545,7 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
         result.check_time_s =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - check_start).count();
     }
+    const int64_t writers_start_ns = thread_cpu_ns();  // the resin zip and the HTML: serial too
     if (raster) raster->finish();
     result.peak_memory_mb = peak_memory_mb();
     if (html) html->finish(result, stats_json(result, settings));
@@ -309,7 +555,14 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
     if (svg_dir) group.hold(std::move(svg_dir));
     if (raster_dir) group.hold(std::move(raster_dir));
     group.commit_all();
-    if (profiling_enabled()) std::fputs(profile_table().c_str(), stderr);
+    finish_s += double(thread_cpu_ns() - writers_start_ns) * 1e-9;
+    if (profiling_enabled()) {
+        std::vector<std::string> names{"slice", "erode", "window", "covers"};
+        for (int j = 1; j <= k; ++j) names.push_back(fmt::format("sweep C{}", j));
+        names.insert(names.end(), {"hold back", "bridges+paths", "writers"});
+        std::fputs(profile_table().c_str(), stderr);
+        std::fputs(span_table(span, names, load_s, finish_s, threads).c_str(), stderr);
+    }
     return result;
 }
 

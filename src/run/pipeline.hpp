@@ -30,9 +30,15 @@ struct RunOptions {
     // cat 1.7 s -> 3.4 s, skull 3.8 s -> 8.8 s; wall on a loaded 2-core machine 3.0 -> 7.6 s
     // and 9.3 -> 17.6 s), far above the 5 % that would make it worth doing every time.
     bool check_output = false;
+    // Called on a worker thread for each layer, in the parallel filter after its toolpaths
+    // are planned. Tests throw from it to see an error in a parallel stage reach the caller.
+    std::function<void(int layer)> in_parallel_stage;
 };
 
 RunResult run_slice(const Settings& settings, const RunOptions& options);
+
+// The threads a run uses: --threads, or every core the process may run on.
+int thread_count(const Settings& settings);
 
 double peak_memory_mb();
 

@@ -11,11 +11,15 @@
 // in last_stats()); nothing throws.
 #include "skeleton/skeleton.hpp"
 
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
+#include <iterator>
 #include <utility>
 #include <vector>
 
@@ -138,7 +142,38 @@ Paths medial_axis(const Paths& region, const SkeletonOptions& options, const Axi
     const std::vector<Paths> comps =
         prepare_components(region, std::max(1.0, double(options.max_arc_error)), &ws.stats.mended);
     ws.stats.components = int(comps.size());
-    for (const Paths& comp : comps) axis_of_component(comp, options, trace, ws, out);
+    if (comps.size() < 2) {
+        for (const Paths& comp : comps) axis_of_component(comp, options, trace, ws, out);
+        return out;
+    }
+    // The axis of a component depends on its own contours only (the boundary nearest to a
+    // point inside it is its own), so the components are done as parallel tasks, each in the
+    // workspace of the thread that runs it, and joined in component order: the same axis
+    // whatever the scheduling. Late carving iterations see dozens of components in a slice,
+    // and the sweep that waits for them is the run's critical path. Isolated, so that a thread
+    // waiting here only takes these tasks, not another layer's (which would hold up this one).
+    std::vector<Paths> axes(comps.size());
+    std::vector<SkeletonStats> stats(comps.size());
+    tbb::this_task_arena::isolate([&] {
+        tbb::parallel_for(size_t(0), comps.size(), [&](size_t i) {
+            Workspace& own = workspace();  // the caller's too when it runs a task itself
+            SkeletonStats outer = std::move(own.stats);
+            own.stats = SkeletonStats{};
+            axis_of_component(comps[i], options, trace, own, axes[i]);
+            stats[i] = std::move(own.stats);
+            own.stats = std::move(outer);
+        });
+    });
+    for (size_t i = 0; i < comps.size(); ++i) {
+        std::move(axes[i].begin(), axes[i].end(), std::back_inserter(out));
+        SkeletonStats& t = ws.stats;
+        t.retries += stats[i].retries;
+        t.abandoned += stats[i].abandoned;
+        t.nodes += stats[i].nodes;
+        t.edges += stats[i].edges;
+        t.rejections.insert(t.rejections.end(), stats[i].rejections.begin(),
+                            stats[i].rejections.end());
+    }
     return out;
 }
 
