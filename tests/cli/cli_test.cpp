@@ -155,6 +155,7 @@ TEST(Cli, StatsHaveTheContractFields) {
 }
 
 TEST(Cli, StatsCheckMeasuresTheOutputOnTheLoadedMesh) {
+    CARVE_NEED_MODEL("synthetic/fig3_cube_indent.stl");
     const fs::path gcode = scratch() / "fig3c.gcode", stats = scratch() / "fig3c.json";
     const std::string mesh = model("synthetic/fig3_cube_indent.stl");
     const CarveRun r = run_carve("slice " + mesh + " -o " + gcode.string() + " --stats " +
