@@ -14,7 +14,10 @@
 #include <cstdio>
 #include <deque>
 #include <memory>
+#include <mutex>
 #include <optional>
+#include <unordered_set>
+#include <utility>
 #include <vector>
 
 #include "base/atomic_file.hpp"
@@ -92,9 +95,41 @@ struct Token {
     LayerToolpaths paths;
     double material = 0;
 };
-// Shared pointers because a cancelled pipeline drops the tokens it holds: they free
-// themselves.
-using TokenPtr = std::shared_ptr<Token>;
+using TokenPtr = Token*;
+
+// Owns every token. A cancelled parallel_pipeline (an exception in a filter) does not destroy
+// the items it holds between filters: LeakSanitizer found the shared_ptr tokens of a failed
+// run never freed. So the filters pass plain pointers, a token is freed where the stream drops
+// it, and whatever a cancelled run left in flight is freed with the pool.
+class TokenPool {
+  public:
+    TokenPool() = default;
+    TokenPool(const TokenPool&) = delete;
+    TokenPool& operator=(const TokenPool&) = delete;
+    ~TokenPool() {
+        for (Token* t : live_) delete t;
+    }
+    Token* make() {
+        auto t = std::make_unique<Token>();
+        std::lock_guard lock(mutex_);
+        live_.insert(t.get());
+        return t.release();
+    }
+    std::nullptr_t drop(Token* t) {
+        if (t) {
+            {
+                std::lock_guard lock(mutex_);
+                live_.erase(t);
+            }
+            delete t;
+        }
+        return nullptr;
+    }
+
+  private:
+    std::mutex mutex_;
+    std::unordered_set<Token*> live_;
+};
 
 // CarvingSweep pulls layers from a source; this one holds the single layer that a filter
 // hands it.
@@ -337,9 +372,10 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
     span.serial[kErode] = span.serial[kCovers] = span.serial[kWork] = false;
 
     int next_seq = 0, ends_left = c + 1;
+    TokenPool pool;  // before the filters and their state: freed after them
     auto source = tbb::make_filter<void, TokenPtr>(tbb::filter_mode::serial_in_order,
                                                    [&](tbb::flow_control& fc) -> TokenPtr {
-                                                       auto t = std::make_shared<Token>();
+                                                       TokenPtr t = pool.make();
                                                        t->seq = next_seq++;
                                                        SpanTimer timer(span, t->seq, kSlice);
                                                        if (auto slice = slicer.next()) {
@@ -348,7 +384,7 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
                                                            t->end = true;
                                                        } else {
                                                            fc.stop();
-                                                           return {};
+                                                           return pool.drop(t);
                                                        }
                                                        return t;
                                                    });
@@ -371,7 +407,7 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
             if (t->cover) window.push_back(std::move(t->cover));
             const bool ready =
                 next_layer >= 0 && (t->end || window.back()->slice.index <= next_layer - c);
-            if (!ready) return t->end ? t : nullptr;
+            if (!ready) return t->end ? t : pool.drop(t);
             const int i = next_layer--;
             while (!window.empty() && window.front()->slice.index > i + c) window.pop_front();
             t->end = false;
@@ -406,11 +442,11 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
                                 return t;
                             });
     }
-    TokenPtr held;  // slice i + 1, waiting for slice i
+    TokenPtr held = nullptr;  // slice i + 1, waiting for slice i
     auto hold = tbb::make_filter<TokenPtr, TokenPtr>(
         tbb::filter_mode::serial_in_order, [&](TokenPtr t) -> TokenPtr {
             if (!t) return t;
-            TokenPtr out = std::move(held);
+            TokenPtr out = std::exchange(held, nullptr);
             SpanTimer timer(span, out ? out->seq : t->seq, kHold);
             if (out && !t->end) {
                 // A copy: the parallel filter changes slice i's cavities (its own bridges)
@@ -418,7 +454,7 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
                 out->below.emplace();
                 out->below->cavities = t->layer.cavities;
             }
-            held = t->end ? nullptr : std::move(t);
+            held = t->end ? pool.drop(t) : t;
             return out;  // null for the top slice's token: nothing to release yet
         });
     const BridgeOptions bridging = bridge_options(settings);
@@ -444,6 +480,11 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
     auto sink =
         tbb::make_filter<TokenPtr, void>(tbb::filter_mode::serial_in_order, [&](TokenPtr t) {
             if (!t) return;
+            struct DropAtEnd {
+                TokenPool& pool;
+                Token* t;
+                ~DropAtEnd() { pool.drop(t); }
+            } drop_at_end{pool, t};
             SpanTimer timer(span, t->seq, kSink);
             const LayerPartition& layer = t->layer;
             for (const std::string& w : layer.warnings) note(w);
