@@ -65,11 +65,14 @@ void progress_line(int done, int total, double elapsed_s) {
     std::fflush(stderr);
 }
 
-double toolpath_volume_mm3(const LayerToolpaths& paths, const Settings& settings) {
-    double v = 0;
+// The volume of each extrusion of a layer, in print order: the layer's material and the
+// material by feature are both summed from these, so each path's length is taken once.
+std::vector<double> extrusion_volumes_mm3(const LayerToolpaths& paths, const Settings& settings) {
+    std::vector<double> v;
+    v.reserve(paths.extrusions.size());
     for (const Extrusion& e : paths.extrusions)
-        v += to_mm(static_cast<Coord>(length(Paths{e.points}, e.closed))) * settings.nozzle *
-             settings.layer_height * e.flow;
+        v.push_back(to_mm(static_cast<Coord>(length(Paths{e.points}, e.closed))) * settings.nozzle *
+                    settings.layer_height * e.flow);
     return v;
 }
 
@@ -93,7 +96,8 @@ struct Token {
     LayerPartition layer;
     std::optional<LayerPartition> below;  // the cavities of slice i - 1 as the sweep left them
     LayerToolpaths paths;
-    double material = 0;
+    std::vector<double> volumes;  // of each extrusion of `paths`, mm^3
+    double material = 0;          // their sum
 };
 using TokenPtr = Token*;
 
@@ -474,7 +478,8 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
             // serial filter: it shares a size budget between the layers in the order they come).
             if (svg) svg->add(t->layer, &t->paths);
             if (raster) raster->add_layer(t->layer);
-            t->material = toolpath_volume_mm3(t->paths, settings);
+            t->volumes = extrusion_volumes_mm3(t->paths, settings);
+            for (double v : t->volumes) t->material += v;
             return t;
         });
     auto sink =
@@ -502,9 +507,9 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
             result.minima_held_by_wall += layer.minima_held_by_wall;
             result.ceilings_found += layer.ceilings_found;
             result.ceilings_unsupported += layer.ceilings_unsupported;
-            for (const Extrusion& e : t->paths.extrusions) {
-                const double v = to_mm(static_cast<Coord>(length(Paths{e.points}, e.closed))) *
-                                 settings.nozzle * settings.layer_height * e.flow;
+            for (size_t i = 0; i < t->paths.extrusions.size(); ++i) {
+                const Extrusion& e = t->paths.extrusions[i];
+                const double v = t->volumes[i];
                 int f = static_cast<int>(e.feature);
                 if (e.feature == Feature::CavityWall) {
                     if (result.cavity_wall_mm3.size() <= size_t(e.cavity))
