@@ -16,6 +16,7 @@
 
 #include "base/error.hpp"
 #include "base/stage_timer.hpp"
+#include "geometry/simplify.hpp"
 
 namespace carve {
 
@@ -23,6 +24,12 @@ namespace {
 
 constexpr uint64_t kEmptyKey = std::numeric_limits<uint64_t>::max();
 constexpr uint32_t kNone = std::numeric_limits<uint32_t>::max();
+// Slice contours are simplified within tolerance_ (12.5 um, PrusaSlicer's G-code resolution);
+// an outline whose mean segment is still shorter than kCoarsestSegment is simplified more, up
+// to kMaxTolerance (a quarter of a 0.4 mm line, which the nozzle smears anyway).
+constexpr double kCoarsestSegment = 50.0;
+constexpr double kMaxTolerance = 100.0;
+constexpr size_t kFewVertices = 64;  // too few to be worth the coarse pass
 // Open chains beyond this count are closed on themselves instead of matched (quadratic cost).
 constexpr size_t kMaxGreedyChains = 4096;
 
@@ -139,6 +146,25 @@ class PlaneSlicer {
         for (size_t i = 0; i < n_loops_; ++i) {
             Path& p = pool_[i];
             drop_collinear(p);
+            if (tolerance_ > 0 && p.size() > 3) {
+                // A contour sampled more finely than any printer moves (a scan's noise) costs
+                // every later Clipper pass per vertex: the tolerance doubles, up to a quarter
+                // of a line width, until its vertices are kCoarsestSegment apart on average
+                // along the outline's smooth length (its length at the coarsest tolerance: a
+                // zigzag's own length would count the noise as detail).
+                double tolerance = tolerance_;
+                douglas_peucker(p, true, tolerance, scratch_, simple_);
+                if (simple_.size() > kFewVertices) {
+                    douglas_peucker(p, true, kMaxTolerance, scratch_, coarse_);
+                    const double smooth_length = perimeter(coarse_);
+                    while (tolerance<kMaxTolerance&& double(simple_.size()) * kCoarsestSegment>
+                               smooth_length) {
+                        tolerance = std::min(2 * tolerance, kMaxTolerance);
+                        douglas_peucker(p, true, tolerance, scratch_, simple_);
+                    }
+                }
+                p.swap(simple_);
+            }
             if (p.size() >= 3) clipper.AddPath(p, ClipperLib::ptSubject, true);
         }
         Paths region;
@@ -160,6 +186,16 @@ class PlaneSlicer {
 
     // std::llround without the library call (half away from zero, as to_units does).
     static Coord round_units(double u) { return u >= 0 ? Coord(u + 0.5) : -Coord(-u + 0.5); }
+
+    static double perimeter(const Path& p) {
+        double sum = 0;
+        for (size_t i = 0; i < p.size(); ++i) {
+            const Point& a = p[i];
+            const Point& b = p[i + 1 < p.size() ? i + 1 : 0];
+            sum += std::hypot(double(b.X - a.X), double(b.Y - a.Y));
+        }
+        return sum;
+    }
 
     // Squared distance from q to the segment a-b, in square units.
     static double dist2_to_segment(const Point& q, const Point& a, const Point& b) {
@@ -308,6 +344,9 @@ class PlaneSlicer {
         }
     }
 
+    double tolerance_ = 12.5;
+    SimplifyScratch scratch_;
+    Path simple_, coarse_;
     std::vector<Segment> segments_;
     std::vector<uint64_t> keys_;
     std::vector<uint32_t> heads_;
