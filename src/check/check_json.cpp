@@ -1,0 +1,89 @@
+// The JSON form of carve check's figures (the `--json` output and the stats' "check").
+#include "check/gcode_analysis.hpp"
+
+namespace carve {
+
+nlohmann::json to_json(const GcodeAnalysis& a, bool with_layers) {
+    nlohmann::json j = {
+        {"generator", a.generator},
+        {"layers", a.layers},
+        {"first_z_mm", a.first_z_mm},
+        {"last_z_mm", a.last_z_mm},
+        {"filament_diameter_mm", a.filament_diameter_mm},
+        {"filament_diameter_source", a.filament_diameter_source},
+        {"filament_length_mm", a.filament_length_mm},
+        {"extruded_volume_mm3", a.extruded_volume_mm3},
+        {"path_length_mm", a.path_length_mm},
+        {"travel_length_mm", a.travel_length_mm},
+        {"mean_line_width_mm", a.mean_line_width_mm},
+        {"bead_model", a.bead_model},
+        {"footprint_area_mm2", a.footprint_area_mm2},
+        {"unsupported_area_mm2", a.unsupported_area_mm2},
+        {"far_unsupported_area_mm2", a.far_unsupported_area_mm2},
+        {"unsupported_percent", 100 * a.unsupported_fraction},
+        {"far_unsupported_percent", 100 * a.far_unsupported_fraction},
+        {"estimated_time_from_header_s", a.estimated_time_from_header_s},
+        {"filament_used_from_header_mm", a.filament_used_from_header_mm},
+        {"moves", a.moves},
+        {"extruding_moves", a.extruding_moves},
+        {"retractions", a.retractions},
+        {"firmware_retractions", a.firmware_retractions},
+        {"stick_time_s", a.stick_time_s},
+        {"arcs", a.arcs},
+        {"z_reversals", a.z_reversals},
+        {"model_checked", a.model_checked},
+    };
+    {
+        double total = 0;
+        for (const auto& [type, v] : a.volume_by_type_mm3) total += v;
+        nlohmann::json types = nlohmann::json::object();
+        for (const auto& [type, v] : a.volume_by_type_mm3)
+            types[type] = {{"volume_mm3", v}, {"percent", total > 0 ? 100 * v / total : 0.0}};
+        j["material_by_type"] = std::move(types);
+    }
+    if (a.model_checked) {
+        j["outside_area_mm2"] = a.outside_area_mm2;
+        j["max_outside_model_mm"] = a.max_outside_model_mm;
+        j["hanging_inside_mm2"] = a.hanging_inside_mm2;
+        j["hanging_overhang_mm2"] = a.hanging_overhang_mm2;
+        j["travel_inside_mm"] = a.travel_inside_mm;
+        j["travel_outside_mm"] = a.travel_outside_mm;
+        j["wall_crossings"] = a.wall_crossings;
+        j["model_tolerance_mm"] = a.model_tolerance_mm;
+        if (!a.mesh_alignment.empty()) {
+            j["mesh_alignment"] = a.mesh_alignment;
+            j["mesh_offset_mm"] = {a.mesh_offset_mm[0], a.mesh_offset_mm[1], a.mesh_offset_mm[2]};
+            if (a.mesh_extent_mismatch_mm >= 0)
+                j["mesh_extent_mismatch_mm"] = a.mesh_extent_mismatch_mm;
+        }
+    }
+    if (with_layers) {
+        nlohmann::json layers = nlohmann::json::array();
+        for (const LayerFigures& l : a.per_layer) {
+            nlohmann::json lj = {{"z_mm", l.z_mm},
+                                 {"height_mm", l.height_mm},
+                                 {"extruded_volume_mm3", l.extruded_volume_mm3},
+                                 {"path_length_mm", l.path_length_mm},
+                                 {"footprint_area_mm2", l.footprint_area_mm2},
+                                 {"unsupported_area_mm2", l.unsupported_area_mm2},
+                                 {"far_unsupported_area_mm2", l.far_unsupported_area_mm2},
+                                 {"retractions", l.retractions},
+                                 {"travel_length_mm", l.travel_length_mm},
+                                 {"stick_time_s", l.stick_time_s}};
+            if (a.model_checked) {
+                lj["outside_area_mm2"] = l.outside_area_mm2;
+                lj["max_outside_model_mm"] = l.max_outside_model_mm;
+                lj["hanging_inside_mm2"] = l.hanging_inside_mm2;
+                lj["hanging_overhang_mm2"] = l.hanging_overhang_mm2;
+                lj["travel_inside_mm"] = l.travel_inside_mm;
+                lj["travel_outside_mm"] = l.travel_outside_mm;
+                lj["wall_crossings"] = l.wall_crossings;
+            }
+            layers.push_back(std::move(lj));
+        }
+        j["per_layer"] = std::move(layers);
+    }
+    return j;
+}
+
+}  // namespace carve
