@@ -49,7 +49,14 @@ class Resolver {
   private:
     std::map<std::string, IniValue> resolve(const std::string& kind, const std::string& name,
                                             std::vector<std::string>& chain) {
+        // Each section once (a diamond of parents would otherwise be resolved exponentially
+        // often), and a bounded depth: the vendor bundles go four levels deep.
+        const std::string id = kind + ":" + name;
+        if (auto done = resolved_.find(id); done != resolved_.end()) return done->second;
         const Section& s = kinds_.at(kind).at(name);
+        if (chain.size() >= kMaxDepth)
+            throw InputError(fmt::format("{}:{}: [{}:{}] inherits more than {} levels deep", path_,
+                                         s.line, kind, name, kMaxDepth));
         chain.push_back(name);
         std::map<std::string, IniValue> out;
         if (auto it = s.keys.find("inherits"); it != s.keys.end()) {
@@ -82,11 +89,14 @@ class Resolver {
         for (const auto& [k, v] : s.keys)
             if (k != "inherits") out[k] = v;
         chain.pop_back();
+        resolved_[id] = out;
         return out;
     }
 
+    static constexpr size_t kMaxDepth = 64;
     const std::string& path_;
     const std::map<std::string, Sections>& kinds_;
+    std::map<std::string, std::map<std::string, IniValue>> resolved_;
 };
 
 std::string names_of(const Sections& sections) {

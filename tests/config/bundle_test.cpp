@@ -306,3 +306,21 @@ TEST(Profile, OneNoteNamesTheIgnoredKeysAndOneTheCarvingStructure) {
     EXPECT_TRUE(has(notes[0], "carve ignores: external_perimeter_speed (50%)")) << notes[0];
     EXPECT_FALSE(has(notes[0], "raft_layers"));
 }
+
+TEST(Bundle, DeepAndDiamondInheritanceStaysBounded) {
+    // 40 levels, each inheriting the next one twice over (a diamond): resolved once per section.
+    std::string diamond = "[print:p0]\nlayer_height = 0.1\n";
+    for (int i = 1; i <= 40; ++i)
+        diamond += "[print:p" + std::to_string(i) + "]\ninherits = p" + std::to_string(i - 1) +
+                   "; p" + std::to_string(i - 1) + "\n";
+    diamond += "[presets]\nprint = p40\n";
+    EXPECT_DOUBLE_EQ(load(write_ini("diamond.ini", diamond)).layer_height, 0.1);
+    // Deeper than 64 levels: refused with the section named, not a stack overflow.
+    std::string deep = "[print:q0]\n";
+    for (int i = 1; i <= 100; ++i)
+        deep += "[print:q" + std::to_string(i) + "]\ninherits = q" + std::to_string(i - 1) + "\n";
+    deep += "[presets]\nprint = q100\n";
+    const std::string e = load_error(write_ini("deep.ini", deep));
+    EXPECT_TRUE(has(e, "levels deep")) << e;
+    EXPECT_TRUE(has(e, "[print:q")) << e;
+}
