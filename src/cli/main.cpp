@@ -132,6 +132,21 @@ int run(int argc, char** argv) {
     slice->add_option("--load", profile_path,
                       "PrusaSlicer .ini profile with printer and filament settings (options given "
                       "on the command line win) [none]");
+    carve::ProfileOptions profile_options;
+    slice->add_option(
+        "--printer-profile", profile_options.choice.printer,
+        "With a --load bundle: its [printer:NAME] to use [the bundle's presets section]");
+    slice->add_option(
+        "--filament-profile", profile_options.choice.filament,
+        "With a --load bundle: its [filament:NAME] to use [the bundle's presets section, "
+        "else the printer's default_filament_profile]");
+    slice->add_option(
+        "--print-profile", profile_options.choice.print,
+        "With a --load bundle: its [print:NAME] to use [the bundle's presets section, "
+        "else the printer's default_print_profile]");
+    slice->add_flag("--profile-shells", profile_options.profile_shells,
+                    "Take covers and shells from the --load profile's top_solid_layers, "
+                    "bottom_solid_layers and perimeters [off: carve's own]");
     slice->add_option("--printer", printer_name,
                       "Built-in printer preset: " + carve::printer_preset_names() + " [generic]");
     slice
@@ -316,8 +331,15 @@ int run(int argc, char** argv) {
         // Precedence: built-in printer, then profile file, then preset, then explicit options;
         // the options were only collected while parsing, so they are applied last and win.
         if (!printer_name.empty()) carve::apply_printer_preset(printer_name, settings);
+        if (profile_path.empty() &&
+            (!profile_options.choice.printer.empty() || !profile_options.choice.filament.empty() ||
+             !profile_options.choice.print.empty() || profile_options.profile_shells))
+            return fail(
+                "--printer-profile, --filament-profile, --print-profile and "
+                "--profile-shells need --load",
+                carve::kExitUsage);
         if (!profile_path.empty())
-            profile_notes = carve::load_prusa_profile(profile_path, settings);
+            profile_notes = carve::load_prusa_profile(profile_path, settings, profile_options);
         if (preset == "2c0s") settings.covers = 2, settings.shells = 0;
         if (preset == "3c1s") settings.covers = 3, settings.shells = 1;
         for (const auto& [spec, text] : given)
@@ -328,8 +350,13 @@ int run(int argc, char** argv) {
         // Placeholders of the custom G-code that carve cannot evaluate: said once, up front.
         const std::map<std::string, double> at_end{
             {"max_layer_z", 0}, {"layer_z", 0}, {"layer_num", 0}};
-        for (const auto& [name, text] : {std::pair{"start_gcode", &settings.start_gcode},
-                                         std::pair{"end_gcode", &settings.end_gcode}})
+        for (const auto& [name, text] :
+             {std::pair{"start_gcode", &settings.start_gcode},
+              std::pair{"end_gcode", &settings.end_gcode},
+              std::pair{"start_filament_gcode", &settings.start_filament_gcode},
+              std::pair{"end_filament_gcode", &settings.end_filament_gcode},
+              std::pair{"before_layer_gcode", &settings.before_layer_gcode},
+              std::pair{"layer_gcode", &settings.layer_gcode}})
             for (const std::string& u :
                  carve::expand_custom_gcode(*text, settings, at_end).unresolved)
                 if (!quiet) std::fprintf(stderr, "carve: note: %s: %s\n", name, u.c_str());

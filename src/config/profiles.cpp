@@ -9,10 +9,12 @@
 #include <functional>
 #include <map>
 #include <optional>
+#include <set>
 #include <sstream>
 
 #include "base/error.hpp"
 #include "base/numbers.hpp"
+#include "config/bundle.hpp"
 #include "config/setting_table.hpp"
 
 namespace carve {
@@ -106,6 +108,105 @@ std::string unescape(const std::string& v) {
     return out;
 }
 
+bool flag(const std::string& key, const std::string& value) {
+    const std::string b = trim(value.substr(0, value.find(',')));
+    if (b != "0" && b != "1")
+        throw InputError(fmt::format("profile key '{}': '{}' is not 0 or 1", key, value));
+    return b == "1";
+}
+
+// Keys of PrusaSlicer 2.5 that change what is printed. Those carve does not read are named in
+// the loading note when the selected presets set them to something other than off or zero;
+// the rest of a profile (names, notes, compatibility rules, multi-material) does not change
+// carve's print.
+const char* const kPrintKeys[] = {"bridge_fan_speed",
+                                  "cooling",
+                                  "disable_fan_first_layers",
+                                  "fan_always_on",
+                                  "fan_below_layer_time",
+                                  "full_fan_speed_layer",
+                                  "max_fan_speed",
+                                  "min_fan_speed",
+                                  "min_print_speed",
+                                  "slowdown_below_layer_time",
+                                  "machine_limits_usage",
+                                  "machine_max_acceleration_e",
+                                  "machine_max_acceleration_x",
+                                  "machine_max_acceleration_y",
+                                  "machine_max_acceleration_z",
+                                  "machine_max_acceleration_retracting",
+                                  "machine_max_feedrate_e",
+                                  "machine_max_feedrate_x",
+                                  "machine_max_feedrate_y",
+                                  "machine_max_feedrate_z",
+                                  "machine_max_jerk_e",
+                                  "machine_max_jerk_x",
+                                  "machine_max_jerk_y",
+                                  "machine_max_jerk_z",
+                                  "machine_min_extruding_rate",
+                                  "machine_min_travel_rate",
+                                  "default_acceleration",
+                                  "perimeter_acceleration",
+                                  "infill_acceleration",
+                                  "bridge_acceleration",
+                                  "first_layer_acceleration",
+                                  "infill_speed",
+                                  "top_solid_infill_speed",
+                                  "gap_fill_speed",
+                                  "small_perimeter_speed",
+                                  "travel_speed_z",
+                                  "max_volumetric_speed",
+                                  "filament_max_volumetric_speed",
+                                  "deretract_speed",
+                                  "extrusion_multiplier",
+                                  "bridge_flow_ratio",
+                                  "first_layer_height",
+                                  "first_layer_extrusion_width",
+                                  "infill_extrusion_width",
+                                  "solid_infill_extrusion_width",
+                                  "top_infill_extrusion_width",
+                                  "retract_restart_extra",
+                                  "retract_layer_change",
+                                  "retract_before_wipe",
+                                  "z_offset",
+                                  "elefant_foot_compensation",
+                                  "xy_size_compensation",
+                                  "brim_width",
+                                  "skirts",
+                                  "raft_layers",
+                                  "support_material",
+                                  "external_perimeters_first",
+                                  "spiral_vase",
+                                  "fill_density",
+                                  "ironing",
+                                  "thumbnails"};
+
+// Off: every per-extruder item is zero, empty or nil (PrusaSlicer's "use the printer's").
+bool set_to_something(const std::string& value) {
+    std::stringstream ss(first_quoted(value));
+    std::string item;
+    while (std::getline(ss, item, ',')) {
+        item = trim(item);
+        if (item != "0" && item != "0%" && item != "" && item != "nil" && item != "\"\"")
+            return true;
+    }
+    return false;
+}
+
+// An extrusion width: mm, or a percentage of the nozzle (PrusaSlicer 2.4 on); 0 = automatic.
+double width_value(const std::string& key, const std::string& value, double nozzle) {
+    std::string v = trim(value.substr(0, value.find(',')));
+    const bool percent = !v.empty() && v.back() == '%';
+    if (percent) v.pop_back();
+    const double d = number(key, v);
+    const double mm = percent ? d * nozzle / 100 : d;
+    if (!(mm == 0 || (mm >= 0.05 && mm <= 3.0)))
+        throw InputError(fmt::format(
+            "profile key '{}': '{}' is out of range; expected 0 (automatic) or from 0.05 to 3 mm",
+            key, value));
+    return mm;
+}
+
 }  // namespace
 
 std::string printer_preset_names() {
@@ -125,7 +226,8 @@ void apply_printer_preset(const std::string& name, Settings& settings) {
         fmt::format("unknown printer '{}'; choose one of: {}", name, printer_preset_names()));
 }
 
-std::vector<std::string> load_prusa_profile(const std::string& path, Settings& s) {
+std::vector<std::string> load_prusa_profile(const std::string& path, Settings& s,
+                                            const ProfileOptions& options) {
     std::ifstream in(path);
     if (!in) throw InputError(fmt::format("{}: cannot open the profile", path));
     // A real profile is tens of kilobytes (a bundle of every vendor printer a few MB); more is
@@ -135,13 +237,54 @@ std::vector<std::string> load_prusa_profile(const std::string& path, Settings& s
     if (in.tellg() > kMaxProfileBytes)
         throw InputError(fmt::format("{}: larger than 16 MB, not a printer profile", path));
     in.seekg(0, std::ios::beg);
-    return read_prusa_profile(in, path, s);
+    return read_prusa_profile(in, path, s, options);
 }
 
-std::vector<std::string> read_prusa_profile(std::istream& in, const std::string& path,
-                                            Settings& s) {
+std::vector<std::string> read_prusa_profile(std::istream& in, const std::string& path, Settings& s,
+                                            const ProfileOptions& options) {
+    ResolvedProfile profile = read_ini_profile(in, path, options.choice);
+    std::map<std::string, IniValue>& values = profile.values;
+    // A filament may override the printer's retraction (filament_retract_length, ...; "nil" =
+    // the printer's own).
+    for (const char* k : {"retract_length", "retract_lift", "retract_speed",
+                          "retract_before_travel", "wipe", "retract_layer_change",
+                          "retract_restart_extra", "retract_before_wipe", "deretract_speed"}) {
+        auto f = values.find(std::string("filament_") + k);
+        if (f != values.end() &&
+            trim(f->second.value.substr(0, f->second.value.find(','))) != "nil")
+            values[k] = f->second;
+    }
+    if (profile.bundle) {
+        // What PrusaSlicer's own export says of the presets it was made from: the placeholders
+        // of the vendors' G-code test them ({if print_settings_id=~/.*QUALITY @MK3.*/}).
+        auto id = [&](const char* key, const std::string& name, bool quoted) {
+            if (!name.empty())
+                values[key] = IniValue{quoted ? "\"" + name + "\"" : name, 0, "", ""};
+        };
+        id("printer_settings_id", profile.printer, false);
+        id("filament_settings_id", profile.filament, true);
+        id("print_settings_id", profile.print, false);
+    }
+    // "path:line: profile key 'k'", and where a bundle's key came from.
+    auto where = [&](const std::string& key, const IniValue& v) {
+        std::string at = v.line > 0 ? fmt::format("{}:{}", path, v.line) : path;
+        if (v.section.empty()) return fmt::format("{}: profile key '{}'", at, key);
+        if (v.section == v.owner)
+            return fmt::format("{}: [{}] profile key '{}'", at, v.section, key);
+        return fmt::format("{}: [{}] (inherited by [{}]) profile key '{}'", at, v.section, v.owner,
+                           key);
+    };
+
+    // The setters name the key; the message gains the file, line and section.
+    auto relabel = [&](const std::string& key, const IniValue& v, const InputError& e) {
+        const std::string what = e.what();
+        const std::string prefix = fmt::format("profile key '{}': ", key);
+        return InputError(where(key, v) + ": " +
+                          (what.rfind(prefix, 0) == 0 ? what.substr(prefix.size()) : what));
+    };
+
     using Setter = std::function<void(const std::string&, const std::string&)>;
-    int top_bottom[2] = {0, 0};
+    int solid[2] = {-1, -1}, perimeters = -1;
     const std::map<std::string, Setter> keys = {
         {"bed_shape",
          [&](const std::string& k, const std::string& v) {
@@ -168,31 +311,42 @@ std::vector<std::string> read_prusa_profile(std::istream& in, const std::string&
          }},
         {"start_gcode", [&](auto&, auto& v) { s.start_gcode = unescape(v); }},
         {"end_gcode", [&](auto&, auto& v) { s.end_gcode = unescape(v); }},
-        // Solid layers and perimeters are carve's covers and shells: a profile's own choice
-        // holds unless --preset or --covers/--shells say otherwise.
-        {"top_solid_layers",
-         [&](auto& k, auto& v) {
-             s.covers = std::max(top_bottom[0] = count(k, v), top_bottom[1]);
-         }},
-        {"bottom_solid_layers",
-         [&](auto& k, auto& v) {
-             s.covers = std::max(top_bottom[0], top_bottom[1] = count(k, v));
-         }},
+        {"start_filament_gcode",
+         [&](auto&, auto& v) { s.start_filament_gcode = unescape(first_quoted(v)); }},
+        {"end_filament_gcode",
+         [&](auto&, auto& v) { s.end_filament_gcode = unescape(first_quoted(v)); }},
+        {"before_layer_gcode", [&](auto&, auto& v) { s.before_layer_gcode = unescape(v); }},
+        {"layer_gcode", [&](auto&, auto& v) { s.layer_gcode = unescape(v); }},
+        // Solid layers and perimeters would be carve's covers and shells; read (and checked)
+        // here, applied below only with --profile-shells.
+        {"top_solid_layers", [&](auto& k, auto& v) { solid[0] = count(k, v); }},
+        {"bottom_solid_layers", [&](auto& k, auto& v) { solid[1] = count(k, v); }},
         {"perimeters",
          [&](auto& k, auto& v) {
              // The outer wall and up to 20 shells (the range of --shells).
-             const int n = count(k, v);
-             if (n > 21)
+             perimeters = count(k, v);
+             if (perimeters > 21)
                  throw InputError(fmt::format(
                      "profile key '{}': '{}' is out of range; expected from 0 to 21", k, v));
-             s.shells = std::max(0, n - 1);
          }},
-        {"use_relative_e_distances",
+        {"use_relative_e_distances", [&](auto& k, auto& v) { s.relative_e = flag(k, v); }},
+        {"wipe", [&](auto& k, auto& v) { s.wipe = flag(k, v); }},
+        {"use_firmware_retraction", [&](auto& k, auto& v) { s.firmware_retraction = flag(k, v); }},
+        {"avoid_crossing_perimeters",
+         [&](auto& k, auto& v) { s.avoid_crossing_perimeters = flag(k, v); }},
+        {"seam_position",
          [&](auto& k, auto& v) {
-             const std::string b = trim(v);
-             if (b != "0" && b != "1")
-                 throw InputError(fmt::format("profile key '{}': '{}' is not 0 or 1", k, v));
-             s.relative_e = b == "1";
+             const std::string m = trim(v);
+             if (m == "aligned")
+                 s.seam = SeamMode::Aligned;
+             else if (m == "nearest")
+                 s.seam = SeamMode::Nearest;
+             else if (m == "rear")
+                 s.seam = SeamMode::Rear;
+             else if (m == "random")
+                 s.seam = SeamMode::Random;
+             else
+                 throw InputError(fmt::format("profile key '{}': unknown seam '{}'", k, m));
          }},
         {"gcode_flavor",
          [&](auto& k, auto& v) {
@@ -207,39 +361,89 @@ std::vector<std::string> read_prusa_profile(std::istream& in, const std::string&
                  throw InputError(fmt::format("profile key '{}': unsupported flavour '{}'", k, f));
          }},
     };
+    const std::set<std::string> widths = {"extrusion_width", "perimeter_extrusion_width",
+                                          "external_perimeter_extrusion_width"};
 
-    std::vector<std::string> notes;
-    int ignored = 0;
-    std::string line;
-    int line_no = 0;
-    while (std::getline(in, line)) {
-        ++line_no;
-        line = trim(line);
-        if (line.empty() || line[0] == '#' || line[0] == ';' || line[0] == '[') continue;
-        const size_t eq = line.find('=');
-        if (eq == std::string::npos)
-            throw InputError(fmt::format("{}:{}: expected 'key = value'", path, line_no));
-        const std::string key = trim(line.substr(0, eq));
-        const std::string value = trim(line.substr(eq + 1));
+    std::vector<std::string> ignored;  // keys that change the print, not applied
+    for (const auto& [key, v] : values) {
+        const std::string& value = v.value;
         // Kept raw for the placeholders of the profile's custom G-code ([printer_model], ...).
         s.profile_values[key] = value;
-        // Numeric keys come from the settings table, with its ranges. PrusaSlicer stores
-        // per-extruder values as comma lists; the first extruder is ours.
-        if (const SettingSpec* spec = find_setting_by_ini_key(key)) {
-            const std::string v = trim(value.substr(0, value.find(',')));
-            if (spec->profile_skips_percent && v.find('%') != std::string::npos) continue;
-            spec->set(s, v, fmt::format("{}:{}: profile key '{}'", path, line_no, key));
-            continue;
+        try {
+            // Numeric keys come from the settings table, with its ranges. PrusaSlicer stores
+            // per-extruder values as comma lists; the first extruder is ours.
+            if (const SettingSpec* spec = find_setting_by_ini_key(key)) {
+                const std::string first = trim(value.substr(0, value.find(',')));
+                if (spec->profile_skips_percent && first.find('%') != std::string::npos) {
+                    ignored.push_back(fmt::format("{} ({})", key, first));
+                    continue;
+                }
+                spec->set(s, first, where(key, v));
+                continue;
+            }
+            if (auto it = keys.find(key); it != keys.end()) {
+                it->second(key, value);
+                continue;
+            }
+        } catch (const InputError& e) {
+            throw relabel(key, v, e);
         }
-        auto it = keys.find(key);
-        if (it == keys.end()) {
-            ++ignored;
-            continue;
-        }
-        it->second(key, value);
+        if (widths.count(key)) continue;  // below, once the nozzle is known
+        if (std::find(std::begin(kPrintKeys), std::end(kPrintKeys), key) != std::end(kPrintKeys) &&
+            set_to_something(value))
+            ignored.push_back(key);
     }
-    if (ignored > 0)
-        notes.push_back(fmt::format("{}: ignored {} keys that carve does not use", path, ignored));
+
+    // One line width for every wall: carve's geometry (the cavity walls' spacing, the covers'
+    // lines) is built on it. The inner perimeters' width is the bulk of a carved print.
+    std::map<std::string, double> width;
+    for (const std::string& key : widths)
+        if (auto it = values.find(key); it != values.end()) {
+            try {
+                width[key] = width_value(key, it->second.value, s.nozzle);
+            } catch (const InputError& e) {
+                throw relabel(key, it->second, e);
+            }
+        }
+    for (const char* key :
+         {"perimeter_extrusion_width", "extrusion_width", "external_perimeter_extrusion_width"})
+        if (width.count(key) && width[key] > 0) {
+            s.extrusion_width = width[key];
+            break;
+        }
+    if (const auto ext = width.find("external_perimeter_extrusion_width");
+        ext != width.end() && ext->second > 0 && std::abs(ext->second - s.width_mm()) > 1e-9)
+        ignored.push_back(
+            fmt::format("external_perimeter_extrusion_width ({} mm; carve prints "
+                        "every wall {} mm wide)",
+                        ext->second, s.width_mm()));
+
+    std::vector<std::string> notes;
+    std::string structure;
+    for (auto [key, n] :
+         {std::pair{"top_solid_layers", solid[0]}, std::pair{"bottom_solid_layers", solid[1]},
+          std::pair{"perimeters", perimeters}})
+        if (n >= 0) structure += fmt::format("{}{} = {}", structure.empty() ? "" : ", ", key, n);
+    if (options.profile_shells) {
+        if (solid[0] >= 0 || solid[1] >= 0) s.covers = std::max(solid[0], solid[1]);
+        if (perimeters >= 0) s.shells = std::max(0, perimeters - 1);
+    } else if (!structure.empty()) {
+        notes.push_back(fmt::format(
+            "{}: carve keeps its own covers and shells (--covers {}, --shells {}); the profile's "
+            "{} apply with --profile-shells",
+            path, s.covers, s.shells, structure));
+    }
+    if (!ignored.empty()) {
+        std::sort(ignored.begin(), ignored.end());
+        std::string list;
+        for (const std::string& k : ignored) list += (list.empty() ? "" : ", ") + k;
+        notes.push_back(fmt::format(
+            "{}{}: keys that change the print and carve ignores: {}", path,
+            profile.bundle ? fmt::format(" ([printer:{}], [filament:{}], [print:{}])",
+                                         profile.printer, profile.filament, profile.print)
+                           : "",
+            list));
+    }
     return notes;
 }
 

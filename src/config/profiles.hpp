@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "config/bundle.hpp"
 #include "config/settings.hpp"
 
 namespace carve {
@@ -14,12 +15,21 @@ std::string printer_preset_names();  // "mk3s, ender3, klipper, generic"
 // Throws InputError for an unknown name.
 void apply_printer_preset(const std::string& name, Settings& settings);
 
-// Reads the keys carve uses from a PrusaSlicer config bundle or exported .ini; returns notes
-// for the user (keys ignored). Throws InputError naming the key for an invalid value, or for an
+struct ProfileOptions {
+    ProfileChoice choice;         // the bundle's presets to use (--printer-profile, ...)
+    bool profile_shells = false;  // --profile-shells: solid layers and perimeters become
+                                  // carve's covers and shells (else carve keeps its own)
+};
+
+// Reads the keys carve uses from a PrusaSlicer config bundle (only the selected presets,
+// resolved through `inherits`) or exported .ini; returns notes for the user: the profile's
+// covers and shells not applied, and by name the keys that change the print that carve ignores.
+// Throws InputError naming the file, line, section and key for an invalid value, or for an
 // unreadable file.
-std::vector<std::string> load_prusa_profile(const std::string& path, Settings& settings);
+std::vector<std::string> load_prusa_profile(const std::string& path, Settings& settings,
+                                            const ProfileOptions& options = {});
 // The same from text already read (`name` names it in messages); the fuzz target's entry.
 std::vector<std::string> read_prusa_profile(std::istream& in, const std::string& name,
-                                            Settings& settings);
+                                            Settings& settings, const ProfileOptions& options = {});
 
 }  // namespace carve

@@ -29,6 +29,9 @@ std::vector<SettingSpec> make_table() {
         {"covers", "", "layers", 0, 50, &S::covers, "Solid layers at tops and bottoms, layers [2]"},
         {"shells", "", "lines", 0, 20, &S::shells,
          "Extra perimeters inside the outer wall, lines [0]"},
+        {"extrusion-width", "", "mm", 0.0, 3.0, &S::extrusion_width,
+         "Line width w of every wall and cover, mm; a profile's perimeter_extrusion_width or "
+         "extrusion_width sets it [0 = the nozzle diameter]"},
         {"filament-diameter", "filament_diameter", "mm", 0.5, 5.0, &S::filament_diameter,
          "Filament diameter, mm [1.75]"},
         {"temperature", "temperature", "C", 0, 450, &S::nozzle_temperature,
@@ -138,9 +141,13 @@ void validate_settings(const Settings& s) {
     if (!bed(s.bed_x) || !bed(s.bed_y))
         throw InputError(fmt::format("bed size {} x {} mm is out of range (0 to 10000 mm)",
                                      plain_number(s.bed_x), plain_number(s.bed_y)));
-    if (s.layer_height > s.nozzle)
+    if (s.extrusion_width > 0 && s.extrusion_width < 0.05)
+        throw InputError(fmt::format(
+            "--extrusion-width {} mm is too thin; expected 0 (the nozzle) or from 0.05 to 3 mm",
+            plain_number(s.extrusion_width)));
+    if (s.layer_height > s.width_mm())
         throw InputError(fmt::format("--layer-height {} mm is thicker than the {} mm line width",
-                                     s.layer_height, s.nozzle));
+                                     s.layer_height, s.width_mm()));
 }
 
 }  // namespace carve

@@ -24,8 +24,10 @@ enum class SeamMode { Aligned, Nearest, Rear, Random };
 
 struct Settings {
     // Geometry of the process.
-    double layer_height = 0.2;   // h
-    double nozzle = 0.4;         // w = 2s, also the extrusion width
+    double layer_height = 0.2;  // h
+    double nozzle = 0.4;        // w = 2s, also the extrusion width
+    // mm; the line width w when set (a profile's extrusion_width), else the nozzle diameter.
+    double extrusion_width = 0;
     double max_overhang = 45.0;  // degrees; r = h * tan(max_overhang)
     int cavities = 6;            // k; 0 = plain hollow shell
     bool cavities_auto = false;  // stop when V^j erodes away at radius w
@@ -81,14 +83,18 @@ struct Settings {
     int fan_speed = 255, bridge_fan_speed = 255;
     std::string start_gcode = "G28 ; home all axes\nG1 Z5 F3000\nG92 E0\n";
     std::string end_gcode = "M104 S0\nM140 S0\nM107\nG91\nG1 Z10 F600\nG90\nG28 X0\nM84\n";
+    // A profile's filament G-code (after the start G-code, before the end G-code) and layer-change
+    // G-code (before and after ;LAYER_CHANGE, with [layer_num] and [layer_z]); empty = none.
+    std::string start_filament_gcode, end_filament_gcode, before_layer_gcode, layer_gcode;
     // Raw values of the loaded profile's other keys (printer_model, max_print_height, ...): the
     // placeholders of its custom G-code may name them (gcode/placeholders.hpp).
     std::map<std::string, std::string> profile_values;
 
     // Derived quantities, in micrometres.
-    Coord nozzle_radius() const { return to_units(nozzle / 2); }  // s
-    Coord line_width() const { return to_units(nozzle); }         // w
-    Coord dilation_per_layer() const {                            // r
+    double width_mm() const { return extrusion_width > 0 ? extrusion_width : nozzle; }
+    Coord nozzle_radius() const { return to_units(width_mm() / 2); }  // s
+    Coord line_width() const { return to_units(width_mm()); }         // w
+    Coord dilation_per_layer() const {                                // r
         return to_units(layer_height * std::tan(max_overhang * std::numbers::pi / 180.0));
     }
     Coord restriction() const { return to_units(restriction_factor * nozzle / 2); }  // t

@@ -26,6 +26,7 @@
 #include <memory>
 #include <mutex>
 #include <numbers>
+#include <regex>
 #include <stdexcept>
 #include <string_view>
 
@@ -127,7 +128,7 @@ std::vector<std::pair<std::string, std::string>> setting_lines(const Settings& s
     return {
         {"layer_height", num(s.layer_height)},
         {"nozzle_diameter", num(s.nozzle)},
-        {"extrusion_width", num(s.nozzle)},
+        {"extrusion_width", num(s.width_mm())},
         {"max_overhang", num(s.max_overhang)},
         {"cavities", s.cavities_auto ? "auto" : std::to_string(s.cavities)},
         {"covers", std::to_string(s.covers)},
@@ -223,6 +224,7 @@ class Emitter {
                 line(fmt::format("M109 S{} ; wait for nozzle", st_.first_layer_nozzle_temperature));
         }
         raw(start_text);
+        custom(st_.start_filament_gcode);
         line("G21 ; millimetres");
         line("G90 ; absolute coordinates");
         line(st_.relative_e ? "M83 ; relative extrusion" : "M82 ; absolute extrusion");
@@ -232,11 +234,13 @@ class Emitter {
     void layer(const LayerToolpaths& layer) {
         layer_ = layer.index;
         layer_z_ = to_units(layer.z);
+        custom(st_.before_layer_gcode);
         put("\n;LAYER_CHANGE\n;Z:");
         fixed(layer_z_, 3);
         put("\n;HEIGHT:");
         fixed(to_units(st_.layer_height), 3);
         fmt::format_to(std::back_inserter(buf_), "\n;LAYER:{}\n", layer.index);
+        custom(st_.layer_gcode);
         if (layer.index == 1) {
             if (st_.nozzle_temperature != st_.first_layer_nozzle_temperature)
                 line(fmt::format("M104 S{}", st_.nozzle_temperature));
@@ -257,6 +261,7 @@ class Emitter {
 
     void end() {
         if (!retracted_ && !first_travel_) retract();
+        custom(st_.end_filament_gcode);
         if (st_.flavor == GcodeFlavor::Klipper && st_.end_gcode.empty()) line("PRINT_END");
         raw(expand_custom_gcode(st_.end_gcode, st_,
                                 {{"max_layer_z", to_mm(layer_z_)},
@@ -289,6 +294,22 @@ class Emitter {
         if (text.empty()) return;
         put(text);
         if (text.back() != '\n') buf_.push_back('\n');
+    }
+    // A profile's filament or layer-change G-code, expanded for the layer being written. A
+    // "G92 E0" in it resets the firmware's E, as PrusaSlicer assumes.
+    void custom(const std::string& text) {
+        if (text.empty()) return;
+        const std::string g = expand_custom_gcode(text, st_,
+                                                  {{"layer_num", std::max(0, layer_)},
+                                                   {"layer_z", to_mm(layer_z_)},
+                                                   {"max_layer_z", to_mm(layer_z_)}})
+                                  .text;
+        raw(g);
+        static const std::regex kResetE(R"((^|\n)\s*G92\s+E0*(\.0*)?(\s|;|$))");
+        if (std::regex_search(g, kResetE)) {
+            e_mm_ -= double(e_units_) / kEScale;
+            e_units_ = 0;
+        }
     }
     // A value in units of 10^-decimals (decimals >= 1), written with exactly that many
     // decimals. By hand: every coordinate of the file passes here, and fmt's general path (a
@@ -535,7 +556,7 @@ class Emitter {
             type_ = ex.feature;
             fmt::format_to(std::back_inserter(buf_), ";TYPE:{}\n", feature_name(ex.feature));
         }
-        const double width = st_.nozzle * ex.flow;
+        const double width = st_.width_mm() * ex.flow;
         if (width != width_) {
             width_ = width;
             fmt::format_to(std::back_inserter(buf_), ";WIDTH:{:.3f}\n", width);
@@ -545,7 +566,7 @@ class Emitter {
         unretract();
         const double speed = speed_of(ex.feature);
         // Filament per mm of path: the line's cross-section (width x height) over the filament's.
-        const double e_per_mm = st_.nozzle * st_.layer_height * ex.flow / filament_area_;
+        const double e_per_mm = st_.width_mm() * st_.layer_height * ex.flow / filament_area_;
         const size_t n = ex.points.size() + (ex.closed ? 1 : 0);
         for (size_t i = 1; i < n; ++i) {
             const Point q = shifted(ex.points[i % ex.points.size()]);

@@ -158,7 +158,7 @@ void HtmlReportWriter::add_layer(const LayerPartition& layer, const LayerToolpat
     while (!r.cavity_mm2.empty() && r.cavity_mm2.back() <= 0) r.cavity_mm2.pop_back();
     m.max_cavities = std::max(m.max_cavities, int(r.cavity_mm2.size()));
     r.bridges = int(layer.bridges.size());
-    const double w = st.nozzle, h = st.layer_height;
+    const double w = st.width_mm(), h = st.layer_height;
     for (const Extrusion& e : paths.extrusions) {
         const double len = length(Paths{e.points}, e.closed) / kUnitsPerMm;
         r.material_mm3 += len * w * h * e.flow;
@@ -454,7 +454,7 @@ void HtmlReportWriter::Impl::write_details(std::ostream& out, const PageFigures&
     for (const ReportLayer& l : layers) {
         covers_mm3 += l.covers_mm2 * st.layer_height;
         carvable_mm3 += 0.15 * l.carvable_mm2 * st.layer_height;
-        perimeter_mm3 += 2 * l.perimeter_mm * st.nozzle * st.layer_height;
+        perimeter_mm3 += 2 * l.perimeter_mm * st.width_mm() * st.layer_height;
     }
     int min_tol_layers = 0;
     double max_tol = 0;

@@ -71,8 +71,8 @@ std::vector<double> extrusion_volumes_mm3(const LayerToolpaths& paths, const Set
     std::vector<double> v;
     v.reserve(paths.extrusions.size());
     for (const Extrusion& e : paths.extrusions)
-        v.push_back(to_mm(static_cast<Coord>(length(Paths{e.points}, e.closed))) * settings.nozzle *
-                    settings.layer_height * e.flow);
+        v.push_back(to_mm(static_cast<Coord>(length(Paths{e.points}, e.closed))) *
+                    settings.width_mm() * settings.layer_height * e.flow);
     return v;
 }
 

@@ -104,8 +104,20 @@ TEST(PrusaProfile, EveryKeyThatMattersLandsInSettings) {
     EXPECT_DOUBLE_EQ(s.travel_acceleration, 1500);  // machine_max_acceleration_travel = 1500,1250
     EXPECT_TRUE(s.relative_e);
     EXPECT_EQ(s.flavor, GcodeFlavor::Marlin);
-    EXPECT_EQ(s.covers, 6);  // max(top_solid_layers 6, bottom_solid_layers 4)
-    EXPECT_EQ(s.shells, 1);  // perimeters 2 = the outer wall and one more
+    // carve keeps its own covers and shells unless asked (--profile-shells).
+    EXPECT_EQ(s.covers, d.covers);
+    EXPECT_EQ(s.shells, d.shells);
+    Settings shells;
+    ProfileOptions o;
+    o.profile_shells = true;
+    load_prusa_profile(kMk3s, shells, o);
+    EXPECT_EQ(shells.covers, 6);                // max(top_solid_layers 6, bottom_solid_layers 4)
+    EXPECT_EQ(shells.shells, 1);                // perimeters 2 = the outer wall and one more
+    EXPECT_TRUE(s.wipe);                        // wipe = 1
+    EXPECT_FALSE(s.avoid_crossing_perimeters);  // avoid_crossing_perimeters = 0
+    EXPECT_DOUBLE_EQ(s.extrusion_width, 0.45);  // perimeter_extrusion_width
+    EXPECT_NE(s.layer_gcode.find(";AFTER_LAYER_CHANGE"), std::string::npos);
+    EXPECT_NE(s.start_filament_gcode.find("M900 K"), std::string::npos);
     // Custom G-code: "\n" in the file is a line break in the G-code, not two characters.
     EXPECT_NE(s.start_gcode.find("G28 W ; home all without mesh bed level\nG80"),
               std::string::npos);
@@ -116,24 +128,24 @@ TEST(PrusaProfile, EveryKeyThatMattersLandsInSettings) {
     EXPECT_EQ(s.profile_values.at("max_print_height"), "210");
 }
 
-TEST(PrusaProfile, UnknownKeysGiveOneNoteWithTheirCount) {
+TEST(PrusaProfile, IgnoredKeysAreNamedInOneNote) {
     std::vector<std::string> notes;
     loaded_mk3s(&notes);
-    ASSERT_EQ(notes.size(), 1u);
-    EXPECT_NE(notes[0].find("ignored"), std::string::npos) << notes[0];
-    std::smatch m;
-    ASSERT_TRUE(std::regex_search(notes[0], m, std::regex("ignored ([0-9]+) keys")));
-    EXPECT_GT(std::stoi(m[1]), 200);
+    ASSERT_EQ(notes.size(), 2u);  // the covers and shells kept, the keys ignored
+    EXPECT_NE(notes[0].find("--profile-shells"), std::string::npos) << notes[0];
+    EXPECT_NE(notes[1].find("fan_below_layer_time"), std::string::npos) << notes[1];
+    EXPECT_NE(notes[1].find("first_layer_extrusion_width"), std::string::npos) << notes[1];
 
     Settings s;
     EXPECT_TRUE(
         load_prusa_profile(write_ini("known.ini", "temperature = 230\n").string(), s).empty());
     EXPECT_EQ(s.nozzle_temperature, 230);
-    const auto two = load_prusa_profile(
-        write_ini("two.ini", "temperature = 230\nwipe_tower = 1\nsome_future_key = x\n").string(),
-        s);
-    ASSERT_EQ(two.size(), 1u);
-    EXPECT_NE(two[0].find("ignored 2 keys"), std::string::npos) << two[0];
+    // Keys that do not change carve's print (multi-material, unknown) make no note.
+    EXPECT_TRUE(load_prusa_profile(
+                    write_ini("two.ini", "temperature = 230\nwipe_tower = 1\nsome_future_key = x\n")
+                        .string(),
+                    s)
+                    .empty());
 }
 
 TEST(PrusaProfile, MultiValueKeysTakeTheFirstExtruder) {
@@ -333,9 +345,11 @@ TEST(Precedence, EachSourceOverridesTheOnesBeforeIt) {
     // --printer < explicit
     EXPECT_EQ(run_config("--retract-length 1.2 --printer ender3").at("retract_length"), "1.2");
     // --load < --preset, in either order
-    EXPECT_EQ(run_config("--load " + covers_ini + " --preset 3c1s").at("covers"), "3");
-    EXPECT_EQ(run_config("--preset 3c1s --load " + covers_ini).at("covers"), "3");
-    EXPECT_EQ(run_config("--load " + covers_ini).at("covers"), "4");
+    EXPECT_EQ(run_config("--profile-shells --load " + covers_ini + " --preset 3c1s").at("covers"),
+              "3");
+    EXPECT_EQ(run_config("--preset 3c1s --profile-shells --load " + covers_ini).at("covers"), "3");
+    EXPECT_EQ(run_config("--load " + covers_ini + " --profile-shells").at("covers"), "4");
+    EXPECT_EQ(run_config("--load " + covers_ini).at("covers"), "2");  // carve's own
     // --load < explicit
     {
         const auto c = run_config("--temperature 200 --load " + retract_ini);
