@@ -167,6 +167,10 @@ std::vector<std::string> read_prusa_profile(std::istream& in, const std::string&
              s.bed_x = max_x - min_x, s.bed_y = max_y - min_y;
          }},
         {"start_gcode", [&](auto&, auto& v) { s.start_gcode = unescape(v); }},
+        {"thumbnails",
+         [&](auto& k, auto& v) {
+             s.thumbnails = parse_thumbnail_sizes(v, fmt::format("{}: profile key '{}'", path, k));
+         }},
         {"end_gcode", [&](auto&, auto& v) { s.end_gcode = unescape(v); }},
         // Solid layers and perimeters are carve's covers and shells: a profile's own choice
         // holds unless --preset or --covers/--shells say otherwise.

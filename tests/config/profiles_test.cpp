@@ -328,7 +328,7 @@ TEST(Precedence, EachSourceOverridesTheOnesBeforeIt) {
     {
         const auto c = run_config("--preset 3c1s --printer klipper");
         EXPECT_EQ(c.at("covers"), "3");
-        EXPECT_EQ(c.at("gcode_flavor"), "Klipper");
+        EXPECT_EQ(c.at("gcode_flavor"), "klipper");
     }
     // --printer < explicit
     EXPECT_EQ(run_config("--retract-length 1.2 --printer ender3").at("retract_length"), "1.2");
@@ -355,6 +355,6 @@ TEST(Precedence, TheRealProfileDrivesTheGcode) {
     EXPECT_EQ(c.at("temperature"), "220");
     EXPECT_EQ(c.at("first_layer_temperature"), ini_value(kMk3s, "first_layer_temperature"));
     EXPECT_EQ(c.at("travel_speed"), ini_value(kMk3s, "travel_speed"));
-    EXPECT_EQ(c.at("bed_size"), "250x210");
+    EXPECT_EQ(c.at("bed_shape"), "0x0,250x0,250x210,0x210");
     EXPECT_EQ(c.at("use_relative_e_distances"), "1");
 }
