@@ -141,12 +141,16 @@ class Emitter {
               "S (temperature)");
         const std::string start_text = expand_custom_gcode(st_.start_gcode, st_).text;
         const bool klipper_macro = st_.flavor == GcodeFlavor::Klipper && st_.start_gcode.empty();
+        // Klipper's PRINT_START macro heats, given the temperatures: heating before it would
+        // wait for the bed twice and leave the macro's own order (soak, mesh) without effect.
+        const bool macro_heats = st_.flavor == GcodeFlavor::Klipper &&
+                                 start_text.find("PRINT_START") != std::string::npos;
         for (const std::string& l : machine_limit_lines(st_)) line(l);
         set_fan(0);
         if (klipper_macro) {
             line(fmt::format("PRINT_START BED_TEMP={} EXTRUDER_TEMP={}",
                              st_.first_layer_bed_temperature, st_.first_layer_nozzle_temperature));
-        } else {
+        } else if (!macro_heats) {
             // Like PrusaSlicer: heat unless the user's start G-code waits for it itself, judged
             // from the text the printer will get (an M109 inside a false {if} heats nothing).
             const bool user_bed = waits_for(start_text, "M190");

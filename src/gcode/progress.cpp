@@ -27,6 +27,13 @@ void copy_with_progress(std::FILE* body, std::FILE* out, const std::vector<Progr
     std::vector<char> chunk(1 << 20);
     long long at = 0;  // body bytes copied so far
     size_t next = 0;   // the next mark to write
+    std::string last;  // the line written last: the same figures are not repeated
+    auto progress = [&](const ProgressMark& mark) {
+        const std::string line = m73_line(mark.elapsed_s, total_s);
+        if (line == last) return;
+        if (std::fwrite(line.data(), 1, line.size(), out) != line.size()) fail();
+        last = line;
+    };
     for (size_t n; (n = std::fread(chunk.data(), 1, chunk.size(), body)) > 0;) {
         size_t done = 0;
         while (done < n) {
@@ -36,8 +43,7 @@ void copy_with_progress(std::FILE* body, std::FILE* out, const std::vector<Progr
                 if (upto > 0 && std::fwrite(chunk.data() + done, 1, upto, out) != upto) fail();
                 done += upto;
                 at += static_cast<long long>(upto);
-                const std::string line = m73_line(marks[next].elapsed_s, total_s);
-                if (std::fwrite(line.data(), 1, line.size(), out) != line.size()) fail();
+                progress(marks[next]);
                 ++next;
                 continue;
             }
@@ -48,10 +54,7 @@ void copy_with_progress(std::FILE* body, std::FILE* out, const std::vector<Progr
         }
     }
     if (std::ferror(body)) fail();
-    for (; next < marks.size(); ++next) {  // marks at the very end of the body
-        const std::string line = m73_line(marks[next].elapsed_s, total_s);
-        if (std::fwrite(line.data(), 1, line.size(), out) != line.size()) fail();
-    }
+    for (; next < marks.size(); ++next) progress(marks[next]);  // at the very end
 }
 
 }  // namespace carve

@@ -264,7 +264,7 @@ TEST(Printers, PresetsSetTheirPrinterAndTheKlipperMacroGetsTemperatures) {
     apply_printer_preset("klipper", k);
     EXPECT_EQ(k.flavor, GcodeFlavor::Klipper);
     const ExpandedGcode g = expand_custom_gcode(k.start_gcode, k);
-    EXPECT_EQ(g.text, "PRINT_START BED=60 EXTRUDER=215\n");
+    EXPECT_EQ(g.text, "PRINT_START BED_TEMP=60 EXTRUDER_TEMP=215\n");
     Settings x;
     EXPECT_THROW(apply_printer_preset("prusa-xl", x), InputError);
 }
