@@ -112,7 +112,9 @@ int run(int argc, char** argv) {
     carve::RunOptions run;
     std::string cavities_text = "6", walls_text = "single", preset, profile_path, printer_name,
                 flavor_text = "marlin", bed_text, combing_text = "all", seam_text = "aligned";
-    bool quiet = false, no_bed_check = false, relative_e = false;
+    bool quiet = false, no_bed_check = false, relative_e = false, m73_on = false, m73_off = false;
+    std::string thumbnails_text;
+    bool thumbnails_given = false;
     double timeout_s = 0;
     // Table options as typed, applied after the printer, the profile and the preset.
     std::vector<std::pair<const carve::SettingSpec*, std::string>> given;
@@ -186,6 +188,20 @@ int run(int argc, char** argv) {
                     "Move back along the last path while retracting [off]");
     slice->add_flag("--firmware-retraction", settings.firmware_retraction,
                     "Retract with G10/G11, length and speed set in the firmware [off]");
+    slice->add_flag("--m73", m73_on,
+                    "Write M73 progress and remaining time for printer screens and hosts [off; "
+                    "on with --printer mk3s or ender3]");
+    slice->add_flag("--no-m73", m73_off, "No M73 lines, whatever the printer [off]");
+    slice
+        ->add_option_function<std::string>(
+            "--thumbnails",
+            [&](const std::string& v) {
+                thumbnails_text = v;
+                thumbnails_given = true;
+            },
+            "PNG previews of the model in the header, PrusaSlicer's format, sizes WxH,WxH "
+            "(e.g. 16x16,220x124) [none]")
+        ->type_name("SIZES");
     slice->add_flag("!--keep-all-bridges", settings.prune_bridges,
                     "Keep bridges that the layer below already supports [off]");
     slice->add_option("--report", run.report_path,
@@ -345,6 +361,10 @@ int run(int argc, char** argv) {
         for (const auto& [spec, text] : given)
             spec->set(settings, text, std::string("--") + spec->option);
         if (relative_e) settings.relative_e = true;
+        if (m73_on) settings.m73 = 1;
+        if (m73_off) settings.m73 = 0;
+        if (thumbnails_given)
+            settings.thumbnails = carve::parse_thumbnail_sizes(thumbnails_text, "--thumbnails");
         for (const std::string& n : profile_notes)
             if (!quiet) std::fprintf(stderr, "carve: note: %s\n", n.c_str());
         // Placeholders of the custom G-code that carve cannot evaluate: said once, up front.

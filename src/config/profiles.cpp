@@ -31,26 +31,82 @@ const std::vector<Preset>& presets() {
         {"generic", [](Settings&) {}},
         {"mk3s",
          [](Settings& s) {
+             // As PrusaSlicer's own MK3S profile: firmware 3.13's checks, the intro line, and
+             // the machine limits it writes (Prusa firmware corners by classic jerk).
              s.printer_name = "Prusa i3 MK3S-like";
              s.bed_x = 250, s.bed_y = 210;
              s.flavor = GcodeFlavor::Marlin;
-             s.acceleration = 1000, s.travel_acceleration = 1250;
+             s.acceleration = 1000, s.travel_acceleration = 1250, s.retract_acceleration = 1250;
+             s.max_acceleration_x = s.max_acceleration_y = 1000;
+             s.max_acceleration_z = 200, s.max_acceleration_e = 5000;
+             s.max_feedrate_x = s.max_feedrate_y = 200;
+             s.max_feedrate_z = 12, s.max_feedrate_e = 120;
+             s.max_jerk_x = s.max_jerk_y = 8, s.max_jerk_z = 0.4, s.max_jerk_e = 4.5;
+             s.junction_deviation = 0;
+             s.m73 = 1;
              s.retract_length = 0.8, s.retract_speed = 35;
              s.start_gcode =
-                 "M115 U3.9.0\nG28 W ; home all without mesh bed level\nG80 ; mesh bed "
-                 "levelling\nG1 Y-3.0 F1000.0\nG92 E0\n";
+                 "M862.3 P \"MK3S\" ; printer model check\n"
+                 "M862.1 P[nozzle_diameter] ; nozzle diameter check\n"
+                 "M115 U3.13.0 ; tell printer latest fw version\n"
+                 "G90 ; use absolute coordinates\n"
+                 "M83 ; extruder relative mode\n"
+                 "M104 S[first_layer_temperature] ; set extruder temp\n"
+                 "M140 S[first_layer_bed_temperature] ; set bed temp\n"
+                 "M190 S[first_layer_bed_temperature] ; wait for bed temp\n"
+                 "M109 S[first_layer_temperature] ; wait for extruder temp\n"
+                 "G28 W ; home all without mesh bed level\n"
+                 "G80 ; mesh bed levelling\n"
+                 "G1 Z0.2 F720\n"
+                 "G1 Y-3 F1000 ; go outside print area\n"
+                 "G92 E0\n"
+                 "G1 X60 E9 F1000 ; intro line\n"
+                 "G1 X100 E12.5 F1000 ; intro line\n"
+                 "G92 E0\n";
+             // carve has retracted already, in either extrusion mode.
+             s.end_gcode =
+                 "G91\nG1 Z1 F720 ; lift the nozzle off the print\nG90\n"
+                 "M104 S0 ; turn off temperature\n"
+                 "M140 S0 ; turn off heatbed\n"
+                 "M107 ; turn off fan\n"
+                 "G1 X0 Y200 F3000 ; home X axis\n"
+                 "M84 ; disable motors\n";
          }},
         {"ender3",
          [](Settings& s) {
              s.printer_name = "Creality Ender-3-like";
              s.bed_x = 220, s.bed_y = 220;
              s.flavor = GcodeFlavor::Marlin;
-             s.acceleration = 500, s.travel_acceleration = 1000;
+             s.acceleration = 500, s.travel_acceleration = 1000, s.retract_acceleration = 1000;
+             s.max_acceleration_x = s.max_acceleration_y = 1000;
+             s.max_acceleration_z = 100, s.max_acceleration_e = 5000;
+             s.max_feedrate_x = s.max_feedrate_y = 500;
+             s.max_feedrate_z = 10, s.max_feedrate_e = 60;
+             s.max_jerk_x = s.max_jerk_y = 8, s.max_jerk_z = 0.4, s.max_jerk_e = 5;
+             s.junction_deviation = 0;  // Creality's Marlin builds corner by classic jerk
+             s.m73 = 1;
              s.retract_length = 5.0, s.retract_speed = 40;  // Bowden extruder
              s.travel_speed = 120;
+             // Carve heats first (the text waits for nothing), then the purge line along the
+             // left edge, in absolute extrusion.
+             s.start_gcode =
+                 "G90 ; use absolute coordinates\n"
+                 "M82 ; absolute extrusion for the purge line\n"
+                 "G28 ; home all axes\n"
+                 "G92 E0\n"
+                 "G1 Z2.0 F3000\n"
+                 "G1 X0.1 Y20 Z0.3 F5000 ; to the start of the purge line\n"
+                 "G1 X0.1 Y200 Z0.3 F1500 E15 ; first purge line\n"
+                 "G1 X0.4 Y200 Z0.3 F5000\n"
+                 "G1 X0.4 Y20 Z0.3 F1500 E30 ; second purge line\n"
+                 "G92 E0\n"
+                 "G1 Z2.0 F3000\n";
          }},
         {"klipper",
          [](Settings& s) {
+             // The heating is PRINT_START's, with one spelling: carve writes no M104/M109 before
+             // a start G-code that calls it. printer.cfg holds the limits, so none are written;
+             // M204 S follows the moves.
              s.printer_name = "Klipper generic";
              s.bed_x = 300, s.bed_y = 300;
              s.flavor = GcodeFlavor::Klipper;
@@ -58,8 +114,8 @@ const std::vector<Preset>& presets() {
              s.travel_speed = 250, s.max_print_speed = 200;
              s.retract_length = 0.8;
              s.start_gcode =
-                 "PRINT_START BED=[first_layer_bed_temperature] "
-                 "EXTRUDER=[first_layer_temperature]\n";
+                 "PRINT_START BED_TEMP=[first_layer_bed_temperature] "
+                 "EXTRUDER_TEMP=[first_layer_temperature]\n";
              s.end_gcode = "PRINT_END\n";
          }},
     };
@@ -310,6 +366,10 @@ std::vector<std::string> read_prusa_profile(std::istream& in, const std::string&
              s.bed_x = max_x - min_x, s.bed_y = max_y - min_y;
          }},
         {"start_gcode", [&](auto&, auto& v) { s.start_gcode = unescape(v); }},
+        {"thumbnails",
+         [&](auto& k, auto& v) {
+             s.thumbnails = parse_thumbnail_sizes(v, fmt::format("{}: profile key '{}'", path, k));
+         }},
         {"end_gcode", [&](auto&, auto& v) { s.end_gcode = unescape(v); }},
         {"start_filament_gcode",
          [&](auto&, auto& v) { s.start_filament_gcode = unescape(first_quoted(v)); }},

@@ -95,6 +95,59 @@ std::vector<SettingSpec> make_table() {
          "never does), mm [2]"},
         {"wipe-distance", "", "mm", 0.0, 50.0, &S::wipe_distance,
          "With --wipe: how far back, mm [1]"},
+        // Cooling (PrusaSlicer's keys and meanings).
+        {"cooling", "cooling", "0/1", 0, 1, &S::cooling,
+         "Automatic cooling: slow down short layers and raise the fan for them, 0/1 [1]"},
+        {"min-layer-time", "slowdown_below_layer_time", "seconds", 0.0, 3600.0,
+         &S::slowdown_below_layer_time,
+         "A layer that would print faster is slowed down to take this long, seconds [5]"},
+        {"min-print-speed", "min_print_speed", "mm/s", 1.0, 1000.0, &S::min_print_speed,
+         "Slowing down for the minimum layer time stops at this speed, mm/s [10]"},
+        {"fan-always-on", "fan_always_on", "0/1", 0, 1, &S::fan_always_on,
+         "Keep the fan at least at the minimum speed on every layer, 0/1 [1]"},
+        {"min-fan-speed", "min_fan_speed", "%", 0, 100, &S::min_fan_speed,
+         "Fan speed for layers that take long enough, % [100]"},
+        {"max-fan-speed", "max_fan_speed", "%", 0, 100, &S::max_fan_speed,
+         "Fan speed for the shortest layers, % [100]"},
+        {"bridge-fan-speed", "bridge_fan_speed", "%", 0, 100, &S::bridge_fan_speed,
+         "Fan speed while printing bridges, % [100]"},
+        {"fan-below-layer-time", "fan_below_layer_time", "seconds", 0.0, 3600.0,
+         &S::fan_below_layer_time,
+         "The fan rises from the minimum towards the maximum speed on layers shorter than "
+         "this, seconds [60]"},
+        {"disable-fan-first-layers", "disable_fan_first_layers", "layers", 0, 1000,
+         &S::disable_fan_first_layers, "The fan stays off on this many first layers, layers [1]"},
+        // Machine limits: profile keys only (PrusaSlicer's printer settings).
+        {"", "machine_max_acceleration_x", "mm/s^2", 1.0, 100000.0, &S::max_acceleration_x,
+         "Machine limit M201 X, mm/s^2 [3000]"},
+        {"", "machine_max_acceleration_y", "mm/s^2", 1.0, 100000.0, &S::max_acceleration_y,
+         "Machine limit M201 Y, mm/s^2 [3000]"},
+        {"", "machine_max_acceleration_z", "mm/s^2", 1.0, 100000.0, &S::max_acceleration_z,
+         "Machine limit M201 Z, mm/s^2 [200]"},
+        {"", "machine_max_acceleration_e", "mm/s^2", 1.0, 100000.0, &S::max_acceleration_e,
+         "Machine limit M201 E, mm/s^2 [5000]"},
+        {"", "machine_max_acceleration_retracting", "mm/s^2", 1.0, 100000.0,
+         &S::retract_acceleration, "Retraction acceleration M204 R, mm/s^2 [1500]"},
+        {"", "machine_max_feedrate_x", "mm/s", 1.0, 10000.0, &S::max_feedrate_x,
+         "Machine limit M203 X, mm/s [500]"},
+        {"", "machine_max_feedrate_y", "mm/s", 1.0, 10000.0, &S::max_feedrate_y,
+         "Machine limit M203 Y, mm/s [500]"},
+        {"", "machine_max_feedrate_z", "mm/s", 0.1, 10000.0, &S::max_feedrate_z,
+         "Machine limit M203 Z, mm/s [12]"},
+        {"", "machine_max_feedrate_e", "mm/s", 0.1, 10000.0, &S::max_feedrate_e,
+         "Machine limit M203 E, mm/s [120]"},
+        {"", "machine_max_jerk_x", "mm/s", 0.0, 1000.0, &S::max_jerk_x,
+         "Machine limit M205 X (classic jerk), mm/s [8]"},
+        {"", "machine_max_jerk_y", "mm/s", 0.0, 1000.0, &S::max_jerk_y,
+         "Machine limit M205 Y (classic jerk), mm/s [8]"},
+        {"", "machine_max_jerk_z", "mm/s", 0.0, 1000.0, &S::max_jerk_z,
+         "Machine limit M205 Z (classic jerk), mm/s [0.4]"},
+        {"", "machine_max_jerk_e", "mm/s", 0.0, 1000.0, &S::max_jerk_e,
+         "Machine limit M205 E (classic jerk), mm/s [4.5]"},
+        {"", "machine_max_junction_deviation", "mm", 0.0, 1.0, &S::junction_deviation,
+         "Junction deviation M205 J (Marlin 2); 0 = classic jerk, mm [0.013]"},
+        {"", "remaining_times", "0/1", 0, 1, &S::m73,
+         "Write M73 progress and remaining time, 0/1 [0]"},
     };
 }
 
@@ -125,6 +178,49 @@ const SettingSpec* find_setting_by_ini_key(const std::string& key) {
     for (const SettingSpec& spec : setting_table())
         if (!key.empty() && key == spec.ini_key) return &spec;
     return nullptr;
+}
+
+std::vector<std::pair<int, int>> parse_thumbnail_sizes(const std::string& text,
+                                                       const std::string& source) {
+    std::vector<std::pair<int, int>> sizes;
+    size_t at = 0;
+    while (at <= text.size()) {
+        size_t end = text.find(',', at);
+        if (end == std::string::npos) end = text.size();
+        std::string item = text.substr(at, end - at);
+        at = end + 1;
+        item.erase(0, item.find_first_not_of(" \t"));
+        item.erase(item.find_last_not_of(" \t") + 1);
+        if (item.empty()) {
+            if (end == text.size()) break;
+            continue;
+        }
+        std::string format = "PNG";
+        if (const size_t slash = item.find('/'); slash != std::string::npos) {
+            format = item.substr(slash + 1);
+            item.resize(slash);
+        }
+        const size_t cross = item.find('x');
+        const std::optional<double> w =
+            cross == std::string::npos ? std::nullopt : parse_decimal(item.substr(0, cross));
+        const std::optional<double> h =
+            cross == std::string::npos ? std::nullopt : parse_decimal(item.substr(cross + 1));
+        auto side = [](const std::optional<double>& v) {
+            return v && *v >= 1 && *v <= 1024 && *v == std::floor(*v);
+        };
+        if (!side(w) || !side(h))
+            throw InputError(
+                fmt::format("{}: '{}' is not a thumbnail size WxH (whole pixels from 1 to 1024)",
+                            source, item));
+        if (format != "PNG" && format != "png")
+            throw InputError(fmt::format(
+                "{}: thumbnail format '{}' is not supported; carve writes PNG", source, format));
+        sizes.emplace_back(static_cast<int>(*w), static_cast<int>(*h));
+        if (end == text.size()) break;
+    }
+    if (sizes.size() > 8)
+        throw InputError(fmt::format("{}: {} thumbnail sizes; at most 8", source, sizes.size()));
+    return sizes;
 }
 
 void validate_settings(const Settings& s) {

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <string>
+#include <utility>
 #include <variant>
 #include <vector>
 
@@ -33,6 +34,12 @@ struct SettingSpec {
 
 const std::vector<SettingSpec>& setting_table();
 const SettingSpec* find_setting_by_ini_key(const std::string& key);
+
+// Thumbnail sizes: "16x16,220x124" (--thumbnails), or PrusaSlicer 2.6's "16x16/PNG, 220x124/PNG"
+// (the profile key `thumbnails`); each side from 1 to 1024 pixels, at most 8 sizes, PNG only.
+// Throws InputError naming `source`.
+std::vector<std::pair<int, int>> parse_thumbnail_sizes(const std::string& text,
+                                                       const std::string& source);
 
 // Checks every setting of the table (and the few the table does not hold) once more after the
 // printer preset, the profile and the options were applied: the last word before a run starts.

@@ -6,6 +6,8 @@
 #include <map>
 #include <numbers>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "geometry/types.hpp"
 
@@ -80,7 +82,34 @@ struct Settings {
     double wipe_distance = 1.0;        // mm
     bool firmware_retraction = false;  // G10/G11: the firmware's own length and speed
     double bridge_flow = 1.0;
-    int fan_speed = 255, bridge_fan_speed = 255;
+
+    // Machine limits as PrusaSlicer names them (machine_max_*): written to the G-code as
+    // M201/M203/M204/M205 and the very values the time estimate plans with. The defaults do not
+    // bind below carve's default speeds and accelerations (print and travel accelerations above
+    // are M204's P and T).
+    double max_acceleration_x = 3000, max_acceleration_y = 3000;  // mm/s^2
+    double max_acceleration_z = 200, max_acceleration_e = 5000;
+    double retract_acceleration = 1500;                 // M204 R
+    double max_feedrate_x = 500, max_feedrate_y = 500;  // mm/s
+    double max_feedrate_z = 12, max_feedrate_e = 120;
+    double max_jerk_x = 8, max_jerk_y = 8, max_jerk_z = 0.4, max_jerk_e = 4.5;  // mm/s
+    // Marlin 2's cornering (M205 J); 0 = classic jerk (Prusa firmware, PrusaSlicer's viewer).
+    double junction_deviation = 0.013;
+
+    // Cooling, as PrusaSlicer does it (fan speeds in percent). A layer printed faster than
+    // slowdown_below_layer_time has its extrusions slowed down to last that long, but not below
+    // min_print_speed; the fan runs at min_fan_speed (fan_always_on) and rises to max_fan_speed
+    // as the layer time falls from fan_below_layer_time to slowdown_below_layer_time.
+    int cooling = 1;
+    int fan_always_on = 1;
+    int min_fan_speed = 100, max_fan_speed = 100, bridge_fan_speed = 100;  // percent
+    double fan_below_layer_time = 60, slowdown_below_layer_time = 5;       // s
+    double min_print_speed = 10;                                           // mm/s
+    int disable_fan_first_layers = 1;
+
+    // Host and printer conveniences.
+    int m73 = 0;  // M73 P<percent> R<minutes> progress (PrusaSlicer's remaining_times)
+    std::vector<std::pair<int, int>> thumbnails;  // sizes of the PNG previews, WxH
     std::string start_gcode = "G28 ; home all axes\nG1 Z5 F3000\nG92 E0\n";
     std::string end_gcode = "M104 S0\nM140 S0\nM107\nG91\nG1 Z10 F600\nG90\nG28 X0\nM84\n";
     // A profile's filament G-code (after the start G-code, before the end G-code) and layer-change

@@ -33,8 +33,13 @@
 #include "base/atomic_file.hpp"
 #include "base/error.hpp"
 #include "base/stage_timer.hpp"
+#include "gcode/cooling.hpp"
+#include "gcode/header.hpp"
+#include "gcode/labels.hpp"
+#include "gcode/limits.hpp"
 #include "gcode/motion.hpp"
 #include "gcode/placeholders.hpp"
+#include "gcode/progress.hpp"
 #include "gcode/spill.hpp"
 #include "toolpath/comb.hpp"
 
@@ -105,82 +110,6 @@ std::string format_duration(double seconds) {
 
 namespace {
 
-std::string_view flavor_name(GcodeFlavor f) {
-    switch (f) {
-        case GcodeFlavor::Marlin:
-            return "Marlin";
-        case GcodeFlavor::RepRap:
-            return "RepRap";
-        case GcodeFlavor::Klipper:
-            return "Klipper";
-    }
-    return "Marlin";
-}
-
-// Every setting that shapes the output, as "; key = value" lines (PrusaSlicer's style).
-std::vector<std::pair<std::string, std::string>> setting_lines(const Settings& s) {
-    auto num = [](double v) { return fmt::format("{}", v); };
-    auto one_line = [](std::string text) {
-        for (char& c : text)
-            if (c == '\n') c = '|';
-        return text;
-    };
-    return {
-        {"layer_height", num(s.layer_height)},
-        {"nozzle_diameter", num(s.nozzle)},
-        {"extrusion_width", num(s.width_mm())},
-        {"max_overhang", num(s.max_overhang)},
-        {"cavities", s.cavities_auto ? "auto" : std::to_string(s.cavities)},
-        {"covers", std::to_string(s.covers)},
-        {"shells", std::to_string(s.shells)},
-        {"walls", s.walls == WallMode::Single ? "single" : "double"},
-        {"restriction_factor", num(s.restriction_factor)},
-        {"opening_factor", num(s.opening_factor)},
-        {"wall_extension", num(s.wall_extension)},
-        {"bridge_angle_step", num(s.bridge_angle_step)},
-        {"prune_bridges", s.prune_bridges ? "1" : "0"},
-        {"gcode_flavor", std::string(flavor_name(s.flavor))},
-        {"printer_name", s.printer_name},
-        {"filament_diameter", num(s.filament_diameter)},
-        {"filament_density", num(s.filament_density)},
-        {"bed_size", fmt::format("{}x{}", s.bed_x, s.bed_y)},
-        {"use_relative_e_distances", s.relative_e ? "1" : "0"},
-        {"first_layer_temperature", std::to_string(s.first_layer_nozzle_temperature)},
-        {"temperature", std::to_string(s.nozzle_temperature)},
-        {"first_layer_bed_temperature", std::to_string(s.first_layer_bed_temperature)},
-        {"bed_temperature", std::to_string(s.bed_temperature)},
-        {"perimeter_speed", num(s.perimeter_speed)},
-        {"cavity_speed", num(s.cavity_speed)},
-        {"cover_speed", num(s.cover_speed)},
-        {"bridge_speed", num(s.bridge_speed)},
-        {"travel_speed", num(s.travel_speed)},
-        {"first_layer_speed", num(s.first_layer_speed)},
-        {"max_print_speed", num(s.max_print_speed)},
-        {"acceleration", num(s.acceleration)},
-        {"travel_acceleration", num(s.travel_acceleration)},
-        {"junction_deviation", num(kJunctionDeviationMm)},
-        {"retract_length", num(s.retract_length)},
-        {"retract_speed", num(s.retract_speed)},
-        {"retract_before_travel", num(s.retract_min_travel)},
-        {"retract_lift", num(s.z_hop)},
-        {"combing", s.combing == Combing::Off      ? "off"
-                    : s.combing == Combing::Inside ? "inside"
-                                                   : "all"},
-        {"avoid_crossing_perimeters", s.avoid_crossing_perimeters ? "1" : "0"},
-        {"seam_position", s.seam == SeamMode::Aligned   ? "aligned"
-                          : s.seam == SeamMode::Nearest ? "nearest"
-                          : s.seam == SeamMode::Rear    ? "rear"
-                                                        : "random"},
-        {"wipe", s.wipe ? "1" : "0"},
-        {"use_firmware_retraction", s.firmware_retraction ? "1" : "0"},
-        {"bridge_flow_ratio", num(s.bridge_flow)},
-        {"fan_speed", std::to_string(s.fan_speed)},
-        {"bridge_fan_speed", std::to_string(s.bridge_fan_speed)},
-        {"start_gcode", one_line(s.start_gcode)},
-        {"end_gcode", one_line(s.end_gcode)},
-    };
-}
-
 struct Bounds {
     double min_x = std::numeric_limits<double>::max(), min_y = min_x, min_z = min_x;
     double max_x = std::numeric_limits<double>::lowest(), max_y = max_x, max_z = max_x;
@@ -190,8 +119,15 @@ struct Bounds {
 // Turns layers into G-code text (or, without a file, only measures what it would print).
 class Emitter {
   public:
-    Emitter(const Settings& st, Coord off_x, Coord off_y, std::FILE* out, std::string path)
-        : st_(st), off_x_(off_x), off_y_(off_y), out_(out), path_(std::move(path)) {
+    Emitter(const Settings& st, Coord off_x, Coord off_y, std::FILE* out, std::string path,
+            std::string object = "object")
+        : st_(st),
+          off_x_(off_x),
+          off_y_(off_y),
+          out_(out),
+          path_(std::move(path)),
+          object_(std::move(object)),
+          planner_(machine_limits(st)) {
         const double r = st.filament_diameter / 2;
         filament_area_ = std::numbers::pi * r * r;
         retract_units_ = std::llround(std::max(0.0, st.retract_length) * kEScale);
@@ -206,11 +142,16 @@ class Emitter {
               "S (temperature)");
         const std::string start_text = expand_custom_gcode(st_.start_gcode, st_).text;
         const bool klipper_macro = st_.flavor == GcodeFlavor::Klipper && st_.start_gcode.empty();
+        // Klipper's PRINT_START macro heats, given the temperatures: heating before it would
+        // wait for the bed twice and leave the macro's own order (soak, mesh) without effect.
+        const bool macro_heats = st_.flavor == GcodeFlavor::Klipper &&
+                                 start_text.find("PRINT_START") != std::string::npos;
+        for (const std::string& l : machine_limit_lines(st_)) line(l);
         set_fan(0);
         if (klipper_macro) {
             line(fmt::format("PRINT_START BED_TEMP={} EXTRUDER_TEMP={}",
                              st_.first_layer_bed_temperature, st_.first_layer_nozzle_temperature));
-        } else {
+        } else if (!macro_heats) {
             // Like PrusaSlicer: heat unless the user's start G-code waits for it itself, judged
             // from the text the printer will get (an M109 inside a false {if} heats nothing).
             const bool user_bed = waits_for(start_text, "M190");
@@ -229,6 +170,7 @@ class Emitter {
         line("G90 ; absolute coordinates");
         line(st_.relative_e ? "M83 ; relative extrusion" : "M82 ; absolute extrusion");
         line("G92 E0");
+        mark_progress(0);
     }
 
     void layer(const LayerToolpaths& layer) {
@@ -247,13 +189,10 @@ class Emitter {
             if (st_.bed_temperature != st_.first_layer_bed_temperature)
                 line(fmt::format("M140 S{}", st_.bed_temperature));
         }
-        if (layer.index > 0) set_fan(st_.fan_speed);
+        mark_progress(planner_.time());
         type_known_ = false;
         layer_comb_ = &layer.comb_region;
-        comber_.reset();
-        static const Travel unplanned;
-        for (size_t i = 0; i < layer.extrusions.size(); ++i)
-            extrude(layer.extrusions[i], i < layer.travels.size() ? layer.travels[i] : unplanned);
+        print_layer_cooled(layer);
         layer_comb_ = nullptr;
         ++stats_.layers;
         flush(false);
@@ -261,6 +200,7 @@ class Emitter {
 
     void end() {
         if (!retracted_ && !first_travel_) retract();
+        mark_progress(-1);  // 100 %: the total, known below
         custom(st_.end_filament_gcode);
         if (st_.flavor == GcodeFlavor::Klipper && st_.end_gcode.empty()) line("PRINT_END");
         raw(expand_custom_gcode(st_.end_gcode, st_,
@@ -272,6 +212,8 @@ class Emitter {
         stats_.estimated_print_time_s = planner_.time();
         stats_.filament_length_mm = stats_.extruded_volume_mm3 / filament_area_;
         stats_.filament_weight_g = stats_.extruded_volume_mm3 / 1000.0 * st_.filament_density;
+        for (ProgressMark& m : marks_)
+            if (m.elapsed_s < 0) m.elapsed_s = stats_.estimated_print_time_s;
         flush(true);
     }
 
@@ -281,6 +223,7 @@ class Emitter {
 
     void flush_all() { flush(true); }
     const PrintStats& stats() const { return stats_; }
+    const std::vector<ProgressMark>& progress_marks() const { return marks_; }
     const Bounds& bounds() const { return bounds_; }
 
   private:
@@ -334,6 +277,7 @@ class Emitter {
         if (!force && buf_.size() < kFlushBytes) return;
         if (buf_.size() > 0 && std::fwrite(buf_.data(), 1, buf_.size(), out_) != buf_.size())
             io_error(std::strerror(errno), path_);
+        written_ += static_cast<long long>(buf_.size());
         buf_.clear();
     }
 
@@ -372,7 +316,7 @@ class Emitter {
         feed(st_.retract_speed);
         buf_.push_back('\n');
         e_units_ = target;
-        planner_.dwell(st_.retract_length / st_.retract_speed);
+        planner_.dwell(st_.retract_length / retract_speed_limit(st_));
     }
 
     bool can_retract() const { return st_.firmware_retraction || retract_units_ > 0; }
@@ -383,7 +327,7 @@ class Emitter {
             wipe();
         } else if (st_.firmware_retraction) {
             line("G10 ; retract");
-            planner_.dwell(st_.retract_length / st_.retract_speed);
+            planner_.dwell(st_.retract_length / retract_speed_limit(st_));
         } else {
             move_filament(e_units_ - retract_units_);
         }
@@ -434,7 +378,7 @@ class Emitter {
         line(";WIPE_END");
         if (firmware) {
             line("G10 ; retract");
-            planner_.dwell(st_.retract_length / st_.retract_speed);
+            planner_.dwell(st_.retract_length / retract_speed_limit(st_));
         } else {
             planner_.stop();
         }
@@ -446,7 +390,7 @@ class Emitter {
         if (!retracted_) return;
         if (st_.firmware_retraction) {
             line("G11 ; unretract");
-            planner_.dwell(st_.retract_length / st_.retract_speed);
+            planner_.dwell(st_.retract_length / retract_speed_limit(st_));
         } else {
             move_filament(std::llround(e_mm_ * kEScale));
         }
@@ -460,7 +404,11 @@ class Emitter {
         feed(kZSpeed);
         buf_.push_back('\n');
         const double dz = z_ < 0 ? to_mm(z) : std::abs(to_mm(z - z_));
-        planner_.dwell(trapezoid_time(dz, 0, kZSpeed, 0, st_.travel_acceleration));
+        const bool limited = st_.flavor != GcodeFlavor::Klipper;
+        planner_.dwell(
+            trapezoid_time(dz, 0, limited ? std::min(kZSpeed, st_.max_feedrate_z) : kZSpeed, 0,
+                           limited ? std::min(st_.travel_acceleration, st_.max_acceleration_z)
+                                   : st_.travel_acceleration));
         z_ = z;
     }
 
@@ -491,6 +439,7 @@ class Emitter {
 
     void travel_move(const Point& p) {
         if (p == pos_) return;
+        use_acceleration(st_.travel_acceleration);
         put("G0 X");
         fixed(p.X, 3);
         put(" Y");
@@ -532,7 +481,7 @@ class Emitter {
         }
         if (st_.max_print_speed > 0) v = std::min(v, st_.max_print_speed);
         if (layer_ == 0) v = std::min(v, st_.first_layer_speed);
-        return v;
+        return slowed_speed(v, speed_factor_, st_.min_print_speed);
     }
 
     void extrude(const Extrusion& ex, const Travel& travel) {
@@ -561,9 +510,10 @@ class Emitter {
             width_ = width;
             fmt::format_to(std::back_inserter(buf_), ";WIDTH:{:.3f}\n", width);
         }
-        if (layer_ > 0)
-            set_fan(ex.feature == Feature::Bridge ? st_.bridge_fan_speed : st_.fan_speed);
+        set_fan(
+            fan_byte(ex.feature == Feature::Bridge ? bridge_fan_percent(st_, layer_) : layer_fan_));
         unretract();
+        use_acceleration(st_.acceleration);
         const double speed = speed_of(ex.feature);
         // Filament per mm of path: the line's cross-section (width x height) over the filament's.
         const double e_per_mm = st_.width_mm() * st_.layer_height * ex.flow / filament_area_;
@@ -623,10 +573,114 @@ class Emitter {
         }
     }
 
+    // --- cooling, progress, labels.
+    static int fan_byte(int percent) {
+        return static_cast<int>(std::lround(std::clamp(percent, 0, 100) * 2.55));
+    }
+
+    // Klipper takes the acceleration from M204 S as the moves change (its limits are in
+    // printer.cfg); the other firmwares were told M204 P and T once.
+    void use_acceleration(double a) {
+        if (st_.flavor != GcodeFlavor::Klipper || a == accel_) return;
+        accel_ = a;
+        line(fmt::format("M204 S{}", std::llround(a)));
+    }
+
+    // An M73 goes here, `elapsed_s` into the print (-1: at the end, the total).
+    void mark_progress(double elapsed_s) {
+        if (!st_.m73) return;
+        marks_.push_back({written_ + static_cast<long long>(buf_.size()), elapsed_s});
+    }
+
+    // Everything a layer's paths change, to write the layer again slower.
+    struct Snapshot {
+        size_t text = 0;
+        Point pos;
+        Coord z = 0;
+        double e_mm = 0;
+        long long e_units = 0, feed = 0;
+        bool retracted = false, first_travel = false, type_known = false, labelled = false;
+        int fan = 0;
+        Feature type = Feature::OuterWall;
+        double width = 0, accel = 0, wipe_length = 0;
+        MotionPlanner planner;
+        PrintStats stats;
+        Bounds bounds;
+        Path wipe_path;
+    };
+    Snapshot save() const {
+        return {buf_.size(),   pos_,        z_,        e_mm_,   e_units_,  feed_,  retracted_,
+                first_travel_, type_known_, labelled_, fan_,    type_,     width_, accel_,
+                wipe_length_,  planner_,    stats_,    bounds_, wipe_path_};
+    }
+    void restore(const Snapshot& k) {
+        buf_.resize(k.text);
+        pos_ = k.pos, z_ = k.z, e_mm_ = k.e_mm, e_units_ = k.e_units, feed_ = k.feed;
+        retracted_ = k.retracted, first_travel_ = k.first_travel, type_known_ = k.type_known;
+        labelled_ = k.labelled, fan_ = k.fan, type_ = k.type, width_ = k.width, accel_ = k.accel;
+        wipe_length_ = k.wipe_length, planner_ = k.planner, stats_ = k.stats, bounds_ = k.bounds;
+        wipe_path_ = k.wipe_path;
+        comber_.reset();
+    }
+
+    // The layer's paths as the cooling wants them: written at full speed and timed; written
+    // again slower while it is shorter than the minimum layer time, or with another fan.
+    void print_layer_cooled(const LayerToolpaths& layer) {
+        const Snapshot before = save();
+        const double t0 = planner_.time();
+        speed_factor_ = 1;
+        layer_fan_ = layer_fan_percent(st_, layer.index, std::numeric_limits<double>::infinity());
+        print_paths(layer);
+        const double full = planner_.time() - t0;
+        const int fan = layer_fan_percent(st_, layer.index, full);
+        const bool slow = needs_slowdown(st_, full);
+        if (!slow && fan == layer_fan_) return;
+        const double target = st_.slowdown_below_layer_time;
+        const double fastest = std::max({speed_of(Feature::OuterWall), speed_of(Feature::Cover),
+                                         speed_of(Feature::CavityWall), speed_of(Feature::Bridge)});
+        double factor = slow ? std::max(0.01, full / target) : 1.0;
+        for (int pass = 0; pass < 8; ++pass) {
+            restore(before);
+            speed_factor_ = factor;
+            layer_fan_ = fan;
+            print_paths(layer);
+            const double tried = planner_.time() - t0;
+            // Done when long enough, or when every extrusion is down to the minimum speed.
+            if (!slow || tried >= target * 0.999 ||
+                slowed_speed(fastest, factor, st_.min_print_speed) <= st_.min_print_speed)
+                break;
+            factor = next_speed_factor(full, factor, tried, target);
+        }
+        speed_factor_ = 1;
+    }
+
+    void print_paths(const LayerToolpaths& layer) {
+        comber_.reset();
+        set_fan(fan_byte(layer_fan_));
+        bool any = false;
+        for (const Extrusion& ex : layer.extrusions) any = any || ex.points.size() >= 2;
+        if (any) {
+            for (const std::string& l : object_start(st_, object_, 0, !labelled_)) line(l);
+            labelled_ = true;
+        }
+        static const Travel unplanned;
+        for (size_t i = 0; i < layer.extrusions.size(); ++i)
+            extrude(layer.extrusions[i], i < layer.travels.size() ? layer.travels[i] : unplanned);
+        if (any)
+            for (const std::string& l : object_end(st_, object_)) line(l);
+    }
+
     const Settings& st_;
     Coord off_x_, off_y_;
     std::FILE* out_;
     std::string path_;
+    std::string object_;               // the object's label
+    std::vector<ProgressMark> marks_;  // where the M73 lines go
+    long long written_ = 0;            // bytes of text flushed to out_
+    double speed_factor_ = 1;          // cooling's slowdown of the layer being written
+    int layer_fan_ = 0;                // percent, for the layer's ordinary extrusions
+    double accel_ = -1;                // Klipper's M204 S in force
+    bool labelled_ = false;            // M486 A named the object
     fmt::memory_buffer buf_;
     double filament_area_ = 1;
     long long retract_units_ = 0;
@@ -676,7 +730,9 @@ struct GcodeWriter::Impl {
     std::FILE* spill = nullptr;
     long long spill_end = 0;
     std::vector<long long> offsets, sizes;
-    OutputGroup* group = nullptr;  // commit held back until the run's other outputs are done
+    OutputGroup* group = nullptr;         // commit held back until the run's other outputs are done
+    std::string object = "object";        // the object's label
+    std::vector<std::string> thumbnails;  // the header's thumbnail blocks
     bool finished = false;
     std::mutex mutex;
 
@@ -730,6 +786,14 @@ void GcodeWriter::commit_with(OutputGroup& group) {
     impl_->group = &group;
 }
 
+void GcodeWriter::set_object_name(const std::string& name) {
+    impl_->object = name.empty() ? "object" : name;
+}
+
+void GcodeWriter::set_thumbnails(std::vector<std::string> lines) {
+    impl_->thumbnails = std::move(lines);
+}
+
 void GcodeWriter::add_layer(const LayerToolpaths& layer) {
     StageTimer timer(Stage::kGcode);
     const std::string blob = encode_layer(layer);
@@ -757,7 +821,7 @@ PrintStats GcodeWriter::finish(const std::vector<std::string>& header_comments) 
     std::FILE* out = nullptr;
     try {
         std::setvbuf(body, nullptr, _IOFBF, 1 << 16);
-        Emitter writer(m.settings, m.off_x, m.off_y, body, m.output_path);
+        Emitter writer(m.settings, m.off_x, m.off_y, body, m.output_path, m.object);
         m.run(writer);
         writer.flush_all();
         if (std::fflush(body) != 0 || std::ferror(body) || std::fseek(body, 0, SEEK_SET) != 0)
@@ -767,9 +831,11 @@ PrintStats GcodeWriter::finish(const std::vector<std::string>& header_comments) 
 
         auto file = std::make_unique<AtomicFile>(m.output_path);
         out = file->stream();
-        const double volume_cm3 = s.extruded_volume_mm3 / 1000.0;
-        std::vector<std::string> head;
-        head.push_back("; generated by carve");
+        // PrusaSlicer's order: who made the file first (hosts look there), the thumbnails, then
+        // Cura's summary lines and carve's own; the figures and the configuration close the
+        // file, where Moonraker's PrusaSlicer parser reads them.
+        std::vector<std::string> head{generated_by_line(), ";"};
+        head.insert(head.end(), m.thumbnails.begin(), m.thumbnails.end());
         for (const std::string& c : header_comments)
             head.push_back(c.rfind(';', 0) == 0 ? c : "; " + c);
         head.push_back(fmt::format(";FLAVOR:{}", flavor_name(m.settings.flavor)));
@@ -787,33 +853,24 @@ PrintStats GcodeWriter::finish(const std::vector<std::string>& header_comments) 
         head.push_back(fmt::format(";LAYER_COUNT:{}", m.layer_count));
         head.push_back(fmt::format("; estimated printing time (normal mode) = {}",
                                    format_duration(s.estimated_print_time_s)));
-        head.push_back(fmt::format("; filament used [mm] = {:.2f}", s.filament_length_mm));
-        head.push_back(fmt::format("; filament used [cm3] = {:.2f}", volume_cm3));
-        head.push_back(fmt::format("; filament used [g] = {:.2f}", s.filament_weight_g));
-        head.push_back(fmt::format("; extruded volume [mm3] = {:.2f}", s.extruded_volume_mm3));
-        head.push_back(fmt::format("; travel [mm] = {:.1f}", s.travel_length_mm));
-        head.push_back(fmt::format("; retractions = {}", s.retractions));
-        head.push_back(fmt::format("; bridges [mm] = {:.1f}", s.bridge_length_mm));
-        head.push_back(";");
-        for (const auto& [key, value] : setting_lines(m.settings))
-            head.push_back(fmt::format("; {} = {}", key, value));
+        if (!b.empty())
+            for (const std::string& l :
+                 object_definition(m.settings, m.object, b.min_x, b.min_y, b.max_x, b.max_y))
+                head.push_back(l);
         head.push_back("");
 
         Emitter text(m.settings, m.off_x, m.off_y, out, m.output_path);
         text.comment_block(head);
         text.flush_all();
-        std::vector<char> chunk(1 << 20);
-        for (size_t n; (n = std::fread(chunk.data(), 1, chunk.size(), body)) > 0;)
-            if (std::fwrite(chunk.data(), 1, n, out) != n)
-                io_error(std::strerror(errno), m.output_path);
-        if (std::ferror(body)) io_error(std::strerror(errno), m.output_path);
+        copy_with_progress(body, out, writer.progress_marks(), s.estimated_print_time_s,
+                           m.output_path);
         std::fclose(body);
         body = nullptr;
-        text.comment_block({"", "; end of print",
-                            fmt::format("; estimated printing time (normal mode) = {}",
-                                        format_duration(s.estimated_print_time_s)),
-                            fmt::format("; filament used [mm] = {:.2f}", s.filament_length_mm),
-                            fmt::format("; filament used [g] = {:.2f}", s.filament_weight_g)});
+        std::vector<std::string> tail{""};
+        for (const std::string& l : footer_figures(s, m.layer_count)) tail.push_back(l);
+        tail.push_back("");
+        for (const std::string& l : config_block(m.settings)) tail.push_back(l);
+        text.comment_block(tail);
         text.flush_all();
         const PrintStats result = s;
         out = nullptr;

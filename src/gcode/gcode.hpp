@@ -41,6 +41,11 @@ class GcodeWriter {
     // finish() leaves the complete file to `group` (renamed with the run's other outputs)
     // instead of renaming it at once.
     void commit_with(OutputGroup& group);
+    // The object's label ("; printing object NAME", EXCLUDE_OBJECT, M486), already made safe
+    // for the hosts (gcode/labels.hpp object_label); "object" when empty.
+    void set_object_name(const std::string& name);
+    // Comment lines for the header, the thumbnails' blocks (gcode/thumbnail.hpp).
+    void set_thumbnails(std::vector<std::string> lines);
     // Writes header, layers bottom up and footer, then renames into place.
     PrintStats finish(const std::vector<std::string>& header_comments);
     // Where the complete file is after finish(): its temporary name while `group` holds it back,

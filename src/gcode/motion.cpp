@@ -28,7 +28,42 @@ double trapezoid_time(double length, double v_entry, double v_nominal, double v_
 void MotionPlanner::move(double dx, double dy, double speed, double accel) {
     const double len = std::hypot(dx, dy);
     if (len <= 0) return;
-    blocks_.push_back({len, dx / len, dy / len, speed, accel});
+    const double ux = dx / len, uy = dy / len;
+    // An axis limit caps the move along its direction: the axis's share of the move's speed or
+    // acceleration may not exceed it.
+    auto cap = [](double v, double axis_limit, double share) {
+        return share > 1e-12 ? std::min(v, axis_limit / share) : v;
+    };
+    speed = cap(cap(speed, limits_.feed_x, std::abs(ux)), limits_.feed_y, std::abs(uy));
+    accel = cap(cap(accel, limits_.accel_x, std::abs(ux)), limits_.accel_y, std::abs(uy));
+    blocks_.push_back({len, ux, uy, speed, accel});
+}
+
+double MotionPlanner::junction_speed(const Block& p, const Block& q) const {
+    double v = std::min(p.speed, q.speed);
+    if (limits_.junction_deviation <= 0) {
+        // Classic jerk: the change of each axis's speed at v stays within its jerk.
+        const double cx = std::abs(p.ux - q.ux), cy = std::abs(p.uy - q.uy);
+        if (cx > 1e-12) v = std::min(v, limits_.jerk_x / cx);
+        if (cy > 1e-12) v = std::min(v, limits_.jerk_y / cy);
+        return v;
+    }
+    const double cos_theta = -(p.ux * q.ux + p.uy * q.uy);
+    if (cos_theta > 0.999999) return 0;  // reversal
+    if (cos_theta > -0.999999) {
+        const double sin_half = std::sqrt(0.5 * (1 - cos_theta));
+        const double a = std::min(p.accel, q.accel);
+        v = std::min(v, std::sqrt(a * limits_.junction_deviation * sin_half / (1 - sin_half)));
+    }
+    return v;
+}
+
+double MotionPlanner::safe_speed(const Block& b) const {
+    if (limits_.junction_deviation > 0) return 0;
+    double v = b.speed;
+    if (std::abs(b.ux) > 1e-12) v = std::min(v, limits_.jerk_x / std::abs(b.ux));
+    if (std::abs(b.uy) > 1e-12) v = std::min(v, limits_.jerk_y / std::abs(b.uy));
+    return v;
 }
 
 void MotionPlanner::stop() {
@@ -50,20 +85,9 @@ double MotionPlanner::plan(const std::vector<Block>& b) const {
     if (n == 0) return 0;
     // entry[i]: speed at the start of block i; entry[n] = 0 (rest at the end).
     std::vector<double> entry(n + 1, 0.0);
-    for (size_t i = 1; i < n; ++i) {
-        const Block& p = b[i - 1];
-        const Block& q = b[i];
-        const double cos_theta = -(p.ux * q.ux + p.uy * q.uy);
-        double v = std::min(p.speed, q.speed);
-        if (cos_theta > 0.999999) {
-            v = 0;  // reversal
-        } else if (cos_theta > -0.999999) {
-            const double sin_half = std::sqrt(0.5 * (1 - cos_theta));
-            const double a = std::min(p.accel, q.accel);
-            v = std::min(v, std::sqrt(a * deviation_ * sin_half / (1 - sin_half)));
-        }
-        entry[i] = v;
-    }
+    entry[0] = safe_speed(b[0]);
+    entry[n] = safe_speed(b[n - 1]);
+    for (size_t i = 1; i < n; ++i) entry[i] = junction_speed(b[i - 1], b[i]);
     // Backward: each block must be able to slow down to the next entry speed.
     for (size_t i = n; i-- > 0;)
         entry[i] = std::min(entry[i],

@@ -8,8 +8,13 @@
 // straight continuation, 0 for a reversal), capped by both moves' nominal speeds. A backward
 // and a forward pass over the buffered moves make every entry speed reachable, as a firmware
 // planner does. The buffer is emptied whenever the machine stops (retraction, Z move, end).
+// With classic jerk instead (junction deviation 0, Prusa firmware), the junction speed is the
+// highest at which no axis changes speed by more than its jerk, and a move may start or end at
+// its axes' jerk ("safe speed"). The machine's axis limits (M201, M203) cap each move's
+// acceleration and speed by its direction, as the firmware does.
 #pragma once
 
+#include <limits>
 #include <vector>
 
 namespace carve {
@@ -21,10 +26,21 @@ constexpr double kJunctionDeviationMm = 0.013;
 // v_exit, with constant acceleration; the entry and exit speeds must be mutually reachable.
 double trapezoid_time(double length, double v_entry, double v_nominal, double v_exit, double accel);
 
+// The limits the planner obeys, as the G-code states them (M201 X Y, M203 X Y, M205).
+struct MachineLimits {
+    static constexpr double kNone = std::numeric_limits<double>::infinity();
+    double accel_x = kNone, accel_y = kNone;           // mm/s^2
+    double feed_x = kNone, feed_y = kNone;             // mm/s
+    double jerk_x = 8, jerk_y = 8;                     // mm/s, with junction_deviation 0 only
+    double junction_deviation = kJunctionDeviationMm;  // mm; 0 = classic jerk
+};
+
 class MotionPlanner {
   public:
-    explicit MotionPlanner(double junction_deviation_mm = kJunctionDeviationMm)
-        : deviation_(junction_deviation_mm) {}
+    explicit MotionPlanner(double junction_deviation_mm = kJunctionDeviationMm) {
+        limits_.junction_deviation = junction_deviation_mm;
+    }
+    explicit MotionPlanner(const MachineLimits& limits) : limits_(limits) {}
 
     // An XY move (mm) at nominal speed (mm/s) and acceleration (mm/s^2).
     void move(double dx, double dy, double speed, double accel);
@@ -40,8 +56,10 @@ class MotionPlanner {
         double length, ux, uy, speed, accel;
     };
     double plan(const std::vector<Block>& blocks) const;
+    double junction_speed(const Block& p, const Block& q) const;
+    double safe_speed(const Block& b) const;  // entry from, or exit to, rest
 
-    double deviation_;
+    MachineLimits limits_;
     double done_ = 0;
     std::vector<Block> blocks_;
 };

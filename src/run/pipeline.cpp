@@ -24,6 +24,8 @@
 #include "base/error.hpp"
 #include "base/stage_timer.hpp"
 #include "carving/carving.hpp"
+#include "gcode/labels.hpp"
+#include "gcode/thumbnail.hpp"
 #include "geometry/polygon.hpp"
 #include "geometry/probe.hpp"
 #include "report/html_report.hpp"
@@ -324,6 +326,9 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
     OutputGroup group;
     GcodeWriter writer(options.gcode_path, settings, offset_x, offset_y, layer_count);
     writer.commit_with(group);
+    writer.set_object_name(object_label(options.model_path));
+    if (!settings.thumbnails.empty())
+        writer.set_thumbnails(thumbnail_blocks(mesh.vertices, mesh.triangles, settings.thumbnails));
     std::unique_ptr<AtomicDir> svg_dir, raster_dir;
     std::unique_ptr<SvgLayerWriter> svg;
     if (!options.svg_dir.empty()) {

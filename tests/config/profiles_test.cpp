@@ -133,7 +133,8 @@ TEST(PrusaProfile, IgnoredKeysAreNamedInOneNote) {
     loaded_mk3s(&notes);
     ASSERT_EQ(notes.size(), 2u);  // the covers and shells kept, the keys ignored
     EXPECT_NE(notes[0].find("--profile-shells"), std::string::npos) << notes[0];
-    EXPECT_NE(notes[1].find("fan_below_layer_time"), std::string::npos) << notes[1];
+    EXPECT_NE(notes[1].find("fill_density"), std::string::npos) << notes[1];
+    EXPECT_EQ(notes[1].find("fan_below_layer_time"), std::string::npos) << notes[1];  // read
     EXPECT_NE(notes[1].find("first_layer_extrusion_width"), std::string::npos) << notes[1];
 
     Settings s;
@@ -276,7 +277,7 @@ TEST(Printers, PresetsSetTheirPrinterAndTheKlipperMacroGetsTemperatures) {
     apply_printer_preset("klipper", k);
     EXPECT_EQ(k.flavor, GcodeFlavor::Klipper);
     const ExpandedGcode g = expand_custom_gcode(k.start_gcode, k);
-    EXPECT_EQ(g.text, "PRINT_START BED=60 EXTRUDER=215\n");
+    EXPECT_EQ(g.text, "PRINT_START BED_TEMP=60 EXTRUDER_TEMP=215\n");
     Settings x;
     EXPECT_THROW(apply_printer_preset("prusa-xl", x), InputError);
 }
@@ -340,7 +341,7 @@ TEST(Precedence, EachSourceOverridesTheOnesBeforeIt) {
     {
         const auto c = run_config("--preset 3c1s --printer klipper");
         EXPECT_EQ(c.at("covers"), "3");
-        EXPECT_EQ(c.at("gcode_flavor"), "Klipper");
+        EXPECT_EQ(c.at("gcode_flavor"), "klipper");
     }
     // --printer < explicit
     EXPECT_EQ(run_config("--retract-length 1.2 --printer ender3").at("retract_length"), "1.2");
@@ -369,6 +370,6 @@ TEST(Precedence, TheRealProfileDrivesTheGcode) {
     EXPECT_EQ(c.at("temperature"), "220");
     EXPECT_EQ(c.at("first_layer_temperature"), ini_value(kMk3s, "first_layer_temperature"));
     EXPECT_EQ(c.at("travel_speed"), ini_value(kMk3s, "travel_speed"));
-    EXPECT_EQ(c.at("bed_size"), "250x210");
+    EXPECT_EQ(c.at("bed_shape"), "0x0,250x0,250x210,0x210");
     EXPECT_EQ(c.at("use_relative_e_distances"), "1");
 }

@@ -305,6 +305,7 @@ TEST(GcodeWriter, SingleMoveTimeMatchesTheTrapezoid) {
     st.perimeter_speed = st.first_layer_speed = 50;
     st.acceleration = 1000;
     st.retract_length = 0;  // nothing but the move and the first Z move
+    st.cooling = 0;         // a 2 s layer would be slowed down to the minimum layer time
     LayerToolpaths l;
     l.index = 0;
     l.z = st.layer_height;
@@ -314,7 +315,9 @@ TEST(GcodeWriter, SingleMoveTimeMatchesTheTrapezoid) {
     GcodeWriter w(out.string(), st, 0, 0, 1);
     w.add_layer(l);
     const PrintStats stats = w.finish({});
-    const double z_move = trapezoid_time(st.layer_height, 0, 10.0, 0, st.travel_acceleration);
+    // The Z move within the machine's Z limits (M203 Z, M201 Z).
+    const double z_move = trapezoid_time(st.layer_height, 0, std::min(10.0, st.max_feedrate_z), 0,
+                                         std::min(st.travel_acceleration, st.max_acceleration_z));
     EXPECT_NEAR(stats.estimated_print_time_s, 2.05 + z_move, 1e-9);
     EXPECT_EQ(stats.retractions, 0);
     EXPECT_NEAR(stats.travel_length_mm, 0, 1e-12);
@@ -339,7 +342,7 @@ TEST(GcodeWriter, FlavoursDifferInStartAndFan) {
     EXPECT_NE(k.find("PRINT_END"), std::string::npos);
     st = Settings{};
     st.flavor = GcodeFlavor::RepRap;
-    st.bridge_fan_speed = 128;
+    st.bridge_fan_speed = 50;  // percent
     {
         GcodeWriter w((dir / "r.gcode").string(), st, 0, 0, 2);
         w.add_layer(sample_layer(1, st));

@@ -1,0 +1,53 @@
+// Object labels (labels.hpp).
+#include "gcode/labels.hpp"
+
+#include <fmt/format.h>
+
+#include <cctype>
+
+namespace carve {
+
+std::string object_label(const std::string& model_path) {
+    std::string stem = model_path.substr(model_path.find_last_of('/') + 1);
+    if (const size_t dot = stem.rfind('.'); dot != std::string::npos && dot > 0) stem.resize(dot);
+    for (char& c : stem) {
+        const unsigned char u = static_cast<unsigned char>(c);
+        if (!(std::isalnum(u) || c == '_' || c == '-' || c == '.')) c = '_';
+    }
+    return stem.empty() ? "object" : stem;
+}
+
+std::vector<std::string> object_definition(const Settings& s, const std::string& name, double x0,
+                                           double y0, double x1, double y1) {
+    if (s.flavor == GcodeFlavor::Klipper)
+        return {
+            fmt::format("EXCLUDE_OBJECT_DEFINE NAME={} CENTER={:.3f},{:.3f} "
+                        "POLYGON=[[{:.3f},{:.3f}],[{:.3f},{:.3f}],[{:.3f},{:.3f}],[{:.3f},{:."
+                        "3f}]]",
+                        name, (x0 + x1) / 2, (y0 + y1) / 2, x0, y0, x1, y0, x1, y1, x0, y1)};
+    return {"M486 T1 ; objects to label"};
+}
+
+std::vector<std::string> object_start(const Settings& s, const std::string& name, int id,
+                                      bool first) {
+    std::vector<std::string> out{fmt::format("; printing object {}", name)};
+    if (s.flavor == GcodeFlavor::Klipper) {
+        out.push_back(fmt::format("EXCLUDE_OBJECT_START NAME={}", name));
+    } else {
+        out.push_back(fmt::format("M486 S{}", id));
+        if (first) out.push_back(fmt::format("M486 A{}", name));
+    }
+    return out;
+}
+
+std::vector<std::string> object_end(const Settings& s, const std::string& name) {
+    std::vector<std::string> out;
+    if (s.flavor == GcodeFlavor::Klipper)
+        out.push_back(fmt::format("EXCLUDE_OBJECT_END NAME={}", name));
+    else
+        out.push_back("M486 S-1");
+    out.push_back(fmt::format("; stop printing object {}", name));
+    return out;
+}
+
+}  // namespace carve

@@ -1,0 +1,60 @@
+// Machine limits: the M-codes and the planner's view of them (limits.hpp).
+#include "gcode/limits.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+
+#include "base/numbers.hpp"
+
+namespace carve {
+
+MachineLimits machine_limits(const Settings& s) {
+    MachineLimits m;
+    m.accel_x = s.max_acceleration_x;
+    m.accel_y = s.max_acceleration_y;
+    m.feed_x = s.max_feedrate_x;
+    m.feed_y = s.max_feedrate_y;
+    m.jerk_x = s.max_jerk_x;
+    m.jerk_y = s.max_jerk_y;
+    m.junction_deviation = s.junction_deviation;
+    if (s.flavor == GcodeFlavor::Klipper) {
+        // Klipper corners by its square corner velocity, not by what a G-code says; carve's
+        // limits only describe the estimate there.
+        m.accel_x = m.accel_y = m.feed_x = m.feed_y = MachineLimits::kNone;
+    }
+    return m;
+}
+
+double retract_speed_limit(const Settings& s) {
+    return s.flavor == GcodeFlavor::Klipper ? s.retract_speed
+                                            : std::min(s.retract_speed, s.max_feedrate_e);
+}
+
+std::vector<std::string> machine_limit_lines(const Settings& s) {
+    if (s.flavor == GcodeFlavor::Klipper) return {};
+    auto n = [](double v) { return plain_number(v); };
+    const double feed_unit = s.flavor == GcodeFlavor::RepRap ? 60.0 : 1.0;
+    std::vector<std::string> out;
+    out.push_back(fmt::format("M201 X{} Y{} Z{} E{} ; sets maximum accelerations, mm/sec^2",
+                              n(s.max_acceleration_x), n(s.max_acceleration_y),
+                              n(s.max_acceleration_z), n(s.max_acceleration_e)));
+    out.push_back(fmt::format("M203 X{} Y{} Z{} E{} ; sets maximum feedrates, {}",
+                              n(s.max_feedrate_x * feed_unit), n(s.max_feedrate_y * feed_unit),
+                              n(s.max_feedrate_z * feed_unit), n(s.max_feedrate_e * feed_unit),
+                              feed_unit == 1.0 ? "mm / sec" : "mm / min"));
+    out.push_back(
+        fmt::format("M204 P{} R{} T{} ; sets acceleration (P, T) and retract "
+                    "acceleration (R), mm/sec^2",
+                    n(s.acceleration), n(s.retract_acceleration), n(s.travel_acceleration)));
+    if (s.junction_deviation > 0)
+        out.push_back(
+            fmt::format("M205 J{} ; sets the junction deviation, mm", n(s.junction_deviation)));
+    else
+        out.push_back(fmt::format("M205 X{} Y{} Z{} E{} ; sets the jerk limits, mm/sec",
+                                  n(s.max_jerk_x), n(s.max_jerk_y), n(s.max_jerk_z),
+                                  n(s.max_jerk_e)));
+    return out;
+}
+
+}  // namespace carve

@@ -1,0 +1,60 @@
+// M73 lines put into the body as it is copied (progress.hpp).
+#include "gcode/progress.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+
+#include "base/error.hpp"
+
+namespace carve {
+
+std::string m73_line(double elapsed_s, double total_s) {
+    const double left = std::max(0.0, total_s - elapsed_s);
+    long long percent = 100;
+    if (total_s > 0 && elapsed_s < total_s)
+        percent =
+            std::clamp<long long>(std::llround(std::floor(100.0 * elapsed_s / total_s)), 0, 100);
+    return fmt::format("M73 P{} R{}\n", percent, std::llround(left / 60.0));
+}
+
+void copy_with_progress(std::FILE* body, std::FILE* out, const std::vector<ProgressMark>& marks,
+                        double total_s, const std::string& path) {
+    auto fail = [&] { throw OutputError("cannot write " + path + ": " + std::strerror(errno)); };
+    std::vector<char> chunk(1 << 20);
+    long long at = 0;  // body bytes copied so far
+    size_t next = 0;   // the next mark to write
+    std::string last;  // the line written last: the same figures are not repeated
+    auto progress = [&](const ProgressMark& mark) {
+        const std::string line = m73_line(mark.elapsed_s, total_s);
+        if (line == last) return;
+        if (std::fwrite(line.data(), 1, line.size(), out) != line.size()) fail();
+        last = line;
+    };
+    for (size_t n; (n = std::fread(chunk.data(), 1, chunk.size(), body)) > 0;) {
+        size_t done = 0;
+        while (done < n) {
+            const long long chunk_end = at + static_cast<long long>(n - done);
+            if (next < marks.size() && marks[next].offset < chunk_end) {
+                const size_t upto = static_cast<size_t>(std::max(0LL, marks[next].offset - at));
+                if (upto > 0 && std::fwrite(chunk.data() + done, 1, upto, out) != upto) fail();
+                done += upto;
+                at += static_cast<long long>(upto);
+                progress(marks[next]);
+                ++next;
+                continue;
+            }
+            const size_t rest = n - done;
+            if (std::fwrite(chunk.data() + done, 1, rest, out) != rest) fail();
+            done = n;
+            at = chunk_end;
+        }
+    }
+    if (std::ferror(body)) fail();
+    for (; next < marks.size(); ++next) progress(marks[next]);  // at the very end
+}
+
+}  // namespace carve

@@ -1,0 +1,28 @@
+// M73 progress for printer screens and hosts (Prusa and Marlin firmware, Mainsail, Fluidd):
+// "M73 P<percent done> R<minutes remaining>". The body is written before its total time is
+// known, so the emitter only notes where each M73 goes (a byte offset in the body) and the
+// estimate's time there; the lines are put in while the body is copied behind the header.
+#pragma once
+
+#include <cstdio>
+#include <string>
+#include <vector>
+
+namespace carve {
+
+struct ProgressMark {
+    long long offset = 0;  // byte offset in the body, before which the line goes
+    double elapsed_s = 0;  // estimated time from the start of the body to there
+};
+
+// "M73 P12 R34": the percentage is rounded down (100 only at the end), so that it never runs
+// ahead of the print; the minutes left are rounded to the nearest.
+std::string m73_line(double elapsed_s, double total_s);
+
+// Copies `body` (from its current position to its end) to `out`, with the M73 line of each
+// mark put before the byte it names; marks must be in increasing order. Throws OutputError
+// naming `path` on a failed write.
+void copy_with_progress(std::FILE* body, std::FILE* out, const std::vector<ProgressMark>& marks,
+                        double total_s, const std::string& path);
+
+}  // namespace carve
