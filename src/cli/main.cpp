@@ -188,6 +188,9 @@ int run(int argc, char** argv) {
                     "Move back along the last path while retracting [off]");
     slice->add_flag("--firmware-retraction", settings.firmware_retraction,
                     "Retract with G10/G11, length and speed set in the firmware [off]");
+    slice->add_flag("--arc-fitting", settings.arc_fitting,
+                    "Write G2/G3 arcs where a path follows a circle within --arc-tolerance; the "
+                    "firmware must accept arcs (Klipper: [gcode_arcs]) [off]");
     slice->add_flag("--m73", m73_on,
                     "Write M73 progress and remaining time for printer screens and hosts [off; "
                     "on with --printer mk3s or ender3]");

@@ -146,6 +146,8 @@ std::vector<SettingSpec> make_table() {
          "Machine limit M205 E (classic jerk), mm/s [4.5]"},
         {"", "machine_max_junction_deviation", "mm", 0.0, 1.0, &S::junction_deviation,
          "Junction deviation M205 J (Marlin 2); 0 = classic jerk, mm [0.013]"},
+        {"arc-tolerance", "", "mm", 0.001, 0.2, &S::arc_tolerance,
+         "With --arc-fitting, how far an arc may leave the path it replaces, mm [0.02]"},
         {"", "remaining_times", "0/1", 0, 1, &S::m73,
          "Write M73 progress and remaining time, 0/1 [0]"},
     };

@@ -80,6 +80,8 @@ struct Settings {
     SeamMode seam = SeamMode::Aligned;
     bool wipe = false;                 // move back along the last path while retracting
     double wipe_distance = 1.0;        // mm
+    bool arc_fitting = false;          // G2/G3 where a path follows a circle (gcode/arcs.hpp)
+    double arc_tolerance = 0.02;       // mm the arcs may leave the path by
     bool firmware_retraction = false;  // G10/G11: the firmware's own length and speed
     double bridge_flow = 1.0;
 

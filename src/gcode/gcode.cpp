@@ -33,6 +33,7 @@
 #include "base/atomic_file.hpp"
 #include "base/error.hpp"
 #include "base/stage_timer.hpp"
+#include "gcode/arcs.hpp"
 #include "gcode/cooling.hpp"
 #include "gcode/header.hpp"
 #include "gcode/labels.hpp"
@@ -518,8 +519,19 @@ class Emitter {
         // Filament per mm of path: the line's cross-section (width x height) over the filament's.
         const double e_per_mm = st_.width_mm() * st_.layer_height * ex.flow / filament_area_;
         const size_t n = ex.points.size() + (ex.closed ? 1 : 0);
-        for (size_t i = 1; i < n; ++i) {
-            const Point q = shifted(ex.points[i % ex.points.size()]);
+        std::vector<Point>& pts = path_points_;
+        pts.clear();
+        for (size_t i = 0; i < n; ++i) pts.push_back(shifted(ex.points[i % ex.points.size()]));
+        const double tolerance = st_.arc_tolerance * kUnitsPerMm;
+        for (size_t i = 0; i + 1 < pts.size();) {
+            if (st_.arc_fitting && pts[i] == pos_) {
+                if (const auto arc = fit_arc(pts, i, tolerance)) {
+                    arc_to(pts, i, *arc, speed, e_per_mm, ex.feature);
+                    i = arc->last;
+                    continue;
+                }
+            }
+            const Point q = pts[++i];
             if (q == pos_) continue;
             const double dx = to_mm(q.X - pos_.X), dy = to_mm(q.Y - pos_.Y);
             const double len = std::hypot(dx, dy);
@@ -535,17 +547,52 @@ class Emitter {
             buf_.push_back('\n');
             e_units_ = target;
             planner_.move(dx, dy, speed, st_.acceleration);
-            stats_.extruded_volume_mm3 += len * e_per_mm * filament_area_;
-            if (ex.feature == Feature::Bridge) stats_.bridge_length_mm += len;
-            bounds_.min_x = std::min(bounds_.min_x, to_mm(q.X));
-            bounds_.max_x = std::max(bounds_.max_x, to_mm(q.X));
-            bounds_.min_y = std::min(bounds_.min_y, to_mm(q.Y));
-            bounds_.max_y = std::max(bounds_.max_y, to_mm(q.Y));
-            bounds_.min_z = std::min(bounds_.min_z, to_mm(z_));
-            bounds_.max_z = std::max(bounds_.max_z, to_mm(z_));
-            pos_ = q;
+            printed(q, len, e_per_mm, ex.feature);
         }
         if (st_.wipe) remember_for_wipe(ex, shifted);
+    }
+
+    // Book-keeping of a printed move of `len` mm ending at q.
+    void printed(const Point& q, double len, double e_per_mm, Feature feature) {
+        stats_.extruded_volume_mm3 += len * e_per_mm * filament_area_;
+        if (feature == Feature::Bridge) stats_.bridge_length_mm += len;
+        bounds_.min_x = std::min(bounds_.min_x, to_mm(q.X));
+        bounds_.max_x = std::max(bounds_.max_x, to_mm(q.X));
+        bounds_.min_y = std::min(bounds_.min_y, to_mm(q.Y));
+        bounds_.max_y = std::max(bounds_.max_y, to_mm(q.Y));
+        bounds_.min_z = std::min(bounds_.min_z, to_mm(z_));
+        bounds_.max_z = std::max(bounds_.max_z, to_mm(z_));
+        pos_ = q;
+    }
+
+    // One G2/G3 for points first+1..arc.last. The planner times the chords it replaces (the
+    // arc is within the tolerance of them); E follows the arc's own length.
+    void arc_to(const std::vector<Point>& pts, size_t first, const Arc& arc, double speed,
+                double e_per_mm, Feature feature) {
+        const Point q = pts[arc.last];
+        const double len = arc.length / kUnitsPerMm;
+        e_mm_ += len * e_per_mm;
+        const long long target = std::llround(e_mm_ * kEScale);
+        guard(std::abs(q.X) < kMaxCoord && std::abs(q.Y) < kMaxCoord, "X/Y");
+        put(arc.counter_clockwise ? "G3 X" : "G2 X");
+        fixed(q.X, 3);
+        put(" Y");
+        fixed(q.Y, 3);
+        put(" I");
+        fixed(std::llround(arc.cx - double(pos_.X)), 3);
+        put(" J");
+        fixed(std::llround(arc.cy - double(pos_.Y)), 3);
+        e_word(target);
+        feed(speed);
+        buf_.push_back('\n');
+        e_units_ = target;
+        for (size_t k = first; k < arc.last; ++k)
+            planner_.move(to_mm(pts[k + 1].X - pts[k].X), to_mm(pts[k + 1].Y - pts[k].Y), speed,
+                          st_.acceleration);
+        for (size_t k = first + 1; k < arc.last; ++k) printed(pts[k], 0, e_per_mm, feature);
+        printed(q, len, e_per_mm, feature);
+        ++stats_.arcs;
+        stats_.lines_saved_by_arcs += static_cast<long long>(arc.last - first) - 1;
     }
 
     // The last wipe_distance of the path just printed, walking back from its end.
@@ -699,6 +746,7 @@ class Emitter {
     Feature type_ = Feature::OuterWall;
     double width_ = -1;
     MotionPlanner planner_;
+    std::vector<Point> path_points_;  // the path being printed, shifted, reused
     PrintStats stats_;
     Bounds bounds_;
     const Paths* layer_comb_ = nullptr;  // the comb region of the layer being written

@@ -24,6 +24,8 @@ struct PrintStats {
     int retractions = 0;
     int layers = 0;
     double bridge_length_mm = 0;
+    long long arcs = 0;                 // G2/G3 moves written (--arc-fitting)
+    long long lines_saved_by_arcs = 0;  // G1 lines they replace, less one each
 };
 
 class GcodeWriter {

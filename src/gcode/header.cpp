@@ -132,6 +132,7 @@ std::vector<std::string> config_block(const Settings& s) {
                           : s.seam == SeamMode::Rear    ? "rear"
                                                         : "random"},
         {"wipe", flag(s.wipe)},
+        {"arc_fitting", s.arc_fitting ? "emit_center" : "disabled"},
         {"use_firmware_retraction", flag(s.firmware_retraction)},
         {"bridge_flow_ratio", plain_number(s.bridge_flow)},
         {"thumbnails", thumbs},

@@ -28,6 +28,8 @@ nlohmann::json stats_json(const RunResult& run, const Settings& settings) {
     j["peak_memory_mb"] = run.peak_memory_mb;
     j["travel_length_mm"] = run.print.travel_length_mm;
     j["retractions"] = run.print.retractions;
+    j["arcs"] = run.print.arcs;
+    j["lines_saved_by_arcs"] = run.print.lines_saved_by_arcs;
     j["carvable_volume_mm3"] = run.carvable_volume_mm3;
     j["cavity_volume_mm3"] = run.cavity_volume_mm3;
     j["remainder_volume_mm3"] = run.remainder_volume_mm3;
