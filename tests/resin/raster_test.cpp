@@ -261,10 +261,20 @@ TEST(RasterWriter, ThickerMinimalWall) {
     std::filesystem::remove_all(dir);
 }
 
+// The part of a layer's cover band, beyond the outer wall, too thin for cover lines: the FDM
+// paths leave it to the walls of the layers above and below, the resin stack cures it.
+static double thin_band_mm2(const LayerPartition& layer, const Settings& st) {
+    if (layer.covers.empty() || layer.carvable.empty()) return 0;
+    const Coord keep_off = st.line_width() - st.line_width() * 15 / 100;  // kCoverOverlap
+    const Paths beyond = intersect(layer.covers, erode(layer.wall_region, st.nozzle_radius()));
+    const Paths lined = dilate(erode(layer.covers, keep_off), keep_off + st.nozzle_radius());
+    return area_mm2(subtract(beyond, lined));
+}
+
 // The resin stack and the FDM print paths describe the same walls: per layer, the cured pixels
 // outside the remainder's interior against the length of every print path times the line
-// width. They differ where the FDM paths leave a thin cover band to the outer wall (the raster
-// cures it) and at corners, so single layers wander; over the whole object they agree.
+// width, plus the thin cover bands the FDM paths leave unprinted (the raster cures them). They
+// differ at corners, so single layers wander; over the whole object they agree.
 TEST(RasterWriter, WallPixelsMatchPrintPathLengths) {
     CARVE_NEED_MODEL(kSphere);
     Settings st;
@@ -278,7 +288,7 @@ TEST(RasterWriter, WallPixelsMatchPrintPathLengths) {
     while (auto layer = bridges.next()) {
         ++layers;
         const LayerToolpaths paths = plan_layer(*layer, st);
-        double length_mm = 0;
+        double length_mm = thin_band_mm2(*layer, st) / st.nozzle;
         for (const Extrusion& e : paths.extrusions)
             length_mm += length(Paths{e.points}, e.closed) / kMm;
         const Paths solid =
@@ -298,9 +308,11 @@ TEST(RasterWriter, WallPixelsMatchPrintPathLengths) {
     }
     ASSERT_EQ(layers, 200);
     std::sort(ratios.begin(), ratios.end());
-    // 1.10 once narrow parts are carved whole (--whole-width 4; 1.13 at 10 mm): the stack's code
-    // did not change, only the partition and the paths it is compared with.
-    EXPECT_NEAR(total_pixels_mm2 / total_paths_mm2, 1.0, 0.15);
+    // 1.10 once narrow parts are carved whole (--whole-width 4; 1.13 at 10 mm), 1.16 once thin
+    // cover bands lost their edge loop (the corners where the cured band meets the cavity walls
+    // count on the stack's side only): the stack's code did not change, only the partition and
+    // the paths it is compared with.
+    EXPECT_NEAR(total_pixels_mm2 / total_paths_mm2, 1.0, 0.2);
     EXPECT_NEAR(ratios[ratios.size() / 2], 1.0, 0.2);  // median layer
     EXPECT_GT(ratios.front(), 0.6);
     EXPECT_LT(ratios.back(), 1.8);
@@ -383,6 +395,7 @@ TEST(RasterWriter, WallAreaOfARealModelDoesNotDependOnPixelSize) {
     while (auto layer = bridges.next()) {
         if (layer->index % 20 != 10) continue;
         const LayerToolpaths paths = plan_layer(*layer, st);
+        paths_mm2 += thin_band_mm2(*layer, st);
         for (const Extrusion& e : paths.extrusions)
             paths_mm2 += length(Paths{e.points}, e.closed) / kMm * st.nozzle;
         const Paths solid =
