@@ -26,6 +26,10 @@ std::vector<SettingSpec> make_table() {
         {"max-overhang", "", "degrees", 5.0, 75.0, &S::max_overhang,
          "Largest overhang from vertical the printer bridges, degrees; the per-layer dilation "
          "is r = h * tan(angle) [45]"},
+        {"support-angle", "", "degrees", 0.0, 85.0, &S::support_angle,
+         "Overhang from vertical beyond which the model's own surface needs support; carve "
+         "prints none yet, but measures that overhang and warns when it will hang, degrees [0 = "
+         "--max-overhang]"},
         {"covers", "", "layers", 0, 50, &S::covers, "Solid layers at tops and bottoms, layers [2]"},
         {"shells", "", "lines", 0, 20, &S::shells,
          "Extra perimeters inside the outer wall, lines [0]"},

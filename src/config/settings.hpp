@@ -31,6 +31,9 @@ struct Settings {
     // mm; the line width w when set (a profile's extrusion_width), else the nozzle diameter.
     double extrusion_width = 0;
     double max_overhang = 45.0;  // degrees; r = h * tan(max_overhang)
+    // degrees from vertical; a slice sticking out further than h * tan(angle) beyond the one
+    // below is the model's own overhang (0: max_overhang, what the cavities are carved with)
+    double support_angle = 0.0;
     int cavities = 6;            // k; 0 = plain hollow shell
     bool cavities_auto = false;  // stop when V^j erodes away at radius w
     int covers = 2;
@@ -127,6 +130,10 @@ struct Settings {
     Coord line_width() const { return to_units(width_mm()); }         // w
     Coord dilation_per_layer() const {                                // r
         return to_units(layer_height * std::tan(max_overhang * std::numbers::pi / 180.0));
+    }
+    Coord support_reach() const {
+        const double angle = support_angle > 0 ? support_angle : max_overhang;
+        return to_units(layer_height * std::tan(angle * std::numbers::pi / 180.0));
     }
     Coord restriction() const { return to_units(restriction_factor * nozzle / 2); }  // t
     Coord opening() const { return to_units(opening_factor * nozzle / 2); }          // s'

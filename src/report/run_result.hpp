@@ -25,6 +25,10 @@ struct RunResult {
     int minima_held_by_wall = 0;  // no bridge, but within a line width of the wall below
     int ceilings_found = 0;       // of the minima, covers over a cavity below
     int ceilings_unsupported = 0;
+    // The model's own overhang, summed over the layers: beyond the slice below by more than
+    // h tan(support angle), and of that more than 2 mm beyond it (supports/overhang.hpp).
+    double external_overhang_mm2 = 0;
+    double far_external_overhang_mm2 = 0;
     // Extruded volume by feature (index: Feature), the remainder's solid fill apart, and the
     // walls of each cavity (index j; 0 unused).
     double feature_mm3[5] = {0, 0, 0, 0, 0};

@@ -43,6 +43,9 @@ nlohmann::json stats_json(const RunResult& run, const Settings& settings) {
     j["minima_unsupported"] = run.minima_unsupported;
     j["ceilings_found"] = run.ceilings_found;
     j["ceilings_unsupported"] = run.ceilings_unsupported;
+    // The model's own overhang (no supports are printed): what only supports would hold.
+    j["external_overhang_mm2"] = run.external_overhang_mm2;
+    j["far_external_overhang_mm2"] = run.far_external_overhang_mm2;
     nlohmann::json m;
     m["outer_wall_mm3"] = run.feature_mm3[0];
     m["shells_mm3"] = run.feature_mm3[1];
@@ -65,6 +68,8 @@ nlohmann::json stats_json(const RunResult& run, const Settings& settings) {
     s["layer_height_mm"] = settings.layer_height;
     s["nozzle_mm"] = settings.nozzle;
     s["max_overhang_deg"] = settings.max_overhang;
+    s["support_angle_deg"] =
+        settings.support_angle > 0 ? settings.support_angle : settings.max_overhang;
     s["cavities"] =
         settings.cavities_auto ? nlohmann::json("auto") : nlohmann::json(settings.cavities);
     s["covers"] = settings.covers;

@@ -34,6 +34,7 @@
 #include "resin/raster.hpp"
 #include "slice/slicer.hpp"
 #include "supports/bridges.hpp"
+#include "supports/overhang.hpp"
 #include "toolpath/toolpath.hpp"
 
 namespace carve {
@@ -96,7 +97,9 @@ struct Token {
     std::shared_ptr<const CoverSlice> cover;  // ... and eroded, until the window takes it
     std::vector<std::shared_ptr<const CoverSlice>> window;  // layer i's 2c+1 slices, top down
     LayerPartition layer;
-    std::optional<LayerPartition> below;  // the cavities of slice i - 1 as the sweep left them
+    std::optional<LayerPartition> below;  // the cavities of slice i - 1 as the sweep left them,
+                                          // and its outline
+    LayerOverhang overhang;               // of O_i beyond O_{i-1}
     LayerToolpaths paths;
     std::vector<double> volumes;  // of each extrusion of `paths`, mm^3
     double material = 0;          // their sum
@@ -462,15 +465,22 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
                 // while slice i + 1's bridges read them as they were.
                 out->below.emplace();
                 out->below->cavities = t->layer.cavities;
+                out->below->outline = t->layer.outline;
             }
             held = t->end ? pool.drop(t) : t;
             return out;  // null for the top slice's token: nothing to release yet
         });
     const BridgeOptions bridging = bridge_options(settings);
+    const Coord overhang_reach = settings.support_reach();
+    OverhangTally overhangs;
     auto work = tbb::make_filter<TokenPtr, TokenPtr>(
         tbb::filter_mode::parallel, [&](TokenPtr t) -> TokenPtr {
             if (!t) return t;
             SpanTimer timer(span, t->seq, kWork);
+            // The bottom slice has no slice below: it stands on the bed.
+            t->overhang =
+                measure_overhang(t->layer.outline, t->below ? &t->below->outline : nullptr,
+                                 overhang_reach, to_units(2.0));
             {
                 StageTimer bridges_timer(Stage::kBridges);
                 add_bridges(t->layer, t->below ? &*t->below : nullptr, bridging);
@@ -507,6 +517,7 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
             result.remainder_volume_mm3 += area_mm2(layer.remainder) * h;
             result.cover_volume_mm3 += area_mm2(layer.covers) * h;
             result.layer_material_mm3[layer.index] = t->material;
+            overhangs.add(layer.index, (layer.index + 1) * h, t->overhang);  // z as the G-code says
             result.minima_found += layer.minima_found;
             result.minima_unsupported += layer.minima_unsupported;
             result.minima_held_by_wall += layer.minima_held_by_wall;
@@ -563,6 +574,9 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
     }
     for (double v : result.cavity_volume_mm3)
         if (v > 0) ++result.cavities;
+    result.external_overhang_mm2 = overhangs.area_mm2();
+    result.far_external_overhang_mm2 = overhangs.far_area_mm2();
+    if (const std::string w = overhangs.warning(); !w.empty()) note(w);
     // An open mesh has no inside of its own: its signed volume depends on where the hole is
     // (a cube missing its top gives 2/3 of the cube), while the slicer closes each slice with
     // non-zero fill. What is printed, and what "% of the model" means, is the sliced volume.
