@@ -99,8 +99,8 @@ Paths components_not_covered(const std::vector<Paths>& comps, const Paths& uncov
 // `abandoned` counts the components whose medial axis failed in every frame (they get no seed:
 // reported to the user as a warning by the caller).
 Paths seeds(const Paths& remainder, const Paths& propagated, const Paths& uncovered,
-            const SkeletonOptions& options, Coord tear_limit, Coord whole, const Paths& left_above,
-            Coord r, int& abandoned) {
+            const SkeletonOptions& options, Coord tear_limit, Coord whole, Coord longest,
+            const Paths& left_above, const Paths& carvable_above, Coord r, int& abandoned) {
     const std::vector<Paths> comps = components(remainder);
     if (tear_limit <= 0) {
         Paths open = components_not_covered(comps, uncovered);
@@ -112,10 +112,25 @@ Paths seeds(const Paths& remainder, const Paths& propagated, const Paths& uncove
         Paths whole_parts;
         if (whole > 0) {
             Paths wide;
+            auto fits = [](const Paths& region, Coord width) {
+                const BBox2 b = bounds(region);
+                return std::min(b.max_x - b.min_x, b.max_y - b.min_y) < width ||
+                       erode(region, width / 2).empty();
+            };
             for (Paths& comp : components(open)) {
-                const BBox2 b = bounds(comp);
-                const bool narrow = std::min(b.max_x - b.min_x, b.max_y - b.min_y) < whole ||
-                                    erode(comp, whole / 2).empty();
+                // Up to the longest bridge when what has to be bridged is narrow: only the part
+                // under the model's surface in the slice above (outside O'_{i+1}) is a ceiling.
+                // The rest lies under what this iteration left solid there (V^j_{i+1}: under
+                // C^j_{i+1} it would be propagated, not open), and is cut back below to a band
+                // r wide. So under a dome-like top, where the cavity cannot follow the surface
+                // out, the new ring the surface opens in each slice is carved whole instead of
+                // torn into nested rings of walls bridged to each other: skull 6.34 -> 5.17 %.
+                bool narrow = fits(comp, whole);
+                if (!narrow && longest > whole && fits(comp, longest)) {
+                    const Paths ceiling =
+                        carvable_above.empty() ? comp : subtract(comp, carvable_above);
+                    narrow = ceiling.empty() || fits(ceiling, whole);
+                }
                 Paths& to = narrow ? whole_parts : wide;
                 std::move(comp.begin(), comp.end(), std::back_inserter(to));
             }
@@ -202,6 +217,7 @@ std::optional<LayerPartition> CarvingSweep::next() {
     const SkeletonOptions options = seed_options(settings_);
     const Coord tear = settings_.tear_limit > 0 ? to_units(settings_.tear_limit) : 0;
     const Coord whole = settings_.whole_width > 0 ? to_units(settings_.whole_width) : 0;
+    const Coord longest = settings_.prune_bridges ? to_units(settings_.max_bridge_length) : whole;
 
     Paths remainder = first_ == 0 ? layer->carvable : std::move(layer->remainder);  // V^{j-1}_i
     layer->cavities.reserve(layer->cavities.size() + previous_.size());
@@ -236,8 +252,8 @@ std::optional<LayerPartition> CarvingSweep::next() {
                 Paths s;
                 int abandoned = 0;
                 if (seed)
-                    s = seeds(remainder, propagated, uncovered, options, tear, whole,
-                              left_previous_[j], r, abandoned);
+                    s = seeds(remainder, propagated, uncovered, options, tear, whole, longest,
+                              left_previous_[j], carvable_above_, r, abandoned);
                 if (abandoned > 0) {
                     const BBox2 b = bounds(uncovered);
                     layer->warnings.push_back(fmt::format(
@@ -265,6 +281,7 @@ std::optional<LayerPartition> CarvingSweep::next() {
         above = std::move(cavity);
     }
     layer->remainder = std::move(remainder);
+    if (whole > 0) carvable_above_ = layer->carvable;
     return layer;
 }
 

@@ -33,6 +33,7 @@ class CarvingSweep : public LayerSource {
     int first_;
     std::vector<Paths> previous_;       // C^j_{i+1}, j = first+1 .. first+count
     std::vector<Paths> left_previous_;  // V^j_{i+1}, with a whole width only
+    Paths carvable_above_;              // O'_{i+1}, with a whole width only
 };
 
 }  // namespace carve

@@ -78,7 +78,9 @@ std::vector<SettingSpec> make_table() {
          "= 0.1) [0 = no limit]"},
         {"whole-width", "", "mm", 0.0, 1000.0, &S::whole_width,
          "A part of the volume to carve narrower than this is carved whole and its ceiling "
-         "printed as bridges, mm; 0 tears every part along its axis [4]"},
+         "printed as bridges, mm; also a part up to --max-bridge-length wide whose ceiling (what "
+         "lies under the model's surface) is narrower than this; 0 tears every part along its "
+         "axis [4]"},
         {"scale", "", "ratio", 0.01, 100.0, &S::scale,
          "Scale the model uniformly by this factor, ratio [1]"},
         {"threads", "", "threads", 0, 512, &S::threads,

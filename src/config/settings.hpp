@@ -58,7 +58,11 @@ struct Settings {
     // its ceiling bridged (0: every component tears along its medial axis, as in the report).
     // 4 mm, not the 10 mm a bridge can span: `carve check` counts the middle of a span more
     // than 2 mm from its anchors as hanging, and a flat 60 x 60 x 12 mm box went from 0 to
-    // 72 mm2 hanging inside at 6 or 10 mm (a thin-bladed plate from 2 to 264-294 mm2).
+    // 72 mm2 hanging inside at 6 or 10 mm (a thin-bladed plate from 2 to 264-294 mm2). A
+    // component up to max_bridge_length wide is carved whole too when the part of it under the
+    // model's surface in the slice above holds no disk this wide (the rest lies under earlier
+    // cavities, where there is no ceiling to bridge): the flat box and the plate keep their
+    // figures, domes lose their nested rings of walls.
     double whole_width = 4.0;
     double max_bridge_length = 10.0;  // mm; a longer span would sag more than the minimum it holds
     // Resource guard: a slice with more contour vertices stops the run (0 = no limit). Millions

@@ -308,12 +308,14 @@ TEST(RasterWriter, WallPixelsMatchPrintPathLengths) {
     }
     ASSERT_EQ(layers, 200);
     std::sort(ratios.begin(), ratios.end());
-    // 1.10 once narrow parts are carved whole (--whole-width 4; 1.13 at 10 mm), 1.16 once thin
-    // cover bands lost their edge loop (the corners where the cured band meets the cavity walls
-    // count on the stack's side only): the stack's code did not change, only the partition and
-    // the paths it is compared with.
-    EXPECT_NEAR(total_pixels_mm2 / total_paths_mm2, 1.0, 0.2);
-    EXPECT_NEAR(ratios[ratios.size() / 2], 1.0, 0.2);  // median layer
+    // The stack cures 1.5 w where a cavity meets the outer wall (the shell w, plus the cavity
+    // shrunk by half the minimal wall), the paths print w there: the more of the cavities' edge
+    // runs along the outer wall, the higher the ratio. 1.10 once narrow parts were carved whole
+    // (--whole-width 4), 1.16 once thin cover bands lost their edge loop, 1.20 once parts up to
+    // the longest bridge under earlier cavities are carved whole: the stack's code did not
+    // change, only the partition and the paths it is compared with.
+    EXPECT_NEAR(total_pixels_mm2 / total_paths_mm2, 1.0, 0.25);
+    EXPECT_NEAR(ratios[ratios.size() / 2], 1.0, 0.25);  // median layer
     EXPECT_GT(ratios.front(), 0.6);
     EXPECT_LT(ratios.back(), 1.8);
 }
@@ -414,7 +416,7 @@ TEST(RasterWriter, WallAreaOfARealModelDoesNotDependOnPixelSize) {
     ASSERT_GT(paths_mm2, 0);
     for (size_t k = 1; k < pixels_um.size(); ++k)
         EXPECT_NEAR(total_mm2[k] / total_mm2[0], 1.0, 0.03) << pixels_um[k] << " um";
-    EXPECT_NEAR(total_mm2[1] / paths_mm2, 1.0, 0.15);  // as in WallPixelsMatchPrintPathLengths
+    EXPECT_NEAR(total_mm2[1] / paths_mm2, 1.0, 0.25);  // as in WallPixelsMatchPrintPathLengths
 }
 
 // End to end through the carve executable: --raster-pixel and --raster-min-wall reach the
