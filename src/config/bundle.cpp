@@ -15,13 +15,6 @@ namespace carve {
 
 namespace {
 
-std::string trim(std::string s) {
-    const char* ws = " \t\r\n";
-    s.erase(0, s.find_first_not_of(ws));
-    s.erase(s.find_last_not_of(ws) + 1);
-    return s;
-}
-
 bool abstract_name(const std::string& name) {
     return name.size() >= 2 && name.front() == '*' && name.back() == '*';
 }
@@ -65,7 +58,7 @@ class Resolver {
             while (from <= list.size()) {
                 size_t semi = list.find(';', from);
                 if (semi == std::string::npos) semi = list.size();
-                std::string parent = trim(list.substr(from, semi - from));
+                std::string parent = trim_whitespace(list.substr(from, semi - from));
                 if (parent.size() >= 2 && parent.front() == '"' && parent.back() == '"')
                     parent = parent.substr(1, parent.size() - 2);
                 from = semi + 1;
@@ -108,6 +101,13 @@ std::string names_of(const Sections& sections) {
 
 }  // namespace
 
+std::string trim_whitespace(std::string s) {
+    const char* ws = " \t\r\n";
+    s.erase(0, s.find_first_not_of(ws));
+    s.erase(s.find_last_not_of(ws) + 1);
+    return s;
+}
+
 std::string first_quoted(const std::string& value) {
     if (value.empty() || value.front() != '"') return value;
     std::string out;
@@ -136,17 +136,17 @@ ResolvedProfile read_ini_profile(std::istream& in, const std::string& path,
     int line_no = 0;
     while (std::getline(in, line)) {
         ++line_no;
-        line = trim(line);
+        line = trim_whitespace(line);
         if (line.empty() || line[0] == '#' || line[0] == ';') continue;
         if (line[0] == '[') {
             if (line.back() != ']')
                 throw InputError(fmt::format("{}:{}: expected '[section]'", path, line_no));
             const std::string header = line.substr(1, line.size() - 2);
             const size_t colon = header.find(':');
-            current_kind = trim(header.substr(0, colon));
+            current_kind = trim_whitespace(header.substr(0, colon));
             current = nullptr;
             if (colon != std::string::npos && kinds.count(current_kind)) {
-                const std::string name = trim(header.substr(colon + 1));
+                const std::string name = trim_whitespace(header.substr(colon + 1));
                 Section& s = kinds[current_kind][name];
                 s = Section{current_kind, name, line_no, {}};
                 current = &s;
@@ -156,12 +156,12 @@ ResolvedProfile read_ini_profile(std::istream& in, const std::string& path,
         const size_t eq = line.find('=');
         if (eq == std::string::npos)
             throw InputError(fmt::format("{}:{}: expected 'key = value'", path, line_no));
-        const std::string key = trim(line.substr(0, eq));
-        const std::string value = trim(line.substr(eq + 1));
+        const std::string key = trim_whitespace(line.substr(0, eq));
+        const std::string value = trim_whitespace(line.substr(eq + 1));
         if (current)
             current->keys[key] = IniValue{value, line_no, current->kind + ":" + current->name, ""};
         else if (current_kind == "presets")
-            presets[key] = trim(first_quoted(value));
+            presets[key] = trim_whitespace(first_quoted(value));
         flat[key] = IniValue{value, line_no, "", ""};
     }
 
@@ -187,7 +187,7 @@ ResolvedProfile read_ini_profile(std::istream& in, const std::string& path,
             const auto& printer = chosen["printer"];
             const auto it = printer.find(fmt::format("default_{}_profile", kind));
             if (it != printer.end()) {
-                const std::string d = trim(first_quoted(it->second.value));
+                const std::string d = trim_whitespace(first_quoted(it->second.value));
                 if (sections.count(d) && !abstract_name(d)) name = d;
             }
         }

@@ -39,4 +39,8 @@ ResolvedProfile read_ini_profile(std::istream& in, const std::string& path,
 // PrusaSlicer's string lists: `"first";"second"` -> first, unescaped; a bare value unchanged.
 std::string first_quoted(const std::string& value);
 
+// `s` without the blanks around it (spaces, tabs, line ends), as the .ini readers take keys and
+// values.
+std::string trim_whitespace(std::string s);
+
 }  // namespace carve

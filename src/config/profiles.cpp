@@ -122,13 +122,6 @@ const std::vector<Preset>& presets() {
     return list;
 }
 
-std::string trim(std::string s) {
-    const char* ws = " \t\r\n";
-    s.erase(0, s.find_first_not_of(ws));
-    s.erase(s.find_last_not_of(ws) + 1);
-    return s;
-}
-
 // A plain decimal number: std::stod would also read "0x0" (a bed_shape point) as hexadecimal.
 std::optional<double> decimal(const std::string& v) {
     return parse_decimal(v);
@@ -136,7 +129,7 @@ std::optional<double> decimal(const std::string& v) {
 
 double number(const std::string& key, const std::string& value) {
     // PrusaSlicer stores per-extruder values as comma lists; the first extruder is ours.
-    const std::string v = trim(value.substr(0, value.find(',')));
+    const std::string v = trim_whitespace(value.substr(0, value.find(',')));
     if (const std::optional<double> d = decimal(v)) return *d;
     throw InputError(fmt::format("profile key '{}': '{}' is not a number", key, value));
 }
@@ -165,7 +158,7 @@ std::string unescape(const std::string& v) {
 }
 
 bool flag(const std::string& key, const std::string& value) {
-    const std::string b = trim(value.substr(0, value.find(',')));
+    const std::string b = trim_whitespace(value.substr(0, value.find(',')));
     if (b != "0" && b != "1")
         throw InputError(fmt::format("profile key '{}': '{}' is not 0 or 1", key, value));
     return b == "1";
@@ -242,7 +235,7 @@ bool set_to_something(const std::string& value) {
     std::stringstream ss(first_quoted(value));
     std::string item;
     while (std::getline(ss, item, ',')) {
-        item = trim(item);
+        item = trim_whitespace(item);
         if (item != "0" && item != "0%" && item != "" && item != "nil" && item != "\"\"")
             return true;
     }
@@ -251,7 +244,7 @@ bool set_to_something(const std::string& value) {
 
 // An extrusion width: mm, or a percentage of the nozzle (PrusaSlicer 2.4 on); 0 = automatic.
 double width_value(const std::string& key, const std::string& value, double nozzle) {
-    std::string v = trim(value.substr(0, value.find(',')));
+    std::string v = trim_whitespace(value.substr(0, value.find(',')));
     const bool percent = !v.empty() && v.back() == '%';
     if (percent) v.pop_back();
     const double d = number(key, v);
@@ -307,7 +300,7 @@ std::vector<std::string> read_prusa_profile(std::istream& in, const std::string&
                           "retract_restart_extra", "retract_before_wipe", "deretract_speed"}) {
         auto f = values.find(std::string("filament_") + k);
         if (f != values.end() &&
-            trim(f->second.value.substr(0, f->second.value.find(','))) != "nil")
+            trim_whitespace(f->second.value.substr(0, f->second.value.find(','))) != "nil")
             values[k] = f->second;
     }
     if (profile.bundle) {
@@ -350,7 +343,7 @@ std::vector<std::string> read_prusa_profile(std::istream& in, const std::string&
              std::string pt;
              int n = 0;
              while (std::getline(ss, pt, ',')) {
-                 const std::string p = trim(pt);
+                 const std::string p = trim_whitespace(pt);
                  const size_t cross = p.find('x');
                  const std::optional<double> x = decimal(p.substr(0, cross));
                  const std::optional<double> y =
@@ -396,7 +389,7 @@ std::vector<std::string> read_prusa_profile(std::istream& in, const std::string&
          [&](auto& k, auto& v) { s.avoid_crossing_perimeters = flag(k, v); }},
         {"seam_position",
          [&](auto& k, auto& v) {
-             const std::string m = trim(v);
+             const std::string m = trim_whitespace(v);
              if (m == "aligned")
                  s.seam = SeamMode::Aligned;
              else if (m == "nearest")
@@ -410,7 +403,7 @@ std::vector<std::string> read_prusa_profile(std::istream& in, const std::string&
          }},
         {"gcode_flavor",
          [&](auto& k, auto& v) {
-             const std::string f = trim(v);
+             const std::string f = trim_whitespace(v);
              if (f == "klipper")
                  s.flavor = GcodeFlavor::Klipper;
              else if (f == "reprap" || f == "reprapfirmware")
@@ -433,7 +426,7 @@ std::vector<std::string> read_prusa_profile(std::istream& in, const std::string&
             // Numeric keys come from the settings table, with its ranges. PrusaSlicer stores
             // per-extruder values as comma lists; the first extruder is ours.
             if (const SettingSpec* spec = find_setting_by_ini_key(key)) {
-                const std::string first = trim(value.substr(0, value.find(',')));
+                const std::string first = trim_whitespace(value.substr(0, value.find(',')));
                 if (spec->profile_skips_percent && first.find('%') != std::string::npos) {
                     ignored.push_back(fmt::format("{} ({})", key, first));
                     continue;

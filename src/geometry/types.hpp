@@ -26,6 +26,11 @@ inline double to_mm(Coord units) {
     return static_cast<double>(units) / kUnitsPerMm;
 }
 
+// Units between two points.
+inline double distance(const Point& a, const Point& b) {
+    return std::hypot(double(a.X - b.X), double(a.Y - b.Y));
+}
+
 struct Vec3 {
     double x = 0, y = 0, z = 0;
 };

@@ -1,4 +1,6 @@
-// Runs the stages in order and gathers the figures of the run.
+// Runs the stages in order and gathers the figures of the run: the checks on the mesh before
+// slicing, the writers, the pipeline of filters the layers flow through (their tokens in
+// tokens.hpp, their profile in span_log.hpp), and the figures summed as the layers come out.
 #include "run/pipeline.hpp"
 
 #include <fmt/format.h>
@@ -14,9 +16,7 @@
 #include <cstdio>
 #include <deque>
 #include <memory>
-#include <mutex>
 #include <optional>
-#include <unordered_set>
 #include <utility>
 #include <vector>
 
@@ -27,11 +27,12 @@
 #include "gcode/labels.hpp"
 #include "gcode/thumbnail.hpp"
 #include "geometry/polygon.hpp"
-#include "geometry/probe.hpp"
 #include "report/html_report.hpp"
 #include "report/stats.hpp"
 #include "report/svg.hpp"
 #include "resin/raster.hpp"
+#include "run/span_log.hpp"
+#include "run/tokens.hpp"
 #include "slice/slicer.hpp"
 #include "supports/bridges.hpp"
 #include "supports/overhang.hpp"
@@ -77,163 +78,6 @@ std::vector<double> extrusion_volumes_mm3(const LayerToolpaths& paths, const Set
         v.push_back(to_mm(static_cast<Coord>(length(Paths{e.points}, e.closed))) *
                     settings.width_mm() * settings.layer_height * e.flow);
     return v;
-}
-
-// Geometry sits below the stage timer and times its booleans and morphology through a probe;
-// the profile shows them as stages of their own.
-void profile_geometry() {
-    static const GeometryProbe probe{
-        thread_cpu_ns, [](GeometryOp op, int64_t ns) {
-            add_stage_time(op == GeometryOp::kBoolean ? Stage::kBoolean : Stage::kMorphology, ns);
-        }};
-    set_geometry_probe(&probe);
-}
-
-// One layer on its way through the pipeline.
-struct Token {
-    int seq = 0;       // place in the stream, 0 for the top slice
-    bool end = false;  // after the last slice: flushes the covers' window and the hold-back
-    std::optional<Slice> slice;               // as cut, until eroded
-    std::shared_ptr<const CoverSlice> cover;  // ... and eroded, until the window takes it
-    std::vector<std::shared_ptr<const CoverSlice>> window;  // layer i's 2c+1 slices, top down
-    LayerPartition layer;
-    std::optional<LayerPartition> below;  // the cavities of slice i - 1 as the sweep left them,
-                                          // and its outline
-    LayerOverhang overhang;               // of O_i beyond O_{i-1}
-    LayerToolpaths paths;
-    std::vector<double> volumes;  // of each extrusion of `paths`, mm^3
-    double material = 0;          // their sum
-};
-using TokenPtr = Token*;
-
-// Owns every token. A cancelled parallel_pipeline (an exception in a filter) does not destroy
-// the items it holds between filters: LeakSanitizer found the shared_ptr tokens of a failed
-// run never freed. So the filters pass plain pointers, a token is freed where the stream drops
-// it, and whatever a cancelled run left in flight is freed with the pool.
-class TokenPool {
-  public:
-    TokenPool() = default;
-    TokenPool(const TokenPool&) = delete;
-    TokenPool& operator=(const TokenPool&) = delete;
-    ~TokenPool() {
-        for (Token* t : live_) delete t;
-    }
-    Token* make() {
-        auto t = std::make_unique<Token>();
-        std::lock_guard lock(mutex_);
-        live_.insert(t.get());
-        return t.release();
-    }
-    std::nullptr_t drop(Token* t) {
-        if (t) {
-            {
-                std::lock_guard lock(mutex_);
-                live_.erase(t);
-            }
-            delete t;
-        }
-        return nullptr;
-    }
-
-  private:
-    std::mutex mutex_;
-    std::unordered_set<Token*> live_;
-};
-
-// CarvingSweep pulls layers from a source; this one holds the single layer that a filter
-// hands it.
-class HandOver : public LayerSource {
-  public:
-    void put(LayerPartition layer) { held_ = std::move(layer); }
-    std::optional<LayerPartition> next() override {
-        std::optional<LayerPartition> out = std::move(held_);
-        held_.reset();
-        return out;
-    }
-
-  private:
-    std::optional<LayerPartition> held_;
-};
-
-// Under CARVE_PROFILE, the thread CPU time each layer spent in each filter, from which the
-// critical path follows: a filter's work on a layer waits for the filter before it on the same
-// layer, and a serial filter's also for its own work on the layer before. That chain is the
-// CPU time no other thread can overlap, whatever the number of cores. (The hold-back filter
-// releases layer n when layer n + 1 arrives; the log books it on the released layer, which
-// shortens the chain by at most one layer's sweep.)
-struct SpanLog {
-    SpanLog(int rows, int filter_count)
-        : filters(filter_count), ns(size_t(rows) * size_t(filter_count), 0) {}
-    int filters;
-    std::vector<int64_t> ns;   // [seq][filter]
-    std::vector<bool> serial;  // a filter that takes one layer at a time, in order
-    bool on() const { return !ns.empty(); }
-    int rows() const { return filters > 0 ? int(ns.size() / size_t(filters)) : 0; }
-
-    double filter_s(int f) const {
-        int64_t sum = 0;
-        for (int n = 0; n < rows(); ++n) sum += ns[size_t(n) * filters + f];
-        return double(sum) * 1e-9;
-    }
-    double critical_path_s() const {
-        std::vector<int64_t> done(ns.size(), 0);  // when each cell finishes at the earliest
-        int64_t longest = 0;
-        for (int n = 0; n < rows(); ++n)
-            for (int f = 0; f < filters; ++f) {
-                const size_t at = size_t(n) * filters + f;
-                int64_t ready = f > 0 ? done[at - 1] : 0;
-                if (serial[f] && n > 0) ready = std::max(ready, done[at - filters]);
-                done[at] = ready + ns[at];
-                longest = std::max(longest, done[at]);
-            }
-        return double(longest) * 1e-9;
-    }
-};
-
-class SpanTimer {
-  public:
-    SpanTimer(SpanLog& log, int seq, int filter) : log_(log) {
-        if (log.on() && seq < log.rows()) {
-            at_ = size_t(seq) * log.filters + filter;
-            start_ = thread_cpu_ns();
-        }
-    }
-    ~SpanTimer() {
-        if (start_ >= 0) log_.ns[at_] += thread_cpu_ns() - start_;
-    }
-    SpanTimer(const SpanTimer&) = delete;
-    SpanTimer& operator=(const SpanTimer&) = delete;
-
-  private:
-    SpanLog& log_;
-    size_t at_ = 0;
-    int64_t start_ = -1;
-};
-
-// The serial parts (mesh loading before the pipeline; after it the G-code assembly, the resin
-// zip and the HTML report) and the pipeline's critical path against all the CPU the run used,
-// with Amdahl's projection.
-std::string span_table(const SpanLog& span, const std::vector<std::string>& filter_names,
-                       double load_s, double finish_s, int threads) {
-    double pipeline_s = 0;
-    std::string out = "pipeline filter CPU s\n";
-    for (int f = 0; f < span.filters; ++f) {
-        pipeline_s += span.filter_s(f);
-        out += fmt::format("  {:<12} {:8.3f}{}\n", filter_names[f], span.filter_s(f),
-                           span.serial[f] ? "  serial" : "  parallel");
-    }
-    const double path_s = span.critical_path_s();
-    const double work_s = load_s + pipeline_s + finish_s;
-    const double serial_s = load_s + path_s + finish_s;
-    const double f = work_s > 0 ? serial_s / work_s : 1;
-    auto amdahl = [f](int cores) { return 1 / (f + (1 - f) / cores); };
-    out += fmt::format(
-        "serial: load {:.3f} + pipeline critical path {:.3f} + assembly {:.3f} = {:.3f} s "
-        "of {:.3f} s CPU: serial fraction {:.1f} %\n"
-        "Amdahl: {:.2f}x on 2 cores, {:.2f}x on 8, {:.2f}x on 16 (ran on {} threads)\n",
-        load_s, path_s, finish_s, serial_s, work_s, 100 * f, amdahl(2), amdahl(8), amdahl(16),
-        threads);
-    return out;
 }
 
 }  // namespace

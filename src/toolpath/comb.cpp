@@ -1,4 +1,5 @@
-// Combing: point location, segment tests and detours inside the comb region (see comb.hpp).
+// Combing: point location, segment tests and detours inside the comb region (see comb.hpp);
+// which way a travel goes, given these answers, is comb_travel.cpp's.
 //
 // Boundary edges sit in a uniform grid; a segment query walks the cells the segment passes
 // (Amanatides-Woo), so testing a travel costs the edges near it, not the whole layer. A blocked
@@ -12,7 +13,6 @@
 #include <cmath>
 #include <limits>
 
-#include "geometry/morphology.hpp"
 #include "geometry/polygon.hpp"
 
 namespace carve {
@@ -48,8 +48,19 @@ bool segments_meet(const Point& a, const Point& b, const Point& p, const Point& 
     return false;
 }
 
-double dist(const Point& a, const Point& b) {
-    return std::hypot(double(a.X - b.X), double(a.Y - b.Y));
+// The point of edge u-v nearest p, and its squared distance from p.
+struct Nearest {
+    double x, y, d2;
+};
+
+Nearest nearest_on_edge(const Point& u, const Point& v, const Point& p) {
+    const double ex = double(v.X - u.X), ey = double(v.Y - u.Y);
+    const double l2 = ex * ex + ey * ey;
+    double t = l2 > 0 ? (double(p.X - u.X) * ex + double(p.Y - u.Y) * ey) / l2 : 0;
+    t = std::clamp(t, 0.0, 1.0);
+    const double qx = double(u.X) + t * ex, qy = double(u.Y) + t * ey;
+    return {qx, qy,
+            (qx - double(p.X)) * (qx - double(p.X)) + (qy - double(p.Y)) * (qy - double(p.Y))};
 }
 
 }  // namespace
@@ -70,7 +81,7 @@ Comber::Comber(const Paths& region) {
         c.arc.resize(p.size());
         for (size_t i = 0; i < p.size(); ++i) {
             c.arc[i] = c.length;
-            c.length += dist(p[i], p[(i + 1) % p.size()]);
+            c.length += distance(p[i], p[(i + 1) % p.size()]);
         }
         if (!c.hole) outers.push_back(int(contours_.size()));
         contours_.push_back(std::move(c));
@@ -268,7 +279,7 @@ Point Comber::inside_edge_point(int contour, int edge, double x, double y) const
     const Path& c = contours_[contour].pts;
     const Point& u = c[edge];
     const Point& v = c[(edge + 1) % c.size()];
-    const double len = std::max(1.0, dist(u, v));
+    const double len = std::max(1.0, distance(u, v));
     // The region lies to the left of every edge (outer contours counter-clockwise, holes
     // clockwise).
     const double nx = -double(v.Y - u.Y) / len, ny = double(v.X - u.X) / len;
@@ -282,7 +293,7 @@ Point Comber::inside_vertex(int contour, int vertex) const {
     const Point& p = c[vertex];
     const Point& next = c[(vertex + 1) % n];
     auto left_normal = [](const Point& u, const Point& v, double& x, double& y) {
-        const double len = std::max(1.0, dist(u, v));
+        const double len = std::max(1.0, distance(u, v));
         x = -double(v.Y - u.Y) / len, y = double(v.X - u.X) / len;
     };
     double ax, ay, bx, by;
@@ -322,23 +333,16 @@ std::optional<Comber::Located> Comber::locate(const Point& p, Coord reach) const
         for (int x = cx0; x <= cx1; ++x)
             for (int e : cells_[size_t(y) * nx_ + x]) {
                 const Path& c = contours_[edges_[e].first].pts;
-                const Point& u = c[edges_[e].second];
-                const Point& v = c[(edges_[e].second + 1) % c.size()];
-                const double ex = double(v.X - u.X), ey = double(v.Y - u.Y);
-                const double l2 = ex * ex + ey * ey;
-                double t = l2 > 0 ? (double(p.X - u.X) * ex + double(p.Y - u.Y) * ey) / l2 : 0;
-                t = std::clamp(t, 0.0, 1.0);
-                const double qx = double(u.X) + t * ex, qy = double(u.Y) + t * ey;
-                const double d2 = (qx - double(p.X)) * (qx - double(p.X)) +
-                                  (qy - double(p.Y)) * (qy - double(p.Y));
-                if (d2 < best) best = d2, best_e = e, bx = qx, by = qy;
+                const Nearest q =
+                    nearest_on_edge(c[edges_[e].second], c[(edges_[e].second + 1) % c.size()], p);
+                if (q.d2 < best) best = q.d2, best_e = e, bx = q.x, by = q.y;
             }
     if (best_e < 0 || (inside >= 0 && best >= kNudge * kNudge))
         return inside >= 0 ? std::optional<Located>(Located{p, inside}) : std::nullopt;
     const int c = edges_[best_e].first, i = edges_[best_e].second;
     for (const Point& q : {inside_edge_point(c, i, bx, by), inside_vertex(c, i),
                            inside_vertex(c, int((i + 1) % contours_[c].pts.size()))}) {
-        if (dist(q, p) > double(reach) + 2 * kNudge) continue;
+        if (distance(q, p) > double(reach) + 2 * kNudge) continue;
         // Strictly inside: a point moved along one edge's normal from a convex corner lies
         // on the other edge, and every segment from it would touch the boundary.
         if (const int k = island_of(q); k >= 0 && visible(q, q)) return Located{q, k};
@@ -400,7 +404,7 @@ std::optional<Path> Comber::route(const Point& a, const Point& b) const {
         const int n = int(c.pts.size());
         auto pos = [&](const Hit& h) {
             const Point& u = c.pts[h.edge];
-            return c.arc[h.edge] + dist(u, h.at);
+            return c.arc[h.edge] + distance(u, h.at);
         };
         const double p1 = pos(h1), p2 = pos(h2);
         double forward = p2 - p1;
@@ -459,16 +463,8 @@ std::optional<Point> Comber::nearest_in(const Point& p, int island) const {
     for (int c : island_contours_[island]) {
         const Path& pts = contours_[c].pts;
         for (size_t i = 0; i < pts.size(); ++i) {
-            const Point& u = pts[i];
-            const Point& v = pts[(i + 1) % pts.size()];
-            const double ex = double(v.X - u.X), ey = double(v.Y - u.Y);
-            const double l2 = ex * ex + ey * ey;
-            double t = l2 > 0 ? (double(p.X - u.X) * ex + double(p.Y - u.Y) * ey) / l2 : 0;
-            t = std::clamp(t, 0.0, 1.0);
-            const double qx = double(u.X) + t * ex, qy = double(u.Y) + t * ey;
-            const double d2 =
-                (qx - double(p.X)) * (qx - double(p.X)) + (qy - double(p.Y)) * (qy - double(p.Y));
-            if (d2 < best) best = d2, bc = c, be = int(i), bx = qx, by = qy;
+            const Nearest q = nearest_on_edge(pts[i], pts[(i + 1) % pts.size()], p);
+            if (q.d2 < best) best = q.d2, bc = c, be = int(i), bx = q.x, by = q.y;
         }
     }
     if (bc < 0) return std::nullopt;
@@ -476,145 +472,6 @@ std::optional<Point> Comber::nearest_in(const Point& p, int island) const {
                            inside_vertex(bc, int((be + 1) % contours_[bc].pts.size()))})
         if (island_of(q) == island && visible(q, q)) return q;
     return std::nullopt;
-}
-
-namespace {
-
-double polyline_length(const Point& from, const Path& via, const Point& to) {
-    double len = 0;
-    Point cur = from;
-    for (const Point& p : via) len += dist(cur, p), cur = p;
-    return len + dist(cur, to);
-}
-
-void append_route(Path& via, const Path& route) {
-    for (const Point& p : route)
-        if (via.empty() || via.back() != p) via.push_back(p);
-}
-
-}  // namespace
-
-namespace {
-
-// The waypoints of a travel inside one island of `comber`, or nothing when the ends are not in
-// one island or the path inside is much longer than the straight line.
-std::optional<Path> inside_route(const Comber& comber, const Point& from, const Point& to,
-                                 const TravelOptions& options) {
-    const auto la = comber.locate(from, options.reach);
-    if (!la) return std::nullopt;
-    const auto lb = comber.locate(to, options.reach);
-    if (!lb || la->island != lb->island) return std::nullopt;
-    auto r = comber.route(la->p, lb->p);
-    if (!r) return std::nullopt;
-    Path via;
-    if (la->p != from) via.push_back(la->p);
-    append_route(via, *r);
-    if (!via.empty() && via.back() == to) via.pop_back();
-    if (polyline_length(from, via, to) >
-        options.max_detour_factor * dist(from, to) + options.max_detour_extra)
-        return std::nullopt;
-    return via;
-}
-
-}  // namespace
-
-TravelPlan plan_travel(const Comber& comber, const Point& from, const Point& to,
-                       const TravelOptions& options, const Comber* thin) {
-    TravelPlan plan;
-    if (from == to) {
-        plan.leaves = false;
-        return plan;
-    }
-    if (comber.empty()) return plan;
-    const auto la = comber.locate(from, options.reach);
-    const auto lb = comber.locate(to, options.reach);
-    const bool same_island = la && lb && la->island == lb->island;
-    if (same_island || thin) {
-        // Parts too thin for the comb region (a blade two lines thick), and necks where it
-        // comes apart, are still inside the part: through them along the outer wall.
-        std::optional<Path> via = same_island ? inside_route(comber, from, to, options)
-                                              : inside_route(*thin, from, to, options);
-        if (!via && same_island && thin) via = inside_route(*thin, from, to, options);
-        if (via) {
-            plan.via = std::move(*via);
-            plan.leaves = false;
-            return plan;
-        }
-        if (same_island) return plan;  // no reasonable way inside: straight, retracted
-    }
-    if (!options.avoid_crossing) return plan;
-    const double straight = dist(from, to);
-    if (la && lb) {
-        // Leave where the two islands are closest (alternating nearest points, from the
-        // target), so that the part outside, where the string is drawn, is the gap between
-        // them; the parts inside cost only travel time, retracted.
-        std::optional<Point> x = comber.nearest_in(lb->p, la->island), y;
-        for (int round = 0; round < 2 && x; ++round) {
-            y = comber.nearest_in(*x, lb->island);
-            if (!y) break;
-            x = comber.nearest_in(*y, la->island);
-        }
-        if (x && y) {
-            auto r1 = comber.route(la->p, *x);
-            auto r2 = comber.route(*y, lb->p);
-            if (r1 && r2) {
-                Path via;
-                if (la->p != from) via.push_back(la->p);
-                append_route(via, *r1);
-                append_route(via, Path{*y});
-                append_route(via, *r2);
-                if (!via.empty() && via.back() == to) via.pop_back();
-                if (polyline_length(from, via, to) <=
-                    options.max_detour_factor * straight + options.max_detour_extra) {
-                    plan.via = std::move(via);
-                    return plan;
-                }
-            }
-        }
-    }
-    // Inside the start island to where the line towards the target leaves it for good, across,
-    // and inside the target island from where the line first enters it.
-    Path via;
-    Point cur = from;
-    const Point target = lb ? lb->p : to;
-    if (la) {
-        if (la->p != from) via.push_back(la->p);
-        cur = la->p;
-        if (auto x = comber.last_exit(la->p, target, la->island)) {
-            if (auto r = comber.route(la->p, *x)) {
-                append_route(via, *r);
-                cur = *x;
-            }
-        }
-    }
-    if (lb) {
-        if (auto y = comber.first_entry(cur, lb->p, lb->island)) {
-            if (auto r = comber.route(*y, lb->p)) {
-                append_route(via, Path{*y});
-                append_route(via, *r);
-            }
-        }
-        append_route(via, Path{lb->p});
-    }
-    if (!via.empty() && via.back() == to) via.pop_back();
-    plan.via = std::move(via);
-    return plan;
-}
-
-Paths comb_region(const Paths& wall_region, const Paths& covers, const Settings& settings) {
-    if (settings.combing == Combing::Off || wall_region.empty()) return {};
-    Paths region = erode(wall_region, settings.nozzle_radius());
-    if (settings.combing == Combing::Inside && !covers.empty()) region = subtract(region, covers);
-    return simplify(region, double(settings.line_width()) / 8);
-}
-
-TravelOptions travel_options(const Settings& settings) {
-    TravelOptions o;
-    // A wall point lies half a line width outside the region (the outer wall's centreline), or
-    // on a cover's edge; the simplification moves the boundary a little more.
-    o.reach = settings.line_width() + settings.line_width() / 4;
-    o.avoid_crossing = settings.avoid_crossing_perimeters;
-    return o;
 }
 
 }  // namespace carve

@@ -19,10 +19,6 @@ constexpr double kWindow = 1000.0;        // units on each side of a vertex for 
 constexpr double kCornerDeg = 35.0;       // a turn at least this sharp is a corner
 constexpr double kDirection = 1.0471976;  // aligned: 60 degrees, rear right of the bed
 
-double dist(const Point& a, const Point& b) {
-    return std::hypot(double(a.X - b.X), double(a.Y - b.Y));
-}
-
 // Signed turn (radians, positive = left, convex for the region on the left) at each vertex,
 // between the directions from the point about kWindow before it and to the point about kWindow
 // after it.
@@ -30,7 +26,7 @@ std::vector<double> window_turns(const Path& loop) {
     const size_t n = loop.size();
     std::vector<double> turn(n, 0.0);
     double total = 0;
-    for (size_t i = 0; i < n; ++i) total += dist(loop[i], loop[(i + 1) % n]);
+    for (size_t i = 0; i < n; ++i) total += distance(loop[i], loop[(i + 1) % n]);
     if (total <= 0 || n < 3) return turn;
     const double window = std::min(kWindow, total / 4);
     for (size_t i = 0; i < n; ++i) {
@@ -38,12 +34,12 @@ std::vector<double> window_turns(const Path& loop) {
         double da = 0, db = 0;
         for (size_t steps = 0; da < window && steps + 1 < n; ++steps) {
             const size_t prev = (a + n - 1) % n;
-            da += dist(loop[a], loop[prev]);
+            da += distance(loop[a], loop[prev]);
             a = prev;
         }
         for (size_t steps = 0; db < window && steps + 1 < n; ++steps) {
             const size_t next = (b + 1) % n;
-            db += dist(loop[b], loop[next]);
+            db += distance(loop[b], loop[next]);
             b = next;
         }
         const Point& p = loop[i];
@@ -70,9 +66,9 @@ size_t seam_vertex(const Path& loop, SeamMode mode, int layer, size_t loop_index
     size_t best = 0;
     switch (mode) {
         case SeamMode::Nearest: {
-            double d = dist(loop[0], nozzle);
+            double d = distance(loop[0], nozzle);
             for (size_t i = 1; i < n; ++i)
-                if (const double e = dist(loop[i], nozzle); e < d) d = e, best = i;
+                if (const double e = distance(loop[i], nozzle); e < d) d = e, best = i;
             return best;
         }
         case SeamMode::Random:
@@ -104,12 +100,12 @@ size_t seam_vertex(const Path& loop, SeamMode mode, int layer, size_t loop_index
     size_t sharpest = best;
     for (size_t step = 1; step < n; ++step) {
         const size_t i = (best + step) % n;
-        if (dist(loop[i], loop[best]) > kWindow) break;
+        if (distance(loop[i], loop[best]) > kWindow) break;
         if (std::abs(turn[i]) > std::abs(turn[sharpest]) && rank(i) == best_rank) sharpest = i;
     }
     for (size_t step = 1; step < n; ++step) {
         const size_t i = (best + n - step) % n;
-        if (dist(loop[i], loop[best]) > kWindow) break;
+        if (distance(loop[i], loop[best]) > kWindow) break;
         if (std::abs(turn[i]) > std::abs(turn[sharpest]) && rank(i) == best_rank) sharpest = i;
     }
     return sharpest;

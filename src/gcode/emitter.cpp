@@ -1,0 +1,272 @@
+// The emitter's programme of the file: the start (machine limits, heating, the start G-code),
+// each layer (its header comments, cooling's timing and second pass), the end; and the state it
+// carries between moves: text buffered and flushed, fan, M73 marks (see emitter.hpp).
+#include "gcode/emitter.hpp"
+
+#include <cctype>
+#include <cerrno>
+#include <cstdlib>
+#include <cstring>
+#include <iterator>
+#include <numbers>
+#include <regex>
+#include <stdexcept>
+
+#include "base/error.hpp"
+#include "gcode/cooling.hpp"
+#include "gcode/labels.hpp"
+#include "gcode/limits.hpp"
+#include "gcode/placeholders.hpp"
+
+namespace carve {
+
+namespace {
+
+// Does the expanded start G-code wait for this temperature itself ("M109 S215", "M190 R60")?
+// Only a command counts, not a comment, and not a wait for 0 (that heats nothing).
+bool waits_for(const std::string& gcode, std::string_view command) {
+    size_t at = 0;
+    while (at < gcode.size()) {
+        size_t end = gcode.find('\n', at);
+        if (end == std::string::npos) end = gcode.size();
+        std::string_view line(gcode.data() + at, end - at);
+        at = end + 1;
+        line = line.substr(0, line.find(';'));
+        while (!line.empty() && (line.front() == ' ' || line.front() == '\t'))
+            line.remove_prefix(1);
+        if (line.size() < command.size()) continue;
+        bool same = true;
+        for (size_t i = 0; i < command.size(); ++i)
+            same = same && std::toupper(static_cast<unsigned char>(line[i])) == command[i];
+        if (!same || (line.size() > command.size() &&
+                      std::isdigit(static_cast<unsigned char>(line[command.size()]))))
+            continue;
+        // The target: S or R followed by a number above 0.
+        for (size_t i = command.size(); i + 1 < line.size(); ++i) {
+            const char c = static_cast<char>(std::toupper(static_cast<unsigned char>(line[i])));
+            if ((c == 'S' || c == 'R') && (line[i - 1] == ' ' || line[i - 1] == '\t')) {
+                const double v = std::atof(std::string(line.substr(i + 1)).c_str());
+                if (v > 0) return true;
+            }
+        }
+    }
+    return false;
+}
+
+}  // namespace
+
+void io_error(const std::string& what, const std::string& path) {
+    throw OutputError("cannot write " + path + ": " + what);
+}
+
+Emitter::Emitter(const Settings& st, Coord off_x, Coord off_y, std::FILE* out, std::string path,
+                 std::string object)
+    : st_(st),
+      off_x_(off_x),
+      off_y_(off_y),
+      out_(out),
+      path_(std::move(path)),
+      object_(std::move(object)),
+      planner_(machine_limits(st)) {
+    const double r = st.filament_diameter / 2;
+    filament_area_ = std::numbers::pi * r * r;
+    retract_units_ = std::llround(std::max(0.0, st.retract_length) * kEScale);
+}
+
+void Emitter::start() {
+    guard(st_.first_layer_bed_temperature >= 0 && st_.first_layer_bed_temperature <= 200 &&
+              st_.first_layer_nozzle_temperature >= 0 &&
+              st_.first_layer_nozzle_temperature <= 500 && st_.bed_temperature >= 0 &&
+              st_.bed_temperature <= 200 && st_.nozzle_temperature >= 0 &&
+              st_.nozzle_temperature <= 500,
+          "S (temperature)");
+    const std::string start_text = expand_custom_gcode(st_.start_gcode, st_).text;
+    const bool klipper_macro = st_.flavor == GcodeFlavor::Klipper && st_.start_gcode.empty();
+    // Klipper's PRINT_START macro heats, given the temperatures: heating before it would
+    // wait for the bed twice and leave the macro's own order (soak, mesh) without effect.
+    const bool macro_heats =
+        st_.flavor == GcodeFlavor::Klipper && start_text.find("PRINT_START") != std::string::npos;
+    for (const std::string& l : machine_limit_lines(st_)) line(l);
+    set_fan(0);
+    if (klipper_macro) {
+        line(fmt::format("PRINT_START BED_TEMP={} EXTRUDER_TEMP={}",
+                         st_.first_layer_bed_temperature, st_.first_layer_nozzle_temperature));
+    } else if (!macro_heats) {
+        // Like PrusaSlicer: heat unless the user's start G-code waits for it itself, judged
+        // from the text the printer will get (an M109 inside a false {if} heats nothing).
+        const bool user_bed = waits_for(start_text, "M190");
+        const bool user_nozzle = waits_for(start_text, "M109");
+        if (!user_bed) line(fmt::format("M140 S{} ; bed", st_.first_layer_bed_temperature));
+        if (!user_nozzle)
+            line(fmt::format("M104 S{} ; nozzle", st_.first_layer_nozzle_temperature));
+        if (!user_bed)
+            line(fmt::format("M190 S{} ; wait for bed", st_.first_layer_bed_temperature));
+        if (!user_nozzle)
+            line(fmt::format("M109 S{} ; wait for nozzle", st_.first_layer_nozzle_temperature));
+    }
+    raw(start_text);
+    custom(st_.start_filament_gcode);
+    line("G21 ; millimetres");
+    line("G90 ; absolute coordinates");
+    line(st_.relative_e ? "M83 ; relative extrusion" : "M82 ; absolute extrusion");
+    line("G92 E0");
+    mark_progress(0);
+}
+
+void Emitter::layer(const LayerToolpaths& layer) {
+    layer_ = layer.index;
+    layer_z_ = to_units(layer.z);
+    custom(st_.before_layer_gcode);
+    put("\n;LAYER_CHANGE\n;Z:");
+    fixed(layer_z_, 3);
+    put("\n;HEIGHT:");
+    fixed(to_units(st_.layer_height), 3);
+    fmt::format_to(std::back_inserter(buf_), "\n;LAYER:{}\n", layer.index);
+    custom(st_.layer_gcode);
+    if (layer.index == 1) {
+        if (st_.nozzle_temperature != st_.first_layer_nozzle_temperature)
+            line(fmt::format("M104 S{}", st_.nozzle_temperature));
+        if (st_.bed_temperature != st_.first_layer_bed_temperature)
+            line(fmt::format("M140 S{}", st_.bed_temperature));
+    }
+    mark_progress(planner_.time());
+    type_known_ = false;
+    layer_comb_ = &layer.comb_region;
+    print_layer_cooled(layer);
+    layer_comb_ = nullptr;
+    ++stats_.layers;
+    flush(false);
+}
+
+void Emitter::end() {
+    if (!retracted_ && !first_travel_) retract();
+    mark_progress(-1);  // 100 %: the total, known below
+    custom(st_.end_filament_gcode);
+    if (st_.flavor == GcodeFlavor::Klipper && st_.end_gcode.empty()) line("PRINT_END");
+    raw(expand_custom_gcode(st_.end_gcode, st_,
+                            {{"max_layer_z", to_mm(layer_z_)},
+                             {"layer_z", to_mm(layer_z_)},
+                             {"layer_num", std::max(0, layer_)}})
+            .text);
+    planner_.stop();
+    stats_.estimated_print_time_s = planner_.time();
+    stats_.filament_length_mm = stats_.extruded_volume_mm3 / filament_area_;
+    stats_.filament_weight_g = stats_.extruded_volume_mm3 / 1000.0 * st_.filament_density;
+    for (ProgressMark& m : marks_)
+        if (m.elapsed_s < 0) m.elapsed_s = stats_.estimated_print_time_s;
+    flush(true);
+}
+
+void Emitter::raw(const std::string& text) {
+    if (text.empty()) return;
+    put(text);
+    if (text.back() != '\n') buf_.push_back('\n');
+}
+
+// A profile's filament or layer-change G-code, expanded for the layer being written. A
+// "G92 E0" in it resets the firmware's E, as PrusaSlicer assumes.
+void Emitter::custom(const std::string& text) {
+    if (text.empty()) return;
+    const std::string g = expand_custom_gcode(text, st_,
+                                              {{"layer_num", std::max(0, layer_)},
+                                               {"layer_z", to_mm(layer_z_)},
+                                               {"max_layer_z", to_mm(layer_z_)}})
+                              .text;
+    raw(g);
+    static const std::regex kResetE(R"((^|\n)\s*G92\s+E0*(\.0*)?(\s|;|$))");
+    if (std::regex_search(g, kResetE)) {
+        e_mm_ -= double(e_units_) / kEScale;
+        e_units_ = 0;
+    }
+}
+
+void Emitter::flush(bool force) {
+    if (!force && buf_.size() < kFlushBytes) return;
+    if (buf_.size() > 0 && std::fwrite(buf_.data(), 1, buf_.size(), out_) != buf_.size())
+        io_error(std::strerror(errno), path_);
+    written_ += static_cast<long long>(buf_.size());
+    buf_.clear();
+}
+
+void Emitter::set_fan(int speed) {
+    speed = std::clamp(speed, 0, 255);
+    if (speed == fan_) return;
+    fan_ = speed;
+    if (st_.flavor == GcodeFlavor::RepRap)
+        line(fmt::format("M106 S{:.2f}", speed / 255.0));
+    else if (speed == 0)
+        line("M107");
+    else
+        line(fmt::format("M106 S{}", speed));
+}
+
+// An M73 goes here, `elapsed_s` into the print (-1: at the end, the total).
+void Emitter::mark_progress(double elapsed_s) {
+    if (!st_.m73) return;
+    marks_.push_back({written_ + static_cast<long long>(buf_.size()), elapsed_s});
+}
+
+Emitter::Snapshot Emitter::save() const {
+    return {buf_.size(),   pos_,        z_,        e_mm_,   e_units_,  feed_,  retracted_,
+            first_travel_, type_known_, labelled_, fan_,    type_,     width_, accel_,
+            wipe_length_,  planner_,    stats_,    bounds_, wipe_path_};
+}
+
+void Emitter::restore(const Snapshot& k) {
+    buf_.resize(k.text);
+    pos_ = k.pos, z_ = k.z, e_mm_ = k.e_mm, e_units_ = k.e_units, feed_ = k.feed;
+    retracted_ = k.retracted, first_travel_ = k.first_travel, type_known_ = k.type_known;
+    labelled_ = k.labelled, fan_ = k.fan, type_ = k.type, width_ = k.width, accel_ = k.accel;
+    wipe_length_ = k.wipe_length, planner_ = k.planner, stats_ = k.stats, bounds_ = k.bounds;
+    wipe_path_ = k.wipe_path;
+    comber_.reset();
+}
+
+// The layer's paths as the cooling wants them: written at full speed and timed; written
+// again slower while it is shorter than the minimum layer time, or with another fan.
+void Emitter::print_layer_cooled(const LayerToolpaths& layer) {
+    const Snapshot before = save();
+    const double t0 = planner_.time();
+    speed_factor_ = 1;
+    layer_fan_ = layer_fan_percent(st_, layer.index, std::numeric_limits<double>::infinity());
+    print_paths(layer);
+    const double full = planner_.time() - t0;
+    const int fan = layer_fan_percent(st_, layer.index, full);
+    const bool slow = needs_slowdown(st_, full);
+    if (!slow && fan == layer_fan_) return;
+    const double target = st_.slowdown_below_layer_time;
+    const double fastest = std::max({speed_of(Feature::OuterWall), speed_of(Feature::Cover),
+                                     speed_of(Feature::CavityWall), speed_of(Feature::Bridge)});
+    double factor = slow ? std::max(0.01, full / target) : 1.0;
+    for (int pass = 0; pass < 8; ++pass) {
+        restore(before);
+        speed_factor_ = factor;
+        layer_fan_ = fan;
+        print_paths(layer);
+        const double tried = planner_.time() - t0;
+        // Done when long enough, or when every extrusion is down to the minimum speed.
+        if (!slow || tried >= target * 0.999 ||
+            slowed_speed(fastest, factor, st_.min_print_speed) <= st_.min_print_speed)
+            break;
+        factor = next_speed_factor(full, factor, tried, target);
+    }
+    speed_factor_ = 1;
+}
+
+void Emitter::print_paths(const LayerToolpaths& layer) {
+    comber_.reset();
+    set_fan(fan_byte(layer_fan_));
+    bool any = false;
+    for (const Extrusion& ex : layer.extrusions) any = any || ex.points.size() >= 2;
+    if (any) {
+        for (const std::string& l : object_start(st_, object_, 0, !labelled_)) line(l);
+        labelled_ = true;
+    }
+    static const Travel unplanned;
+    for (size_t i = 0; i < layer.extrusions.size(); ++i)
+        extrude(layer.extrusions[i], i < layer.travels.size() ? layer.travels[i] : unplanned);
+    if (any)
+        for (const std::string& l : object_end(st_, object_)) line(l);
+}
+
+}  // namespace carve

@@ -1,0 +1,198 @@
+// The emitter (private to the G-code stage): turns layers into G-code text and measures, from
+// the very moves it writes, the figures the header states (time, material, bounds) and where
+// the M73 lines go. GcodeWriter (gcode.cpp) runs it once over the spilled layers.
+//
+// Its work is in two files: emitter.cpp the programme of the file (start, layers with
+// cooling's second pass, end) and the machine's state (fan, progress, text out), and
+// emitter_moves.cpp the moves (travels with combing, retraction and wipe, extrusion, arcs, Z).
+// The small text writers every move calls stay inline here.
+#pragma once
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "config/settings.hpp"
+#include "gcode/arcs.hpp"
+#include "gcode/gcode.hpp"
+#include "gcode/motion.hpp"
+#include "gcode/progress.hpp"
+#include "toolpath/comb.hpp"
+#include "toolpath/toolpath.hpp"
+
+namespace carve {
+
+// Throws OutputError: "cannot write PATH: WHAT".
+[[noreturn]] void io_error(const std::string& what, const std::string& path);
+
+// What the printed moves cover, mm.
+struct Bounds {
+    double min_x = std::numeric_limits<double>::max(), min_y = min_x, min_z = min_x;
+    double max_x = std::numeric_limits<double>::lowest(), max_y = max_x, max_z = max_x;
+    bool empty() const { return min_x > max_x; }
+};
+
+// Turns layers into G-code text (or, without a file, only measures what it would print).
+class Emitter {
+  public:
+    Emitter(const Settings& st, Coord off_x, Coord off_y, std::FILE* out, std::string path,
+            std::string object = "object");
+
+    void start();
+    void layer(const LayerToolpaths& layer);
+    void end();
+
+    void comment_block(const std::vector<std::string>& lines) {
+        for (const std::string& l : lines) line(l);
+    }
+
+    void flush_all() { flush(true); }
+    const PrintStats& stats() const { return stats_; }
+    const std::vector<ProgressMark>& progress_marks() const { return marks_; }
+    const Bounds& bounds() const { return bounds_; }
+
+  private:
+    static constexpr double kZSpeed = 10.0;          // mm/s for layer changes and z-hops
+    static constexpr long long kEScale = 100000;     // E is written with 5 decimals
+    static constexpr size_t kFlushBytes = 1 << 20;   // text buffered before each fwrite
+    static constexpr Coord kMaxCoord = 100'000'000;  // 100 m in um: no printer's bed, a guard only
+
+    // The last guard before a number reaches the printer: settings are validated where they
+    // are read, so a value failing here is carve's own bug, reported instead of written (a NaN
+    // would come out as E-92233720368547.75808 or F-9223372036854775808).
+    static void guard(bool ok, const char* word) {
+        if (!ok)
+            throw std::runtime_error(std::string("G-code emitter: refusing a non-finite or "
+                                                 "out-of-range ") +
+                                     word + " word");
+    }
+
+    // --- text output (emitter.cpp, but for the writers every move calls).
+    void put(std::string_view s) { buf_.append(s.data(), s.data() + s.size()); }
+    void line(std::string_view s) {
+        put(s);
+        buf_.push_back('\n');
+    }
+    void raw(const std::string& text);
+    // A profile's filament or layer-change G-code, expanded for the layer being written. A
+    // "G92 E0" in it resets the firmware's E, as PrusaSlicer assumes.
+    void custom(const std::string& text);
+    // A value in units of 10^-decimals (decimals >= 1), written with exactly that many
+    // decimals. By hand: every coordinate of the file passes here, and fmt's general path (a
+    // format string parsed per call) was most of the time spent writing G-code.
+    void fixed(long long v, int decimals) {
+        if (v < 0) {
+            buf_.push_back('-');
+            v = -v;
+        }
+        char digits[24];  // least significant first, at least decimals + 1 of them
+        int n = 0;
+        do {
+            digits[n++] = static_cast<char>('0' + v % 10);
+            v /= 10;
+        } while (v > 0 || n <= decimals);
+        for (int i = n - 1; i >= 0; --i) {
+            if (i == decimals - 1) buf_.push_back('.');
+            buf_.push_back(digits[i]);
+        }
+    }
+    void flush(bool force);
+
+    // --- machine state changes (emitter.cpp).
+    void set_fan(int speed);
+    static int fan_byte(int percent) {
+        return static_cast<int>(std::lround(std::clamp(percent, 0, 100) * 2.55));
+    }
+    // An M73 goes here, `elapsed_s` into the print (-1: at the end, the total).
+    void mark_progress(double elapsed_s);
+
+    // --- moves (emitter_moves.cpp).
+    void feed(double mm_per_s);
+    void e_word(long long target);
+    void move_filament(long long target);
+    bool can_retract() const { return st_.firmware_retraction || retract_units_ > 0; }
+    void retract();
+    void wipe();
+    void unretract();
+    void move_z(Coord z);
+    void travel_to(const Point& p, const Path& via, TravelKind kind);
+    void travel_move(const Point& p);
+    TravelPlan plan_layer_entry(const Point& target_model);
+    double speed_of(Feature f) const;
+    void extrude(const Extrusion& ex, const Travel& travel);
+    void printed(const Point& q, double len, double e_per_mm, Feature feature);
+    void arc_to(const std::vector<Point>& pts, size_t first, const Arc& arc, double speed,
+                double e_per_mm, Feature feature);
+    template <class Shift>
+    void remember_for_wipe(const Extrusion& ex, Shift shifted);
+    void use_acceleration(double a);
+
+    // --- cooling (emitter.cpp).
+    // Everything a layer's paths change, to write the layer again slower.
+    struct Snapshot {
+        size_t text = 0;
+        Point pos;
+        Coord z = 0;
+        double e_mm = 0;
+        long long e_units = 0, feed = 0;
+        bool retracted = false, first_travel = false, type_known = false, labelled = false;
+        int fan = 0;
+        Feature type = Feature::OuterWall;
+        double width = 0, accel = 0, wipe_length = 0;
+        MotionPlanner planner;
+        PrintStats stats;
+        Bounds bounds;
+        Path wipe_path;
+    };
+    Snapshot save() const;
+    void restore(const Snapshot& k);
+    void print_layer_cooled(const LayerToolpaths& layer);
+    void print_paths(const LayerToolpaths& layer);
+
+    const Settings& st_;
+    Coord off_x_, off_y_;
+    std::FILE* out_;
+    std::string path_;
+    std::string object_;               // the object's label
+    std::vector<ProgressMark> marks_;  // where the M73 lines go
+    long long written_ = 0;            // bytes of text flushed to out_
+    double speed_factor_ = 1;          // cooling's slowdown of the layer being written
+    int layer_fan_ = 0;                // percent, for the layer's ordinary extrusions
+    double accel_ = -1;                // Klipper's M204 S in force
+    bool labelled_ = false;            // M486 A named the object
+    fmt::memory_buffer buf_;
+    double filament_area_ = 1;
+    long long retract_units_ = 0;
+
+    Point pos_{0, 0};  // output coordinates, um; the start G-code is assumed to home
+    Coord z_ = -1;     // unknown until the first Z move
+    Coord layer_z_ = 0;
+    int layer_ = 0;
+    double e_mm_ = 0;        // filament fed for extrusion so far (retractions excluded)
+    long long e_units_ = 0;  // the firmware's E position, in 10^-5 mm
+    bool retracted_ = false;
+    bool first_travel_ = true;
+    long long feed_ = -1;
+    int fan_ = -1;
+    bool type_known_ = false;
+    Feature type_ = Feature::OuterWall;
+    double width_ = -1;
+    MotionPlanner planner_;
+    std::vector<Point> path_points_;  // the path being printed, shifted, reused
+    PrintStats stats_;
+    Bounds bounds_;
+    const Paths* layer_comb_ = nullptr;  // the comb region of the layer being written
+    std::unique_ptr<Comber> comber_;     // built from it on first use
+    Path wipe_path_;                     // output coordinates, from the nozzle backwards
+    double wipe_length_ = 0;             // mm
+};
+
+}  // namespace carve

@@ -1,0 +1,343 @@
+// The emitter's moves: travels (combed into a layer from the layer below, z-hop), retraction
+// with its wipe and recovery, extrusions at the speed of their feature with their E, arcs for
+// runs on one circle, and the book-keeping of each printed move (see emitter.hpp).
+#include <cmath>
+#include <iterator>
+
+#include "gcode/cooling.hpp"
+#include "gcode/emitter.hpp"
+#include "gcode/limits.hpp"
+
+namespace carve {
+
+// Emits " F..." when the feed rate changes (it is modal, shared by G0 and G1).
+void Emitter::feed(double mm_per_s) {
+    guard(mm_per_s > 0 && mm_per_s <= 10000, "F");
+    const long long f = std::llround(mm_per_s * 60.0);
+    if (f == feed_) return;
+    feed_ = f;
+    fmt::format_to(std::back_inserter(buf_), " F{}", f);
+}
+
+void Emitter::e_word(long long target) {
+    guard(std::isfinite(e_mm_) && std::abs(e_mm_) < 1e9, "E");
+    put(" E");
+    fixed(st_.relative_e ? target - e_units_ : target, 5);
+}
+
+// Retraction and its recovery are the same pure-filament move at the retraction speed.
+void Emitter::move_filament(long long target) {
+    put("G1");
+    e_word(target);
+    feed(st_.retract_speed);
+    buf_.push_back('\n');
+    e_units_ = target;
+    planner_.dwell(st_.retract_length / retract_speed_limit(st_));
+}
+
+void Emitter::retract() {
+    if (!can_retract() || retracted_) return;
+    if (st_.wipe && wipe_length_ > 0) {
+        wipe();
+    } else if (st_.firmware_retraction) {
+        line("G10 ; retract");
+        planner_.dwell(st_.retract_length / retract_speed_limit(st_));
+    } else {
+        move_filament(e_units_ - retract_units_);
+    }
+    retracted_ = true;
+    ++stats_.retractions;
+}
+
+// Back along the last path while retracting, so that what oozes lands on the line just
+// printed (PrusaSlicer's wipe). The filament moves at most at the retraction speed: the
+// nozzle slows down if the wipe is short. With firmware retraction the wipe is a plain
+// move before G10, the firmware knowing its own length.
+void Emitter::wipe() {
+    const bool firmware = st_.firmware_retraction;
+    double v = st_.travel_speed;
+    if (!firmware && st_.retract_length > 0)
+        v = std::min(v, wipe_length_ * st_.retract_speed / st_.retract_length);
+    line(";WIPE_START");
+    const long long e0 = e_units_;
+    double done = 0;
+    for (const Point& q : wipe_path_) {
+        const double dx = to_mm(q.X - pos_.X), dy = to_mm(q.Y - pos_.Y);
+        const double len = std::hypot(dx, dy);
+        if (len <= 0) continue;
+        done += len;
+        put("G1 X");
+        fixed(q.X, 3);
+        put(" Y");
+        fixed(q.Y, 3);
+        if (!firmware) {
+            const long long target =
+                e0 - std::llround(double(retract_units_) * std::min(1.0, done / wipe_length_));
+            e_word(target);
+            e_units_ = target;
+        }
+        feed(v);
+        buf_.push_back('\n');
+        planner_.move(dx, dy, v, st_.travel_acceleration);
+        stats_.travel_length_mm += len;
+        pos_ = q;
+    }
+    if (!firmware && e_units_ != e0 - retract_units_) {
+        put("G1");
+        e_word(e0 - retract_units_);
+        feed(st_.retract_speed);
+        buf_.push_back('\n');
+        e_units_ = e0 - retract_units_;
+    }
+    line(";WIPE_END");
+    if (firmware) {
+        line("G10 ; retract");
+        planner_.dwell(st_.retract_length / retract_speed_limit(st_));
+    } else {
+        planner_.stop();
+    }
+    wipe_path_.clear();
+    wipe_length_ = 0;
+}
+
+void Emitter::unretract() {
+    if (!retracted_) return;
+    if (st_.firmware_retraction) {
+        line("G11 ; unretract");
+        planner_.dwell(st_.retract_length / retract_speed_limit(st_));
+    } else {
+        move_filament(std::llround(e_mm_ * kEScale));
+    }
+    retracted_ = false;
+}
+
+void Emitter::move_z(Coord z) {
+    if (z == z_) return;
+    put("G1 Z");
+    fixed(z, 3);
+    feed(kZSpeed);
+    buf_.push_back('\n');
+    const double dz = z_ < 0 ? to_mm(z) : std::abs(to_mm(z - z_));
+    const bool limited = st_.flavor != GcodeFlavor::Klipper;
+    planner_.dwell(
+        trapezoid_time(dz, 0, limited ? std::min(kZSpeed, st_.max_feedrate_z) : kZSpeed, 0,
+                       limited ? std::min(st_.travel_acceleration, st_.max_acceleration_z)
+                               : st_.travel_acceleration));
+    z_ = z;
+}
+
+// The travel to `p` through `via` (output coordinates). A travel planned inside the part
+// never retracts; any other retracts when longer than retract_before_travel.
+void Emitter::travel_to(const Point& p, const Path& via, TravelKind kind) {
+    if (p == pos_ && via.empty()) {
+        if (layer_z_ > z_) move_z(layer_z_);
+        return;
+    }
+    double d = 0;
+    Point at = pos_;
+    for (const Point& q : via) d += std::hypot(to_mm(q.X - at.X), to_mm(q.Y - at.Y)), at = q;
+    d += std::hypot(to_mm(p.X - at.X), to_mm(p.Y - at.Y));
+    const bool retract_now =
+        !first_travel_ && can_retract() && kind != TravelKind::Inside && d > st_.retract_min_travel;
+    if (retract_now) retract();
+    const Coord hop = retract_now ? to_units(st_.z_hop) : 0;
+    if (hop > 0)
+        move_z(std::max(z_, layer_z_) + hop);
+    else if (layer_z_ > z_)
+        move_z(layer_z_);
+    for (const Point& q : via) travel_move(q);
+    travel_move(p);
+    if (z_ != layer_z_) move_z(layer_z_);
+    first_travel_ = false;
+}
+
+void Emitter::travel_move(const Point& p) {
+    if (p == pos_) return;
+    use_acceleration(st_.travel_acceleration);
+    put("G0 X");
+    fixed(p.X, 3);
+    put(" Y");
+    fixed(p.Y, 3);
+    feed(st_.travel_speed);
+    buf_.push_back('\n');
+    planner_.move(to_mm(p.X - pos_.X), to_mm(p.Y - pos_.Y), st_.travel_speed,
+                  st_.travel_acceleration);
+    stats_.travel_length_mm += std::hypot(to_mm(p.X - pos_.X), to_mm(p.Y - pos_.Y));
+    pos_ = p;
+}
+
+// The travel into a layer, from where the layer below ended: planned here, the only stage
+// that knows both ends. The comber is built once per layer, and only if needed.
+TravelPlan Emitter::plan_layer_entry(const Point& target_model) {
+    TravelPlan plan;
+    if (first_travel_ || !layer_comb_ || layer_comb_->empty()) return plan;
+    if (!comber_) comber_ = std::make_unique<Comber>(*layer_comb_);
+    const Point from(pos_.X - off_x_, pos_.Y - off_y_);
+    return plan_travel(*comber_, from, target_model, travel_options(st_));
+}
+
+double Emitter::speed_of(Feature f) const {
+    double v = st_.perimeter_speed;
+    switch (f) {
+        case Feature::OuterWall:
+        case Feature::Shell:
+            v = st_.perimeter_speed;
+            break;
+        case Feature::Cover:
+            v = st_.cover_speed;
+            break;
+        case Feature::CavityWall:
+            v = st_.cavity_speed;
+            break;
+        case Feature::Bridge:
+            v = st_.bridge_speed;
+            break;
+    }
+    if (st_.max_print_speed > 0) v = std::min(v, st_.max_print_speed);
+    if (layer_ == 0) v = std::min(v, st_.first_layer_speed);
+    return slowed_speed(v, speed_factor_, st_.min_print_speed);
+}
+
+void Emitter::extrude(const Extrusion& ex, const Travel& travel) {
+    if (ex.points.size() < 2) return;
+    auto shifted = [&](const Point& p) { return Point(p.X + off_x_, p.Y + off_y_); };
+    Path via;
+    TravelKind kind = travel.kind;
+    if (kind == TravelKind::Unplanned) {
+        TravelPlan plan = plan_layer_entry(ex.points.front());
+        if (!plan.via.empty() || !plan.leaves) {
+            via = std::move(plan.via);
+            kind = plan.leaves ? TravelKind::Leaves : TravelKind::Inside;
+        }
+    } else {
+        via = travel.via;
+    }
+    for (Point& q : via) q = shifted(q);
+    travel_to(shifted(ex.points.front()), via, kind);
+    if (!type_known_ || ex.feature != type_) {
+        type_known_ = true;
+        type_ = ex.feature;
+        fmt::format_to(std::back_inserter(buf_), ";TYPE:{}\n", feature_name(ex.feature));
+    }
+    const double width = st_.width_mm() * ex.flow;
+    if (width != width_) {
+        width_ = width;
+        fmt::format_to(std::back_inserter(buf_), ";WIDTH:{:.3f}\n", width);
+    }
+    set_fan(fan_byte(ex.feature == Feature::Bridge ? bridge_fan_percent(st_, layer_) : layer_fan_));
+    unretract();
+    use_acceleration(st_.acceleration);
+    const double speed = speed_of(ex.feature);
+    // Filament per mm of path: the line's cross-section (width x height) over the filament's.
+    const double e_per_mm = st_.width_mm() * st_.layer_height * ex.flow / filament_area_;
+    const size_t n = ex.points.size() + (ex.closed ? 1 : 0);
+    std::vector<Point>& pts = path_points_;
+    pts.clear();
+    for (size_t i = 0; i < n; ++i) pts.push_back(shifted(ex.points[i % ex.points.size()]));
+    const double tolerance = st_.arc_tolerance * kUnitsPerMm;
+    for (size_t i = 0; i + 1 < pts.size();) {
+        if (st_.arc_fitting && pts[i] == pos_) {
+            if (const auto arc = fit_arc(pts, i, tolerance)) {
+                arc_to(pts, i, *arc, speed, e_per_mm, ex.feature);
+                i = arc->last;
+                continue;
+            }
+        }
+        const Point q = pts[++i];
+        if (q == pos_) continue;
+        const double dx = to_mm(q.X - pos_.X), dy = to_mm(q.Y - pos_.Y);
+        const double len = std::hypot(dx, dy);
+        e_mm_ += len * e_per_mm;
+        const long long target = std::llround(e_mm_ * kEScale);
+        guard(std::abs(q.X) < kMaxCoord && std::abs(q.Y) < kMaxCoord, "X/Y");
+        put("G1 X");
+        fixed(q.X, 3);
+        put(" Y");
+        fixed(q.Y, 3);
+        e_word(target);
+        feed(speed);
+        buf_.push_back('\n');
+        e_units_ = target;
+        planner_.move(dx, dy, speed, st_.acceleration);
+        printed(q, len, e_per_mm, ex.feature);
+    }
+    if (st_.wipe) remember_for_wipe(ex, shifted);
+}
+
+// Book-keeping of a printed move of `len` mm ending at q.
+void Emitter::printed(const Point& q, double len, double e_per_mm, Feature feature) {
+    stats_.extruded_volume_mm3 += len * e_per_mm * filament_area_;
+    if (feature == Feature::Bridge) stats_.bridge_length_mm += len;
+    bounds_.min_x = std::min(bounds_.min_x, to_mm(q.X));
+    bounds_.max_x = std::max(bounds_.max_x, to_mm(q.X));
+    bounds_.min_y = std::min(bounds_.min_y, to_mm(q.Y));
+    bounds_.max_y = std::max(bounds_.max_y, to_mm(q.Y));
+    bounds_.min_z = std::min(bounds_.min_z, to_mm(z_));
+    bounds_.max_z = std::max(bounds_.max_z, to_mm(z_));
+    pos_ = q;
+}
+
+// One G2/G3 for points first+1..arc.last. The planner times the chords it replaces (the
+// arc is within the tolerance of them); E follows the arc's own length.
+void Emitter::arc_to(const std::vector<Point>& pts, size_t first, const Arc& arc, double speed,
+                     double e_per_mm, Feature feature) {
+    const Point q = pts[arc.last];
+    const double len = arc.length / kUnitsPerMm;
+    e_mm_ += len * e_per_mm;
+    const long long target = std::llround(e_mm_ * kEScale);
+    guard(std::abs(q.X) < kMaxCoord && std::abs(q.Y) < kMaxCoord, "X/Y");
+    put(arc.counter_clockwise ? "G3 X" : "G2 X");
+    fixed(q.X, 3);
+    put(" Y");
+    fixed(q.Y, 3);
+    put(" I");
+    fixed(std::llround(arc.cx - double(pos_.X)), 3);
+    put(" J");
+    fixed(std::llround(arc.cy - double(pos_.Y)), 3);
+    e_word(target);
+    feed(speed);
+    buf_.push_back('\n');
+    e_units_ = target;
+    for (size_t k = first; k < arc.last; ++k)
+        planner_.move(to_mm(pts[k + 1].X - pts[k].X), to_mm(pts[k + 1].Y - pts[k].Y), speed,
+                      st_.acceleration);
+    for (size_t k = first + 1; k < arc.last; ++k) printed(pts[k], 0, e_per_mm, feature);
+    printed(q, len, e_per_mm, feature);
+    ++stats_.arcs;
+    stats_.lines_saved_by_arcs += static_cast<long long>(arc.last - first) - 1;
+}
+
+// The last wipe_distance of the path just printed, walking back from its end.
+template <class Shift>
+void Emitter::remember_for_wipe(const Extrusion& ex, Shift shifted) {
+    wipe_path_.clear();
+    wipe_length_ = 0;
+    const size_t m = ex.points.size();
+    const size_t n = m + (ex.closed ? 1 : 0);
+    Point at = pos_;
+    for (size_t k = n - 1; k-- > 0 && wipe_length_ < st_.wipe_distance;) {
+        Point q = shifted(ex.points[k % m]);
+        const double len = std::hypot(to_mm(q.X - at.X), to_mm(q.Y - at.Y));
+        if (len <= 0) continue;
+        if (wipe_length_ + len > st_.wipe_distance) {
+            const double f = (st_.wipe_distance - wipe_length_) / len;
+            q = Point(at.X + std::llround(f * double(q.X - at.X)),
+                      at.Y + std::llround(f * double(q.Y - at.Y)));
+            wipe_length_ = st_.wipe_distance;
+        } else {
+            wipe_length_ += len;
+        }
+        wipe_path_.push_back(q);
+        at = q;
+    }
+}
+
+// Klipper takes the acceleration from M204 S as the moves change (its limits are in
+// printer.cfg); the other firmwares were told M204 P and T once.
+void Emitter::use_acceleration(double a) {
+    if (st_.flavor != GcodeFlavor::Klipper || a == accel_) return;
+    accel_ = a;
+    line(fmt::format("M204 S{}", std::llround(a)));
+}
+
+}  // namespace carve

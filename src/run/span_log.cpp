@@ -1,0 +1,41 @@
+// The pipeline's profile: its table, and the geometry probe (see span_log.hpp).
+#include "run/span_log.hpp"
+
+#include <fmt/format.h>
+
+#include "geometry/probe.hpp"
+
+namespace carve {
+
+std::string span_table(const SpanLog& span, const std::vector<std::string>& filter_names,
+                       double load_s, double finish_s, int threads) {
+    double pipeline_s = 0;
+    std::string out = "pipeline filter CPU s\n";
+    for (int f = 0; f < span.filters; ++f) {
+        pipeline_s += span.filter_s(f);
+        out += fmt::format("  {:<12} {:8.3f}{}\n", filter_names[f], span.filter_s(f),
+                           span.serial[f] ? "  serial" : "  parallel");
+    }
+    const double path_s = span.critical_path_s();
+    const double work_s = load_s + pipeline_s + finish_s;
+    const double serial_s = load_s + path_s + finish_s;
+    const double f = work_s > 0 ? serial_s / work_s : 1;
+    auto amdahl = [f](int cores) { return 1 / (f + (1 - f) / cores); };
+    out += fmt::format(
+        "serial: load {:.3f} + pipeline critical path {:.3f} + assembly {:.3f} = {:.3f} s "
+        "of {:.3f} s CPU: serial fraction {:.1f} %\n"
+        "Amdahl: {:.2f}x on 2 cores, {:.2f}x on 8, {:.2f}x on 16 (ran on {} threads)\n",
+        load_s, path_s, finish_s, serial_s, work_s, 100 * f, amdahl(2), amdahl(8), amdahl(16),
+        threads);
+    return out;
+}
+
+void profile_geometry() {
+    static const GeometryProbe probe{
+        thread_cpu_ns, [](GeometryOp op, int64_t ns) {
+            add_stage_time(op == GeometryOp::kBoolean ? Stage::kBoolean : Stage::kMorphology, ns);
+        }};
+    set_geometry_probe(&probe);
+}
+
+}  // namespace carve

@@ -1,0 +1,86 @@
+// The layers' carriers through the run's oneTBB pipeline (private to run/pipeline.cpp): what
+// one layer holds between the filters, the pool that owns every token, and the hand-over
+// through which a filter gives a carving sweep its layer.
+#pragma once
+
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <unordered_set>
+#include <utility>
+#include <vector>
+
+#include "carving/carving.hpp"
+#include "slice/slicer.hpp"
+#include "supports/overhang.hpp"
+#include "toolpath/toolpath.hpp"
+
+namespace carve {
+
+// One layer on its way through the pipeline.
+struct Token {
+    int seq = 0;       // place in the stream, 0 for the top slice
+    bool end = false;  // after the last slice: flushes the covers' window and the hold-back
+    std::optional<Slice> slice;               // as cut, until eroded
+    std::shared_ptr<const CoverSlice> cover;  // ... and eroded, until the window takes it
+    std::vector<std::shared_ptr<const CoverSlice>> window;  // layer i's 2c+1 slices, top down
+    LayerPartition layer;
+    std::optional<LayerPartition> below;  // the cavities of slice i - 1 as the sweep left them,
+                                          // and its outline
+    LayerOverhang overhang;               // of O_i beyond O_{i-1}
+    LayerToolpaths paths;
+    std::vector<double> volumes;  // of each extrusion of `paths`, mm^3
+    double material = 0;          // their sum
+};
+using TokenPtr = Token*;
+
+// Owns every token. A cancelled parallel_pipeline (an exception in a filter) does not destroy
+// the items it holds between filters: LeakSanitizer found the shared_ptr tokens of a failed
+// run never freed. So the filters pass plain pointers, a token is freed where the stream drops
+// it, and whatever a cancelled run left in flight is freed with the pool.
+class TokenPool {
+  public:
+    TokenPool() = default;
+    TokenPool(const TokenPool&) = delete;
+    TokenPool& operator=(const TokenPool&) = delete;
+    ~TokenPool() {
+        for (Token* t : live_) delete t;
+    }
+    Token* make() {
+        auto t = std::make_unique<Token>();
+        std::lock_guard lock(mutex_);
+        live_.insert(t.get());
+        return t.release();
+    }
+    std::nullptr_t drop(Token* t) {
+        if (t) {
+            {
+                std::lock_guard lock(mutex_);
+                live_.erase(t);
+            }
+            delete t;
+        }
+        return nullptr;
+    }
+
+  private:
+    std::mutex mutex_;
+    std::unordered_set<Token*> live_;
+};
+
+// CarvingSweep pulls layers from a source; this one holds the single layer that a filter
+// hands it.
+class HandOver : public LayerSource {
+  public:
+    void put(LayerPartition layer) { held_ = std::move(layer); }
+    std::optional<LayerPartition> next() override {
+        std::optional<LayerPartition> out = std::move(held_);
+        held_.reset();
+        return out;
+    }
+
+  private:
+    std::optional<LayerPartition> held_;
+};
+
+}  // namespace carve
