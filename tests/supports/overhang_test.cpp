@@ -12,6 +12,7 @@
 #include "geometry/polygon.hpp"
 #include "support/carve_run.hpp"
 #include "support/shapes.hpp"
+#include "support/stl_boxes.hpp"
 
 using namespace carve;
 using carve::test::rect_region;
@@ -72,28 +73,6 @@ TEST(OverhangTally, WarnsOnlyAboveTheThresholdAndNamesTheLayers) {
     EXPECT_NE(w.find("0.5 mm2 at layer 3 (z 0.60 mm)"), std::string::npos) << w;
 }
 
-// Two boxes written as one ASCII STL, overlapping (the slicer unites them).
-void write_boxes(const std::string& path, const std::vector<std::array<double, 6>>& boxes) {
-    std::ofstream out(path);
-    out << "solid boxes\n";
-    for (const auto& b : boxes) {
-        const double x[2] = {b[0], b[3]}, y[2] = {b[1], b[4]}, z[2] = {b[2], b[5]};
-        auto v = [&](int i) { return std::array<double, 3>{x[i & 1], y[(i >> 1) & 1], z[i >> 2]}; };
-        // Corners 0..7 (bit 0: x, bit 1: y, bit 2: z); faces wound outward.
-        const int faces[12][3] = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
-                                  {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
-        for (const auto& f : faces) {
-            out << "facet normal 0 0 0\nouter loop\n";
-            for (int k : f) {
-                const auto p = v(k);
-                out << "vertex " << p[0] << " " << p[1] << " " << p[2] << "\n";
-            }
-            out << "endloop\nendfacet\n";
-        }
-    }
-    out << "endsolid boxes\n";
-}
-
 nlohmann::json stats_of(const std::string& path) {
     std::ifstream in(path);
     return nlohmann::json::parse(in);
@@ -103,8 +82,10 @@ nlohmann::json stats_of(const std::string& path) {
 // 704 mm2 more than 2 mm beyond the stem (the rounded corners of the 2 mm reach add a little).
 TEST(OverhangCli, MushroomCapIsMeasuredAndNamedABoxIsQuiet) {
     const auto dir = carve::test::scratch();
-    const std::string mushroom = (dir / "mushroom.stl").string();
-    write_boxes(mushroom, {{10, 10, 0, 20, 20, 10.1}, {0, 0, 10, 30, 30, 14}});
+    std::vector<carve::test::StlTriangle> t;
+    carve::test::add_box(t, 10, 10, 0, 20, 20, 10.1f);
+    carve::test::add_box(t, 0, 0, 10, 30, 30, 14);
+    const std::string mushroom = carve::test::write_stl("mushroom.stl", t).string();
     const std::string gcode = (dir / "mushroom.gcode").string();
     const std::string stats = (dir / "mushroom.json").string();
     auto r = carve::test::run_carve("slice " + mushroom + " -o " + gcode + " --stats " + stats);
@@ -127,8 +108,9 @@ TEST(OverhangCli, MushroomCapIsMeasuredAndNamedABoxIsQuiet) {
     EXPECT_NEAR(steep["far_external_overhang_mm2"].get<double>(),
                 j["far_external_overhang_mm2"].get<double>(), 1e-6);
 
-    const std::string box = (dir / "box.stl").string();
-    write_boxes(box, {{0, 0, 0, 20, 20, 10}});
+    t.clear();
+    carve::test::add_box(t, 0, 0, 0, 20, 20, 10);
+    const std::string box = carve::test::write_stl("box.stl", t).string();
     r = carve::test::run_carve("slice " + box + " -o " + gcode + " --stats " + stats);
     ASSERT_EQ(r.status, 0) << r.err;
     EXPECT_EQ(r.err.find("will hang"), std::string::npos) << r.err;

@@ -16,6 +16,7 @@
 #include "gcode/spill.hpp"
 #include "geometry/polygon.hpp"
 #include "support/carve_run.hpp"
+#include "support/stl_boxes.hpp"
 #include "toolpath/comb.hpp"
 #include "toolpath/order.hpp"
 #include "toolpath/seam.hpp"
@@ -236,54 +237,7 @@ TEST(Order, TwoOptShortensGreedyOrdersAndNeverLengthens) {
 
 // --- Whole runs on synthetic models.
 
-using Triangle = std::array<std::array<float, 3>, 3>;
-
-void add_box(std::vector<Triangle>& t, float x0, float y0, float z0, float x1, float y1, float z1) {
-    const std::array<std::array<float, 3>, 8> v{{{x0, y0, z0},
-                                                 {x1, y0, z0},
-                                                 {x1, y1, z0},
-                                                 {x0, y1, z0},
-                                                 {x0, y0, z1},
-                                                 {x1, y0, z1},
-                                                 {x1, y1, z1},
-                                                 {x0, y1, z1}}};
-    const int f[12][3] = {{0, 2, 1}, {0, 3, 2}, {4, 5, 6}, {4, 6, 7}, {0, 1, 5}, {0, 5, 4},
-                          {1, 2, 6}, {1, 6, 5}, {2, 3, 7}, {2, 7, 6}, {3, 0, 4}, {3, 4, 7}};
-    for (const auto& k : f) t.push_back({v[k[0]], v[k[1]], v[k[2]]});
-}
-
-// A vertical prism over a regular n-gon (a cylinder for large n).
-void add_cylinder(std::vector<Triangle>& t, float r, float h, int n) {
-    auto at = [&](int i, float z) {
-        const double a = 2 * std::numbers::pi * i / n;
-        return std::array<float, 3>{float(r * std::cos(a)), float(r * std::sin(a)), z};
-    };
-    const std::array<float, 3> bottom{0, 0, 0}, top{0, 0, h};
-    for (int i = 0; i < n; ++i) {
-        t.push_back({bottom, at(i + 1, 0), at(i, 0)});
-        t.push_back({top, at(i, h), at(i + 1, h)});
-        t.push_back({at(i, 0), at(i + 1, 0), at(i + 1, h)});
-        t.push_back({at(i, 0), at(i + 1, h), at(i, h)});
-    }
-}
-
-fs::path write_stl(const std::string& name, const std::vector<Triangle>& triangles) {
-    const fs::path path = scratch() / name;
-    std::ofstream out(path, std::ios::binary);
-    char header[80] = {};
-    out.write(header, 80);
-    const auto n = static_cast<std::uint32_t>(triangles.size());
-    out.write(reinterpret_cast<const char*>(&n), 4);
-    for (const Triangle& t : triangles) {
-        float f[12] = {};
-        for (int v = 0; v < 3; ++v)
-            for (int c = 0; c < 3; ++c) f[3 + 3 * v + c] = t[v][c];
-        out.write(reinterpret_cast<const char*>(f), sizeof f);
-        const std::uint16_t attribute = 0;
-        out.write(reinterpret_cast<const char*>(&attribute), 2);
-    }
-    return path;
-}
+using Triangle = StlTriangle;
 
 // What the tests read from a G-code file, per layer: every travel (the moves between two
 // extrusions, bed coordinates in um) with whether it retracted, and where the outer wall's
@@ -392,6 +346,29 @@ TEST(TravelRun, CShapeCombsInsideAndNeverRetracts) {
             EXPECT_GT(outside, 100.0);
         }
     }
+}
+
+// A part narrowing upwards in steps: where a layer below ended outside the next layer's comb
+// region, on what is now the top of the part, the travel into the next layer moves in over that
+// top and combs; nothing retracts, one island per layer.
+TEST(TravelRun, StepsInwardsEnterTheNextLayerWithoutRetracting) {
+    std::vector<Triangle> t;
+    for (int k = 0; k < 4; ++k) {
+        const double in = 1.8 * k;
+        add_box(t, in, in, 3.0 * k, 24 - in, 24 - in, 3.0 * (k + 1) + (k < 3 ? 0.1 : 0));
+    }
+    const fs::path stl = write_stl("steps.stl", t);
+    const auto layers = read_moves(slice(stl, "steps.gcode", ""));
+    ASSERT_GT(layers.size(), 50u);
+    int retracted = 0, entries = 0;
+    for (const auto& [index, l] : layers)
+        for (const Move& m : l.travels) {
+            if (index == 0 && &m == &l.travels.front()) continue;  // from the home position
+            retracted += m.retracted;
+            entries += &m == &l.travels.front();
+        }
+    EXPECT_GT(entries, 50);
+    EXPECT_EQ(retracted, 0);
 }
 
 TEST(TravelRun, TwoIslandsRetractOnlyToLeaveAnIsland) {
