@@ -7,6 +7,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -51,6 +52,8 @@ class Welder {
 // Each reader fills mesh (welded, not yet repaired) and report.format / triangles_read.
 void read_binary_stl(std::string_view data, const std::string& path, Mesh& mesh,
                      MeshReport& report);
+// The same from an open file at its start, read in blocks (the caller checked its size).
+void read_binary_stl(std::FILE* file, const std::string& path, Mesh& mesh, MeshReport& report);
 void read_ascii_stl(std::string_view data, const std::string& path, Mesh& mesh, MeshReport& report);
 void read_obj(std::string_view data, const std::string& path, Mesh& mesh, MeshReport& report);
 void read_3mf(std::string_view data, const std::string& path, Mesh& mesh, MeshReport& report);

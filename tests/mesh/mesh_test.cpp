@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 #include <sys/resource.h>
+#include <sys/stat.h>
 #include <unistd.h>
 #include <zip.h>
 
@@ -13,9 +14,11 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <random>
 #include <set>
 #include <string>
+#include <thread>
 
 #include "base/error.hpp"
 #include "report/mesh_info.hpp"
@@ -420,6 +423,76 @@ TEST(MeshRepair, DuplicateTrianglesAreDropped) {
     EXPECT_TRUE(has_warning(r, "dropped 3 duplicate triangles")) << all_warnings(r);
 }
 
+// n disjoint triangles: every edge open.
+Mesh soup_mesh(uint32_t n) {
+    Mesh m;
+    for (uint32_t t = 0; t < n; ++t) {
+        const double x = 3.0 * t;
+        m.vertices.push_back({x, 0, 0});
+        m.vertices.push_back({x + 1, 0, 0});
+        m.vertices.push_back({x, 1, t % 7 * 0.5});
+        m.triangles.push_back({3 * t, 3 * t + 1, 3 * t + 2});
+    }
+    return m;
+}
+
+TEST(MeshRepair, TheEdgeCountsAreReportedOnceBeforeTheShellsAreWalked) {
+    Mesh m = soup_mesh(2000);
+    // Ten of them twice more, once facing the other way: 20 duplicates cancel out.
+    for (uint32_t t = 0; t < 10; ++t) {
+        const auto tri = m.triangles[t];
+        m.triangles.push_back({tri[0], tri[2], tri[1]});
+    }
+    MeshReport r;
+    int calls = 0;
+    size_t seen_open = 0;
+    analyse_and_repair(m, r, [&](const MeshReport& counted) {
+        ++calls;
+        seen_open = counted.open_edges;
+        EXPECT_EQ(counted.shells, 0u);  // not walked yet
+        EXPECT_EQ(counted.duplicate_dropped, 20u);
+    });
+    EXPECT_EQ(calls, 1);
+    EXPECT_EQ(seen_open, 3u * 1990);
+    EXPECT_EQ(r.open_edges, 3u * 1990);
+    EXPECT_EQ(r.shells, 1990u);
+    EXPECT_TRUE(is_triangle_soup(r));
+
+    // A throw from the callback ends the repair there.
+    Mesh again = soup_mesh(2000);
+    MeshReport r2;
+    EXPECT_THROW(analyse_and_repair(again, r2, [](const MeshReport&) { throw InputError("stop"); }),
+                 InputError);
+    EXPECT_EQ(r2.shells, 0u);
+}
+
+TEST(MeshRepair, ASoupIsRefusedOnlyWhenAsked) {
+    const std::string path = temp().file("soup.stl");
+    write_file(path, binary_stl(soup_mesh(2000), "soup"));
+    MeshReport r = load_ok(path);
+    EXPECT_EQ(r.open_edges, 6000u);
+    EXPECT_EQ(r.shells, 2000u);
+    EXPECT_TRUE(is_triangle_soup(r));
+    LoadOptions refuse;
+    refuse.refuse_soup = true;
+    try {
+        load_mesh(path, r, refuse);
+        ADD_FAILURE() << "the soup loaded";
+    } catch (const InputError& e) {
+        EXPECT_EQ(std::string(e.what()),
+                  path +
+                      ": not a solid: 6000 of the 6000 triangles' edges are shared with no "
+                      "other triangle (a triangle soup); repair the mesh first");
+    }
+    // A closed model passes, and so does a small soup (up to 1000 triangles).
+    const std::string cube = temp().file("cube_refuse.stl");
+    write_file(cube, binary_stl(cube_mesh(), "cube"));
+    EXPECT_NO_THROW(load_mesh(cube, r, refuse));
+    EXPECT_FALSE(is_triangle_soup(r));
+    write_file(path, binary_stl(soup_mesh(1000), "small soup"));
+    EXPECT_NO_THROW(load_mesh(path, r, refuse));
+}
+
 TEST(MeshRepair, Measures) {
     const Mesh m = cube_mesh(10, {5, -5, 2});
     EXPECT_NEAR(signed_volume(m), 1000.0, 1e-9);
@@ -439,6 +512,34 @@ TEST(MeshFormats, BinaryStlWhoseHeaderSaysSolid) {
     EXPECT_EQ(r.format, "binary STL");
     EXPECT_EQ(r.triangles, 12u);
     EXPECT_NEAR(r.volume_mm3, 8000.0, 1e-6);
+}
+
+// A binary STL file is welded block by block as it is read; from a pipe it is read whole
+// first. Both give the same mesh (skull: 100,002 facets, two blocks of 65,536).
+TEST(MeshFormats, BinaryStlStreamedFromAFileEqualsItReadWhole) {
+    CARVE_NEED_MODEL("skull.stl");
+    const std::string file = kModels + "/skull.stl";
+    std::ifstream in(file, std::ios::binary);
+    const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const std::string fifo = temp().file("skull.fifo");
+    ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+    std::thread writer([&] { write_file(fifo, bytes); });
+    MeshReport from_pipe, from_file;
+    Mesh piped = load_mesh(fifo, from_pipe);
+    writer.join();
+    Mesh streamed = load_mesh(file, from_file);
+    EXPECT_EQ(from_file.format, "binary STL");
+    EXPECT_EQ(from_pipe.format, "binary STL");
+    EXPECT_EQ(from_file.triangles_read, 100002u);
+    ASSERT_EQ(streamed.vertices.size(), piped.vertices.size());
+    ASSERT_EQ(streamed.triangles, piped.triangles);
+    for (size_t v = 0; v < piped.vertices.size(); ++v) {
+        ASSERT_EQ(streamed.vertices[v].x, piped.vertices[v].x) << v;
+        ASSERT_EQ(streamed.vertices[v].y, piped.vertices[v].y) << v;
+        ASSERT_EQ(streamed.vertices[v].z, piped.vertices[v].z) << v;
+    }
+    EXPECT_EQ(from_file.open_edges, 0u);
+    EXPECT_EQ(from_file.volume_mm3, from_pipe.volume_mm3);
 }
 
 TEST(MeshFormats, ObjWithQuadsNegativeIndicesAndSlashes) {
