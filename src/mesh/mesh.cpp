@@ -62,11 +62,17 @@ size_t table_size_for(size_t points) {
 
 }  // namespace
 
-// A slot holds the vertex index in its low half and the hash's high half as a tag, so that a
-// probe past a different point rarely has to read that point's coordinates.
-constexpr uint64_t kEmptySlot = std::numeric_limits<uint64_t>::max();
+// A slot holds the vertex index in its low 26 bits and the hash's top 6 bits as a tag, so that
+// a probe past a different point rarely has to read that point's coordinates. The all-ones
+// slot (tag 63, index kIdMask) marks an empty one, so kIdMask itself is never a vertex.
+constexpr uint32_t kIdMask = (1u << 26) - 1;
+constexpr uint32_t kEmptySlot = 0xFFFFFFFFu;
 
-Welder::Welder(size_t expected_points) {
+inline uint32_t tag_of(uint64_t h) {
+    return static_cast<uint32_t>(h >> 58) << 26;
+}
+
+Welder::Welder(size_t expected_points, const std::string& path) : path_(path) {
     vertices_.reserve(expected_points);
     table_.assign(table_size_for(expected_points), kEmptySlot);
     mask_ = table_.size() - 1;
@@ -75,7 +81,7 @@ Welder::Welder(size_t expected_points) {
 void Welder::grow() {
     // The points are hashed again from the vertex array, so the old table goes first.
     const size_t size = table_.size() * 2;
-    table_ = std::vector<uint64_t>();  // frees it (= {} would keep its capacity)
+    table_ = std::vector<uint32_t>();  // frees it (= {} would keep its capacity)
     table_.assign(size, kEmptySlot);
     mask_ = size - 1;
     for (uint32_t id = 0; id < vertices_.size(); ++id) {
@@ -83,7 +89,7 @@ void Welder::grow() {
         const uint64_t h = hash_point(v.x, v.y, v.z);
         uint64_t i = h & mask_;
         while (table_[i] != kEmptySlot) i = (i + 1) & mask_;
-        table_[i] = (h & ~0xFFFFFFFFULL) | id;
+        table_[i] = tag_of(h) | id;
     }
 }
 
@@ -94,20 +100,21 @@ uint32_t Welder::add(double x, double y, double z) {
     y += 0.0;
     z += 0.0;
     const uint64_t h = hash_point(x, y, z);
-    const uint64_t tag = h & ~0xFFFFFFFFULL;
+    const uint32_t tag = tag_of(h);
     uint64_t i = h & mask_;
     for (;;) {
-        const uint64_t slot = table_[i];
+        const uint32_t slot = table_[i];
         if (slot == kEmptySlot) {
             const uint32_t id = static_cast<uint32_t>(vertices_.size());
+            if (id == kIdMask)
+                fail(path_, "more than 67 million distinct vertices; carve reads fewer");
             table_[i] = tag | id;
             vertices_.push_back({x, y, z});
             return id;
         }
-        if ((slot & ~0xFFFFFFFFULL) == tag) {
-            const uint32_t id = static_cast<uint32_t>(slot);
-            const Vec3& v = vertices_[id];
-            if (v.x == x && v.y == y && v.z == z) return id;
+        if ((slot & ~kIdMask) == tag) {
+            const Vec3& v = vertices_[slot & kIdMask];
+            if (v.x == x && v.y == y && v.z == z) return slot & kIdMask;
         }
         i = (i + 1) & mask_;
     }
@@ -168,6 +175,11 @@ bool streams_as_binary_stl(std::FILE* f, long size) {
     const std::string_view h(head, sizeof head);
     return got && !is_zip(h) && binary_stl_size(h) == static_cast<uint64_t>(size);
 }
+
+// A file of known size named .obj whose first bytes rule out every format tried before OBJ (a
+// zip, a binary STL of exactly its size, ASCII STL's leading "solid") is read line by line
+// without ever being held whole.
+bool streams_as_obj(std::FILE* f, long size, const std::string& ext);
 
 std::string read_whole_file(std::FILE* f, const std::string& path, long size) {
     std::string data;
@@ -265,13 +277,28 @@ bool looks_like_obj(std::string_view data) {
     return vertex;
 }
 
-// Tells the format from the content of a file held whole and reads it.
-void read_from_memory(std::string_view d, const std::string& path, Mesh& mesh, MeshReport& report) {
+bool streams_as_obj(std::FILE* f, long size, const std::string& ext) {
+    if (ext != ".obj" || size < 84) return false;
+    char head[4096];
+    const size_t got = std::fread(head, 1, sizeof head, f);
+    std::rewind(f);
+    const std::string_view h(head, got);
+    if (got < 84 || is_zip(h) || binary_stl_size(h) == static_cast<uint64_t>(size)) return false;
+    // "solid" followed by a space or the end decides for ASCII STL: only a first word wholly
+    // inside the head is known not to be one.
+    const std::string_view s = skip_space(without_bom(h));
+    return s.size() > 5 && !starts_with_word(s, "solid");
+}
+
+// Tells the format from the content of a file held whole and reads it. The 3MF reader frees the
+// archive's bytes once it has unpacked the model.
+void read_from_memory(std::string& data, const std::string& path, Mesh& mesh, MeshReport& report) {
+    const std::string_view d(data);
     if (d.empty()) fail(path, "the file is empty");
     const std::string ext = lower_extension(path);
     const uint64_t binary_size = d.size() >= 84 ? binary_stl_size(d) : 0;
     if (is_zip(d)) {
-        detail::read_3mf(d, path, mesh, report);
+        detail::read_3mf(data, path, mesh, report);
     } else if (d.size() >= 84 && d.size() == binary_size) {
         detail::read_binary_stl(d, path, mesh, report);
     } else if (looks_like_ascii_stl(without_bom(d))) {
@@ -319,8 +346,10 @@ Mesh load_mesh(const std::string& path, MeshReport& report, const LoadOptions& o
         File file = open_model(path, size);
         if (streams_as_binary_stl(file.get(), size)) {
             detail::read_binary_stl(file.get(), path, mesh, report);
+        } else if (streams_as_obj(file.get(), size, lower_extension(path))) {
+            detail::read_obj(file.get(), static_cast<size_t>(size), path, mesh, report);
         } else {
-            const std::string data = read_whole_file(file.get(), path, size);
+            std::string data = read_whole_file(file.get(), path, size);
             file.reset();
             read_from_memory(data, path, mesh, report);
         }

@@ -279,7 +279,7 @@ void read_ascii_stl(std::string_view data, const std::string& path, Mesh& mesh,
         return value;
     };
 
-    Welder welder(data.size() / 400 + 16);
+    Welder welder(data.size() / 400 + 16, path);
     std::vector<uint32_t> loop;
     std::string_view tok = tokens.next();
     if (!same_word(tok, "solid")) malformed("expected 'solid', found " + describe(tok));

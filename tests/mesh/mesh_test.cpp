@@ -542,6 +542,74 @@ TEST(MeshFormats, BinaryStlStreamedFromAFileEqualsItReadWhole) {
     EXPECT_EQ(from_file.volume_mm3, from_pipe.volume_mm3);
 }
 
+// Loads path through a named pipe, which carve reads whole before it parses.
+MeshReport load_through_pipe(const std::string& bytes, const std::string& name, Mesh& mesh) {
+    const std::string fifo = temp().file(name);
+    std::remove(fifo.c_str());
+    EXPECT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+    std::thread writer([&] { write_file(fifo, bytes); });
+    MeshReport r;
+    try {
+        mesh = load_mesh(fifo, r);
+    } catch (...) {
+        writer.join();
+        throw;
+    }
+    writer.join();
+    return r;
+}
+
+// An .obj file is parsed in 4 MB blocks as it is read, from a pipe whole: the same mesh, and the
+// same line in an error past the first block. This one has a byte order mark, CRLF line ends,
+// comments, quads and no line end after its last face.
+TEST(MeshFormats, ObjStreamedFromAFileEqualsItReadWhole) {
+    std::string obj = "\xEF\xBB\xBF# a 300 x 300 grid of quads on a wavy sheet\r\n";
+    const int n = 300;
+    for (int j = 0; j <= n; ++j)
+        for (int i = 0; i <= n; ++i)
+            obj += "v " + std::to_string(i * 0.25) + " " + std::to_string(j * 0.25) + " " +
+                   std::to_string(std::sin(i * 0.1) * std::cos(j * 0.07)) + "  # vertex\r\n";
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            const int a = j * (n + 1) + i + 1;
+            obj += "f " + std::to_string(a) + " " + std::to_string(a + 1) + " " +
+                   std::to_string(a + n + 2) + " " + std::to_string(a + n + 1);
+            if (i + 1 < n || j + 1 < n) obj += "\n";
+        }
+    ASSERT_GT(obj.size(), size_t(5) << 20);  // more than one block
+    const std::string file = temp().file("grid.obj");
+    write_file(file, obj);
+    MeshReport from_file;
+    const Mesh streamed = load_mesh(file, from_file);
+    Mesh piped;
+    const MeshReport from_pipe = load_through_pipe(obj, "grid.fifo", piped);
+    EXPECT_EQ(from_file.format, "OBJ");
+    EXPECT_EQ(from_pipe.format, "OBJ");
+    EXPECT_EQ(from_file.triangles_read, size_t(2 * n * n));
+    ASSERT_EQ(streamed.triangles, piped.triangles);
+    ASSERT_EQ(streamed.vertices.size(), piped.vertices.size());
+    for (size_t v = 0; v < piped.vertices.size(); ++v) {
+        ASSERT_EQ(streamed.vertices[v].x, piped.vertices[v].x) << v;
+        ASSERT_EQ(streamed.vertices[v].z, piped.vertices[v].z) << v;
+    }
+    EXPECT_EQ(from_file.open_edges, from_pipe.open_edges);
+    EXPECT_EQ(from_file.open_edges, size_t(4 * n));
+
+    // A bad reference on the last line, some 6 MB in (in the second block).
+    const std::string broken = obj + "\nf 1 2 x";
+    const std::string line = std::to_string(2 + (n + 1) * (n + 1) + n * n);
+    write_file(file, broken);
+    expect_input_error(file, {"malformed OBJ at line " + line, "'x' is not a vertex reference"});
+    Mesh unused;
+    try {
+        load_through_pipe(broken, "broken.fifo", unused);
+        ADD_FAILURE() << "the broken OBJ loaded from a pipe";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("malformed OBJ at line " + line), std::string::npos)
+            << e.what();
+    }
+}
+
 TEST(MeshFormats, ObjWithQuadsNegativeIndicesAndSlashes) {
     CARVE_NEED_MODEL("bad/ascii_cube.stl");
     MeshReport stl = load_ok(bad("ascii_cube.stl"));
