@@ -514,35 +514,8 @@ TEST(MeshFormats, BinaryStlWhoseHeaderSaysSolid) {
     EXPECT_NEAR(r.volume_mm3, 8000.0, 1e-6);
 }
 
-// A binary STL file is welded block by block as it is read; from a pipe it is read whole
-// first. Both give the same mesh (skull: 100,002 facets, two blocks of 65,536).
-TEST(MeshFormats, BinaryStlStreamedFromAFileEqualsItReadWhole) {
-    CARVE_NEED_MODEL("skull.stl");
-    const std::string file = kModels + "/skull.stl";
-    std::ifstream in(file, std::ios::binary);
-    const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    const std::string fifo = temp().file("skull.fifo");
-    ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
-    std::thread writer([&] { write_file(fifo, bytes); });
-    MeshReport from_pipe, from_file;
-    Mesh piped = load_mesh(fifo, from_pipe);
-    writer.join();
-    Mesh streamed = load_mesh(file, from_file);
-    EXPECT_EQ(from_file.format, "binary STL");
-    EXPECT_EQ(from_pipe.format, "binary STL");
-    EXPECT_EQ(from_file.triangles_read, 100002u);
-    ASSERT_EQ(streamed.vertices.size(), piped.vertices.size());
-    ASSERT_EQ(streamed.triangles, piped.triangles);
-    for (size_t v = 0; v < piped.vertices.size(); ++v) {
-        ASSERT_EQ(streamed.vertices[v].x, piped.vertices[v].x) << v;
-        ASSERT_EQ(streamed.vertices[v].y, piped.vertices[v].y) << v;
-        ASSERT_EQ(streamed.vertices[v].z, piped.vertices[v].z) << v;
-    }
-    EXPECT_EQ(from_file.open_edges, 0u);
-    EXPECT_EQ(from_file.volume_mm3, from_pipe.volume_mm3);
-}
-
-// Loads path through a named pipe, which carve reads whole before it parses.
+// Loads bytes through a named pipe, which carve reads whole before it parses. load_mesh opens
+// the pipe and reads it to its end before it can fail, so the writer always finishes.
 MeshReport load_through_pipe(const std::string& bytes, const std::string& name, Mesh& mesh) {
     const std::string fifo = temp().file(name);
     std::remove(fifo.c_str());
@@ -557,6 +530,31 @@ MeshReport load_through_pipe(const std::string& bytes, const std::string& name, 
     }
     writer.join();
     return r;
+}
+
+// A binary STL file is welded block by block as it is read; from a pipe it is read whole
+// first. Both give the same mesh (skull: 100,002 facets, two blocks of 65,536).
+TEST(MeshFormats, BinaryStlStreamedFromAFileEqualsItReadWhole) {
+    CARVE_NEED_MODEL("skull.stl");
+    const std::string file = kModels + "/skull.stl";
+    std::ifstream in(file, std::ios::binary);
+    const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    MeshReport from_file;
+    Mesh piped;
+    const MeshReport from_pipe = load_through_pipe(bytes, "skull.fifo", piped);
+    Mesh streamed = load_mesh(file, from_file);
+    EXPECT_EQ(from_file.format, "binary STL");
+    EXPECT_EQ(from_pipe.format, "binary STL");
+    EXPECT_EQ(from_file.triangles_read, 100002u);
+    ASSERT_EQ(streamed.vertices.size(), piped.vertices.size());
+    ASSERT_EQ(streamed.triangles, piped.triangles);
+    for (size_t v = 0; v < piped.vertices.size(); ++v) {
+        ASSERT_EQ(streamed.vertices[v].x, piped.vertices[v].x) << v;
+        ASSERT_EQ(streamed.vertices[v].y, piped.vertices[v].y) << v;
+        ASSERT_EQ(streamed.vertices[v].z, piped.vertices[v].z) << v;
+    }
+    EXPECT_EQ(from_file.open_edges, 0u);
+    EXPECT_EQ(from_file.volume_mm3, from_pipe.volume_mm3);
 }
 
 // An .obj file is parsed in 4 MB blocks as it is read, from a pipe whole: the same mesh, and the
