@@ -13,6 +13,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     const uint8_t le[4] = {uint8_t(count), uint8_t(count >> 8), uint8_t(count >> 16),
                            uint8_t(count >> 24)};
     std::memcpy(file.data() + 80, le, 4);
-    return carve::fuzz::run_reader(reinterpret_cast<const uint8_t*>(file.data()), file.size(),
-                                   carve::detail::read_binary_stl);
+    return carve::fuzz::run_reader(
+        reinterpret_cast<const uint8_t*>(file.data()), file.size(),
+        [](std::string_view d, const std::string& path, carve::Mesh& mesh,
+           carve::MeshReport& report) { carve::detail::read_binary_stl(d, path, mesh, report); });
 }

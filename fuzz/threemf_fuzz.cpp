@@ -54,14 +54,21 @@ std::string zip_model(std::string_view model) {
     return result;
 }
 
+// read_3mf takes the archive's bytes to free them once the model is unpacked.
+void read_copy(std::string_view d, const std::string& path, carve::Mesh& mesh,
+               carve::MeshReport& report) {
+    std::string archive(d);
+    carve::detail::read_3mf(archive, path, mesh, report);
+}
+
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     if (size == 0) return 0;
-    if ((data[0] & 1) == 0) return carve::fuzz::run_reader(data, size, carve::detail::read_3mf);
+    if ((data[0] & 1) == 0) return carve::fuzz::run_reader(data, size, read_copy);
     const std::string archive =
         zip_model(std::string_view(reinterpret_cast<const char*>(data) + 1, size - 1));
     if (archive.empty()) return 0;
     return carve::fuzz::run_reader(reinterpret_cast<const uint8_t*>(archive.data()), archive.size(),
-                                   carve::detail::read_3mf);
+                                   read_copy);
 }

@@ -7,6 +7,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -33,10 +34,12 @@ inline void check_point(const std::string& path, double x, double y, double z, W
 }
 
 // Merges points on exact coordinate equality (open addressing over the coordinates' bits;
-// -0 and +0 are the same point).
+// -0 and +0 are the same point). A slot is 4 bytes, a vertex index and 6 bits of the hash as
+// a tag; the coordinates are compared in the vertex array.
 class Welder {
   public:
-    explicit Welder(size_t expected_points = 0);
+    // path names the file when it has more points than an index can number.
+    explicit Welder(size_t expected_points, const std::string& path);
     uint32_t add(double x, double y, double z);
     size_t size() const { return vertices_.size(); }
     std::vector<Vec3> take() { return std::move(vertices_); }
@@ -44,16 +47,23 @@ class Welder {
   private:
     void grow();
     std::vector<Vec3> vertices_;
-    std::vector<uint64_t> table_;  // hash tag | vertex index, or all ones when empty
+    std::vector<uint32_t> table_;  // hash tag | vertex index, or all ones when empty
     uint64_t mask_ = 0;
+    const std::string& path_;
 };
 
 // Each reader fills mesh (welded, not yet repaired) and report.format / triangles_read.
 void read_binary_stl(std::string_view data, const std::string& path, Mesh& mesh,
                      MeshReport& report);
+// The same from an open file at its start, read in blocks (the caller checked its size).
+void read_binary_stl(std::FILE* file, const std::string& path, Mesh& mesh, MeshReport& report);
 void read_ascii_stl(std::string_view data, const std::string& path, Mesh& mesh, MeshReport& report);
 void read_obj(std::string_view data, const std::string& path, Mesh& mesh, MeshReport& report);
-void read_3mf(std::string_view data, const std::string& path, Mesh& mesh, MeshReport& report);
+// The same from an open file of the given size, at its start, read in blocks.
+void read_obj(std::FILE* file, size_t size, const std::string& path, Mesh& mesh,
+              MeshReport& report);
+// Frees data once the model part is unpacked.
+void read_3mf(std::string& data, const std::string& path, Mesh& mesh, MeshReport& report);
 
 // Parses a decimal number (leading '+' allowed); false when the token is not one.
 bool parse_double(std::string_view token, double& value);

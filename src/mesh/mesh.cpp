@@ -11,6 +11,7 @@
 #include <cstring>
 #include <filesystem>
 #include <limits>
+#include <memory>
 
 #include "base/error.hpp"
 #include "mesh/loader.hpp"
@@ -61,25 +62,34 @@ size_t table_size_for(size_t points) {
 
 }  // namespace
 
-// A slot holds the vertex index in its low half and the hash's high half as a tag, so that a
-// probe past a different point rarely has to read that point's coordinates.
-constexpr uint64_t kEmptySlot = std::numeric_limits<uint64_t>::max();
+// A slot holds the vertex index in its low 26 bits and the hash's top 6 bits as a tag, so that
+// a probe past a different point rarely has to read that point's coordinates. The all-ones
+// slot (tag 63, index kIdMask) marks an empty one, so kIdMask itself is never a vertex.
+constexpr uint32_t kIdMask = (1u << 26) - 1;
+constexpr uint32_t kEmptySlot = 0xFFFFFFFFu;
 
-Welder::Welder(size_t expected_points) {
+inline uint32_t tag_of(uint64_t h) {
+    return static_cast<uint32_t>(h >> 58) << 26;
+}
+
+Welder::Welder(size_t expected_points, const std::string& path) : path_(path) {
     vertices_.reserve(expected_points);
     table_.assign(table_size_for(expected_points), kEmptySlot);
     mask_ = table_.size() - 1;
 }
 
 void Welder::grow() {
-    table_.assign(table_.size() * 2, kEmptySlot);
-    mask_ = table_.size() - 1;
+    // The points are hashed again from the vertex array, so the old table goes first.
+    const size_t size = table_.size() * 2;
+    table_ = std::vector<uint32_t>();  // frees it (= {} would keep its capacity)
+    table_.assign(size, kEmptySlot);
+    mask_ = size - 1;
     for (uint32_t id = 0; id < vertices_.size(); ++id) {
         const Vec3& v = vertices_[id];
         const uint64_t h = hash_point(v.x, v.y, v.z);
         uint64_t i = h & mask_;
         while (table_[i] != kEmptySlot) i = (i + 1) & mask_;
-        table_[i] = (h & ~0xFFFFFFFFULL) | id;
+        table_[i] = tag_of(h) | id;
     }
 }
 
@@ -90,20 +100,21 @@ uint32_t Welder::add(double x, double y, double z) {
     y += 0.0;
     z += 0.0;
     const uint64_t h = hash_point(x, y, z);
-    const uint64_t tag = h & ~0xFFFFFFFFULL;
+    const uint32_t tag = tag_of(h);
     uint64_t i = h & mask_;
     for (;;) {
-        const uint64_t slot = table_[i];
+        const uint32_t slot = table_[i];
         if (slot == kEmptySlot) {
             const uint32_t id = static_cast<uint32_t>(vertices_.size());
+            if (id == kIdMask)
+                fail(path_, "more than 67 million distinct vertices; carve reads fewer");
             table_[i] = tag | id;
             vertices_.push_back({x, y, z});
             return id;
         }
-        if ((slot & ~0xFFFFFFFFULL) == tag) {
-            const uint32_t id = static_cast<uint32_t>(slot);
-            const Vec3& v = vertices_[id];
-            if (v.x == x && v.y == y && v.z == z) return id;
+        if ((slot & ~kIdMask) == tag) {
+            const Vec3& v = vertices_[slot & kIdMask];
+            if (v.x == x && v.y == y && v.z == z) return slot & kIdMask;
         }
         i = (i + 1) & mask_;
     }
@@ -120,26 +131,62 @@ using detail::fail;
 // refusal costs no memory; a pipe is cut off at the same size.
 constexpr long kMaxModelBytes = 512L << 20;
 
-std::string read_whole_file(const std::string& path) {
+struct FileCloser {
+    void operator()(std::FILE* f) const { std::fclose(f); }
+};
+using File = std::unique_ptr<std::FILE, FileCloser>;
+
+// Opens the model; size is its length, or -1 when it cannot be told (a pipe).
+File open_model(const std::string& path, long& size) {
     std::error_code ec;
     if (std::filesystem::is_directory(path, ec)) fail(path, "is a directory, not a mesh file");
-    std::FILE* f = std::fopen(path.c_str(), "rb");
+    File f(std::fopen(path.c_str(), "rb"));
     if (!f) fail(path, std::string("cannot open the file: ") + std::strerror(errno));
-    std::string data;
-    if (std::fseek(f, 0, SEEK_END) == 0) {
-        long size = std::ftell(f);
-        if (size > kMaxModelBytes) {
-            std::fclose(f);
+    size = -1;
+    if (std::fseek(f.get(), 0, SEEK_END) == 0) {
+        size = std::ftell(f.get());
+        if (size > kMaxModelBytes)
             fail(path,
                  "larger than 512 MB; carve reads models up to 512 MB (about 10 million "
                  "triangles of binary STL): decimate the mesh first");
-        }
-        if (size > 0) {
-            std::rewind(f);
-            data.resize(static_cast<size_t>(size));
-            size_t got = std::fread(data.data(), 1, data.size(), f);
-            data.resize(got);
-        }
+        std::rewind(f.get());
+    }
+    return f;
+}
+
+uint64_t binary_stl_size(std::string_view head) {
+    uint32_t count = 0;
+    std::memcpy(&count, head.data() + 80, 4);
+    if constexpr (std::endian::native == std::endian::big) count = __builtin_bswap32(count);
+    return 84 + 50 * uint64_t(count);
+}
+
+bool is_zip(std::string_view d) {
+    return d.size() >= 4 && d.substr(0, 4) == std::string_view("PK\x03\x04", 4);
+}
+
+// A file of known size that is exactly what its binary STL header announces (and not a zip,
+// which load_mesh tries first) is read facet by facet without ever being held whole.
+bool streams_as_binary_stl(std::FILE* f, long size) {
+    if (size < 84) return false;
+    char head[84];
+    const bool got = std::fread(head, 1, sizeof head, f) == sizeof head;
+    std::rewind(f);
+    const std::string_view h(head, sizeof head);
+    return got && !is_zip(h) && binary_stl_size(h) == static_cast<uint64_t>(size);
+}
+
+// A file of known size named .obj whose first bytes rule out every format tried before OBJ (a
+// zip, a binary STL of exactly its size, ASCII STL's leading "solid") is read line by line
+// without ever being held whole.
+bool streams_as_obj(std::FILE* f, long size, const std::string& ext);
+
+std::string read_whole_file(std::FILE* f, const std::string& path, long size) {
+    std::string data;
+    if (size > 0) {
+        data.resize(static_cast<size_t>(size));
+        size_t got = std::fread(data.data(), 1, data.size(), f);
+        data.resize(got);
     }
     // Not seekable (a pipe) or changed under us: fall back to reading in chunks.
     if (data.empty()) {
@@ -149,16 +196,11 @@ std::string read_whole_file(const std::string& path) {
         size_t got;
         while ((got = std::fread(buf, 1, sizeof buf, f)) > 0) {
             data.append(buf, got);
-            if (data.size() > static_cast<size_t>(kMaxModelBytes)) {
-                std::fclose(f);
+            if (data.size() > static_cast<size_t>(kMaxModelBytes))
                 fail(path, "larger than 512 MB; carve reads models up to 512 MB");
-            }
         }
     }
-    bool error = std::ferror(f) != 0;
-    int err = errno;
-    std::fclose(f);
-    if (error) fail(path, std::string("cannot read the file: ") + std::strerror(err));
+    if (std::ferror(f)) fail(path, std::string("cannot read the file: ") + std::strerror(errno));
     return data;
 }
 
@@ -235,23 +277,28 @@ bool looks_like_obj(std::string_view data) {
     return vertex;
 }
 
-}  // namespace
+bool streams_as_obj(std::FILE* f, long size, const std::string& ext) {
+    if (ext != ".obj" || size < 84) return false;
+    char head[4096];
+    const size_t got = std::fread(head, 1, sizeof head, f);
+    std::rewind(f);
+    const std::string_view h(head, got);
+    if (got < 84 || is_zip(h) || binary_stl_size(h) == static_cast<uint64_t>(size)) return false;
+    // "solid" followed by a space or the end decides for ASCII STL: only a first word wholly
+    // inside the head is known not to be one.
+    const std::string_view s = skip_space(without_bom(h));
+    return s.size() > 5 && !starts_with_word(s, "solid");
+}
 
-Mesh load_mesh(const std::string& path, MeshReport& report) {
-    report = MeshReport{};
-    const std::string data = read_whole_file(path);
-    if (data.empty()) fail(path, "the file is empty");
+// Tells the format from the content of a file held whole and reads it. The 3MF reader frees the
+// archive's bytes once it has unpacked the model.
+void read_from_memory(std::string& data, const std::string& path, Mesh& mesh, MeshReport& report) {
     const std::string_view d(data);
+    if (d.empty()) fail(path, "the file is empty");
     const std::string ext = lower_extension(path);
-
-    uint32_t count = 0;
-    if (d.size() >= 84) std::memcpy(&count, d.data() + 80, 4);
-    if constexpr (std::endian::native == std::endian::big) count = __builtin_bswap32(count);
-    const uint64_t binary_size = 84 + 50 * uint64_t(count);
-
-    Mesh mesh;
-    if (d.size() >= 4 && d.substr(0, 4) == std::string_view("PK\x03\x04", 4)) {
-        detail::read_3mf(d, path, mesh, report);
+    const uint64_t binary_size = d.size() >= 84 ? binary_stl_size(d) : 0;
+    if (is_zip(d)) {
+        detail::read_3mf(data, path, mesh, report);
     } else if (d.size() >= 84 && d.size() == binary_size) {
         detail::read_binary_stl(d, path, mesh, report);
     } else if (looks_like_ascii_stl(without_bom(d))) {
@@ -267,17 +314,54 @@ Mesh load_mesh(const std::string& path, MeshReport& report) {
             fail(path, "not a valid STL: " + std::to_string(d.size()) +
                            " bytes is too short for a binary STL and it is not ASCII STL");
         fail(path, std::string(d.size() < binary_size ? "truncated" : "corrupt") +
-                       " binary STL: its header announces " + std::to_string(count) +
-                       " triangles (" + std::to_string(binary_size) + " bytes) but the file has " +
+                       " binary STL: its header announces " +
+                       std::to_string((binary_size - 84) / 50) + " triangles (" +
+                       std::to_string(binary_size) + " bytes) but the file has " +
                        std::to_string(d.size()) + " bytes");
     } else if (ext == ".3mf") {
         fail(path, "not a valid 3MF file: it is not a zip archive");
     } else {
         fail(path, "unknown mesh format (expected binary or ASCII STL, OBJ or 3MF)");
     }
+}
+
+}  // namespace
+
+bool is_triangle_soup(const MeshReport& m) {
+    return m.triangles_read > 1000 && m.open_edges * 2 > 3 * m.triangles_read;
+}
+
+std::string triangle_soup_message(const std::string& path, const MeshReport& m) {
+    return path + ": not a solid: " + std::to_string(m.open_edges) + " of the " +
+           std::to_string(3 * m.triangles_read) +
+           " triangles' edges are shared with no other triangle (a triangle soup); repair the "
+           "mesh first";
+}
+
+Mesh load_mesh(const std::string& path, MeshReport& report, const LoadOptions& options) {
+    report = MeshReport{};
+    Mesh mesh;
+    {
+        long size = -1;
+        File file = open_model(path, size);
+        if (streams_as_binary_stl(file.get(), size)) {
+            detail::read_binary_stl(file.get(), path, mesh, report);
+        } else if (streams_as_obj(file.get(), size, lower_extension(path))) {
+            detail::read_obj(file.get(), static_cast<size_t>(size), path, mesh, report);
+        } else {
+            std::string data = read_whole_file(file.get(), path, size);
+            file.reset();
+            read_from_memory(data, path, mesh, report);
+        }
+    }  // the file's bytes are freed here, before the repair needs memory of its own
 
     const size_t read = report.triangles_read;
-    analyse_and_repair(mesh, report);
+    // A soup is refused as soon as its edges are counted: the walk over shells that follows
+    // costs some 120 bytes per shell, and every triangle of a soup is a shell of its own.
+    analyse_and_repair(mesh, report, [&](const MeshReport& counted) {
+        if (options.refuse_soup && is_triangle_soup(counted))
+            throw InputError(triangle_soup_message(path, counted));
+    });
     if (report.triangles == 0) {
         if (read == 0) fail(path, "the file holds no triangles");
         if (report.duplicate_dropped == 0)

@@ -6,6 +6,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -40,14 +41,31 @@ struct MeshReport {
     std::vector<std::string> warnings;  // one line each: what was wrong and what was done
 };
 
+// What load_mesh refuses besides unreadable files.
+struct LoadOptions {
+    // A triangle soup (is_triangle_soup), refused as soon as the edges are counted: `carve
+    // slice` cannot slice one, and the rest of the repair would cost memory for nothing.
+    bool refuse_soup = false;
+};
+
 // Reads STL (binary or ASCII, told apart by content), OBJ or 3MF, merges vertices, drops
 // degenerate triangles, fixes orientation and measures the result. Throws InputError with one
 // clear line for anything that cannot be read (empty, truncated, NaN/inf, no triangles, unknown
-// format, unreadable file).
-Mesh load_mesh(const std::string& path, MeshReport& report);
+// format, unreadable file) or that options refuse.
+Mesh load_mesh(const std::string& path, MeshReport& report, const LoadOptions& options = {});
+
+// Most edges belong to one triangle only: no solid. Its slices are thousands of crossing
+// segments whose union costs the square of their number (5,000 random triangles ran for
+// minutes); an open mesh with a hole has a few open edges.
+bool is_triangle_soup(const MeshReport& report);
+// "<path>: not a solid: ..." with the counts.
+std::string triangle_soup_message(const std::string& path, const MeshReport& report);
 
 // Orientation, closedness and volume of an already indexed mesh (used by load_mesh and tests).
-void analyse_and_repair(Mesh& mesh, MeshReport& report);
+// edges_counted, when given, is called once the report's triangle and edge counts are final
+// and before the shells are walked; it may throw to stop the repair there.
+void analyse_and_repair(Mesh& mesh, MeshReport& report,
+                        const std::function<void(const MeshReport&)>& edges_counted = {});
 
 double signed_volume(const Mesh& mesh);
 BBox3 bounding_box(const Mesh& mesh);

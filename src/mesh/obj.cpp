@@ -1,6 +1,9 @@
 // Wavefront OBJ reader: "v x y z" and "f a b c ..." (with a/b/c, a//c and negative, i.e.
 // relative, indices). Polygons become triangle fans; every other statement is ignored.
+#include <algorithm>
+#include <cerrno>
 #include <charconv>
+#include <cstring>
 #include <string>
 
 #include "mesh/loader.hpp"
@@ -29,24 +32,22 @@ class Words {
     size_t pos_ = 0;
 };
 
-}  // namespace
+// 'tok', built up in place: GCC 12 warns (-Wrestrict) about "'" + std::string(tok) here.
+std::string quoted(std::string_view tok) {
+    std::string q(1, '\'');
+    q.append(tok);
+    q.push_back('\'');
+    return q;
+}
 
-void read_obj(std::string_view data, const std::string& path, Mesh& mesh, MeshReport& report) {
-    report.format = "OBJ";
-    Welder welder(data.size() / 64 + 16);
-    std::vector<uint32_t> welded;  // file vertex (0-based) -> welded vertex
-    std::vector<uint32_t> polygon;
-    size_t line_no = 0, pos = 0;
-    auto malformed = [&](const std::string& what) {
-        fail(path, "malformed OBJ at line " + std::to_string(line_no) + ": " + what);
-    };
+// The reader's state between lines, so that a file can be fed in pieces.
+class ObjReader {
+  public:
+    ObjReader(size_t file_bytes, const std::string& path, Mesh& mesh)
+        : path_(path), mesh_(mesh), welder_(file_bytes / 64 + 16, path) {}
 
-    while (pos < data.size()) {
-        size_t eol = data.find('\n', pos);
-        if (eol == std::string_view::npos) eol = data.size();
-        std::string_view line = data.substr(pos, eol - pos);
-        pos = eol + 1;
-        ++line_no;
+    void line(std::string_view line) {
+        ++line_no_;
         if (size_t hash = line.find('#'); hash != std::string_view::npos)
             line = line.substr(0, hash);
 
@@ -58,36 +59,99 @@ void read_obj(std::string_view data, const std::string& path, Mesh& mesh, MeshRe
                 std::string_view tok = words.next();
                 if (!parse_double(tok, value))
                     malformed(tok.empty() ? "a vertex needs three coordinates"
-                                          : "'" + std::string(tok) + "' is not a number");
+                                          : quoted(tok) + " is not a number");
             }
-            check_point(path, c[0], c[1], c[2],
-                        [&] { return "the vertex at line " + std::to_string(line_no); });
-            welded.push_back(welder.add(c[0], c[1], c[2]));
+            check_point(path_, c[0], c[1], c[2],
+                        [&] { return "the vertex at line " + std::to_string(line_no_); });
+            welded_.push_back(welder_.add(c[0], c[1], c[2]));
         } else if (keyword == "f") {
-            polygon.clear();
+            polygon_.clear();
             for (std::string_view tok = words.next(); !tok.empty(); tok = words.next()) {
                 std::string_view index_text = tok.substr(0, tok.find('/'));
                 long long index = 0;
                 auto [end, ec] = std::from_chars(index_text.data(),
                                                  index_text.data() + index_text.size(), index);
                 if (ec != std::errc() || end != index_text.data() + index_text.size() || index == 0)
-                    malformed("'" + std::string(tok) + "' is not a vertex reference");
-                const long long n = static_cast<long long>(welded.size());
+                    malformed(quoted(tok) + " is not a vertex reference");
+                const long long n = static_cast<long long>(welded_.size());
                 const long long zero_based = index > 0 ? index - 1 : n + index;
                 if (zero_based < 0 || zero_based >= n)
                     malformed("a face refers to vertex " + std::to_string(index) + " but " +
                               std::to_string(n) + " vertices are defined so far");
-                polygon.push_back(welded[static_cast<size_t>(zero_based)]);
+                polygon_.push_back(welded_[static_cast<size_t>(zero_based)]);
             }
-            if (polygon.size() < 3)
-                malformed("a face has " + std::to_string(polygon.size()) +
+            if (polygon_.size() < 3)
+                malformed("a face has " + std::to_string(polygon_.size()) +
                           " vertices, not 3 or more");
-            for (size_t k = 1; k + 1 < polygon.size(); ++k)
-                mesh.triangles.push_back({polygon[0], polygon[k], polygon[k + 1]});
+            for (size_t k = 1; k + 1 < polygon_.size(); ++k)
+                mesh_.triangles.push_back({polygon_[0], polygon_[k], polygon_[k + 1]});
         }
     }
-    report.triangles_read = mesh.triangles.size();
-    mesh.vertices = welder.take();
+
+    void finish(MeshReport& report) {
+        report.triangles_read = mesh_.triangles.size();
+        mesh_.vertices = welder_.take();
+    }
+
+  private:
+    [[noreturn]] void malformed(const std::string& what) const {
+        fail(path_, "malformed OBJ at line " + std::to_string(line_no_) + ": " + what);
+    }
+
+    const std::string& path_;
+    Mesh& mesh_;
+    Welder welder_;
+    std::vector<uint32_t> welded_;  // file vertex (0-based) -> welded vertex
+    std::vector<uint32_t> polygon_;
+    size_t line_no_ = 0;
+};
+
+}  // namespace
+
+void read_obj(std::string_view data, const std::string& path, Mesh& mesh, MeshReport& report) {
+    report.format = "OBJ";
+    ObjReader reader(data.size(), path, mesh);
+    size_t pos = 0;
+    while (pos < data.size()) {
+        size_t eol = data.find('\n', pos);
+        if (eol == std::string_view::npos) eol = data.size();
+        reader.line(data.substr(pos, eol - pos));
+        pos = eol + 1;
+    }
+    reader.finish(report);
+}
+
+void read_obj(std::FILE* file, size_t size, const std::string& path, Mesh& mesh,
+              MeshReport& report) {
+    report.format = "OBJ";
+    ObjReader reader(size, path, mesh);
+    // Blocks of 4 MB, up to the size the file had when it was opened (as a file read whole);
+    // a line cut by a block's end waits in `rest` for the next block.
+    std::vector<char> block(4 << 20);
+    std::string rest;
+    bool first = true;
+    for (size_t total = 0; total < size;) {
+        const size_t got = std::fread(block.data(), 1, std::min(block.size(), size - total), file);
+        if (got == 0) break;
+        total += got;
+        std::string_view d(block.data(), got);
+        if (first && d.substr(0, 3) == std::string_view("\xEF\xBB\xBF", 3)) d.remove_prefix(3);
+        first = false;
+        size_t pos = 0;
+        for (size_t eol; (eol = d.find('\n', pos)) != std::string_view::npos; pos = eol + 1) {
+            if (rest.empty()) {
+                reader.line(d.substr(pos, eol - pos));
+            } else {
+                rest.append(d.substr(pos, eol - pos));
+                reader.line(rest);
+                rest.clear();
+            }
+        }
+        rest.append(d.substr(pos));
+    }
+    if (std::ferror(file)) fail(path, std::string("cannot read the file: ") + std::strerror(errno));
+    if (!rest.empty()) reader.line(rest);
+    reader.finish(report);
 }
 
 }  // namespace carve::detail

@@ -9,6 +9,7 @@
 // triangle count except the nesting test, which shoots a few rays per closed shell only.
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <span>
 #include <string>
@@ -45,16 +46,18 @@ struct Star {
     }
 };
 
+// The buckets are filled from their ends, so that the counts turn into the starts in place
+// without a second array of vertex size (36 MB on a soup of 3 million triangles).
 Star build_star(const std::vector<Tri>& tris, size_t vertex_count) {
     Star s;
     s.first.assign(vertex_count + 1, 0);
     for (const Tri& t : tris)
-        for (uint32_t v : t) ++s.first[v + 1];
-    for (size_t v = 0; v < vertex_count; ++v) s.first[v + 1] += s.first[v];
-    std::vector<uint32_t> fill(s.first.begin(), s.first.end() - 1);
+        for (uint32_t v : t) ++s.first[v];
+    for (size_t v = 1; v < vertex_count; ++v) s.first[v] += s.first[v - 1];
+    s.first[vertex_count] = static_cast<uint32_t>(3 * tris.size());
     s.tris.resize(3 * tris.size());
-    for (uint32_t t = 0; t < tris.size(); ++t)
-        for (uint32_t v : tris[t]) s.tris[fill[v]++] = t;
+    for (uint32_t t = static_cast<uint32_t>(tris.size()); t-- > 0;)
+        for (uint32_t v : tris[t]) s.tris[--s.first[v]] = t;
     return s;
 }
 
@@ -151,37 +154,45 @@ struct EdgeInfo {
 
 // Half-edges are bucketed by their lower vertex and each bucket is sorted by the upper one, so
 // that the triangles around an edge are found without touching the triangle array again
-// (which, in file order, would be a cache miss per look-up on large meshes).
-EdgeInfo analyse_edges(const std::vector<Tri>& tris, size_t vertex_count) {
+// (which, in file order, would be a cache miss per look-up on large meshes). Unless final, a
+// mesh with duplicates gets its counts and duplicates only, to be analysed again without them.
+EdgeInfo analyse_edges(const std::vector<Tri>& tris, size_t vertex_count, bool final,
+                       const std::function<void(const EdgeInfo&)>& counted) {
+    // 12 bytes per half-edge, the direction in the id's top bit: with the bucket starts and
+    // the mesh itself, the largest memory of the whole repair.
+    constexpr uint32_t kForward = 1u << 31;  // runs from lower to upper
     struct HalfEdge {
-        uint32_t upper;    // the edge's higher vertex index
-        uint32_t third;    // the triangle's remaining vertex
-        uint32_t id;       // 3t + i
-        uint32_t forward;  // runs from lower to upper
+        uint32_t upper;  // the edge's higher vertex index
+        uint32_t third;  // the triangle's remaining vertex
+        uint32_t id;     // 3t + i, | kForward
     };
     const size_t n = tris.size();
+    // Filled from the bucket ends, as build_star does; the order inside a bucket does not
+    // matter, since it is sorted.
     std::vector<uint32_t> first(vertex_count + 1, 0);
     for (const Tri& t : tris)
-        for (int i = 0; i < 3; ++i) ++first[std::min(t[i], t[(i + 1) % 3]) + 1];
-    for (size_t v = 0; v < vertex_count; ++v) first[v + 1] += first[v];
+        for (int i = 0; i < 3; ++i) ++first[std::min(t[i], t[(i + 1) % 3])];
+    for (size_t v = 1; v < vertex_count; ++v) first[v] += first[v - 1];
+    first[vertex_count] = static_cast<uint32_t>(3 * n);
     std::vector<HalfEdge> half(3 * n);
-    {
-        std::vector<uint32_t> fill(first.begin(), first.end() - 1);
-        for (uint32_t t = 0; t < n; ++t) {
-            for (uint32_t i = 0; i < 3; ++i) {
-                const uint32_t a = tris[t][i], b = tris[t][(i + 1) % 3], c = tris[t][(i + 2) % 3];
-                half[fill[std::min(a, b)]++] = {std::max(a, b), c, 3 * t + i, a < b};
-            }
+    for (uint32_t t = 0; t < n; ++t) {
+        for (uint32_t i = 0; i < 3; ++i) {
+            const uint32_t a = tris[t][i], b = tris[t][(i + 1) % 3], c = tris[t][(i + 2) % 3];
+            half[--first[std::min(a, b)]] = {std::max(a, b), c,
+                                             (3 * t + i) | (a < b ? kForward : 0)};
         }
     }
 
+    // First the counts and the duplicates; a caller that drops duplicates analyses again, so
+    // the neighbours are only worked out on a mesh without them (or when told it is final),
+    // after counted() has seen the counts: a triangle soup is refused there, before the
+    // neighbour array adds its 12 bytes per triangle.
     EdgeInfo e;
-    e.across.assign(3 * n, kNoNeighbour);
     for (size_t v = 0; v < vertex_count; ++v) {
         HalfEdge* lo = half.data() + first[v];
         HalfEdge* hi = half.data() + first[v + 1];
         std::sort(lo, hi, [](const HalfEdge& x, const HalfEdge& y) {
-            return x.upper != y.upper ? x.upper < y.upper : x.id < y.id;
+            return x.upper != y.upper ? x.upper < y.upper : (x.id & ~kForward) < (y.id & ~kForward);
         });
         for (HalfEdge* g = lo; g < hi;) {
             HalfEdge* end = g + 1;
@@ -189,16 +200,32 @@ EdgeInfo analyse_edges(const std::vector<Tri>& tris, size_t vertex_count) {
             const size_t count = static_cast<size_t>(end - g);
             if (count == 1) ++e.open;
             if (count > 2) ++e.nonmanifold;
-            if (count == 2) {
-                const uint32_t same = g[0].forward == g[1].forward ? kSameDirection : 0;
-                e.across[g[0].id] = g[1].id / 3 | same;
-                e.across[g[1].id] = g[0].id / 3 | same;
-            }
-            for (HalfEdge* h = g; h < end; ++h) {
-                if (count % 2) e.across[h->id] |= kOddEdge;
+            for (HalfEdge* h = g; h < end; ++h)
                 for (HalfEdge* k = h + 1; k < end; ++k)
-                    if (k->third == h->third) e.duplicates.push_back({h->id / 3, k->id / 3});
+                    if (k->third == h->third)
+                        e.duplicates.push_back({(h->id & ~kForward) / 3, (k->id & ~kForward) / 3});
+            g = end;
+        }
+    }
+    if (!e.duplicates.empty() && !final) return e;
+    counted(e);
+
+    e.across.assign(3 * n, kNoNeighbour);
+    for (size_t v = 0; v < vertex_count; ++v) {
+        const HalfEdge* lo = half.data() + first[v];
+        const HalfEdge* hi = half.data() + first[v + 1];
+        for (const HalfEdge* g = lo; g < hi;) {
+            const HalfEdge* end = g + 1;
+            while (end < hi && end->upper == g->upper) ++end;
+            const size_t count = static_cast<size_t>(end - g);
+            if (count == 2) {
+                const uint32_t same = (g[0].id ^ g[1].id) & kForward ? 0 : kSameDirection;
+                const uint32_t id0 = g[0].id & ~kForward, id1 = g[1].id & ~kForward;
+                e.across[id0] = id1 / 3 | same;
+                e.across[id1] = id0 / 3 | same;
             }
+            if (count % 2)
+                for (const HalfEdge* h = g; h < end; ++h) e.across[h->id & ~kForward] |= kOddEdge;
             g = end;
         }
     }
@@ -399,7 +426,8 @@ std::string plural(size_t n, const std::string& word) {
 
 }  // namespace
 
-void analyse_and_repair(Mesh& mesh, MeshReport& report) {
+void analyse_and_repair(Mesh& mesh, MeshReport& report,
+                        const std::function<void(const MeshReport&)>& edges_counted) {
     auto& tris = mesh.triangles;
     if (report.triangles_read == 0) report.triangles_read = tris.size();
 
@@ -409,11 +437,14 @@ void analyse_and_repair(Mesh& mesh, MeshReport& report) {
     report.degenerate_dropped = repeated + zero;
     report.zero_area_splits = splits;
 
-    EdgeInfo edges = analyse_edges(tris, mesh.vertices.size());
+    auto counted = [&](const EdgeInfo& e) {
+        report.open_edges = e.open;
+        report.nonmanifold_edges = e.nonmanifold;
+        if (edges_counted) edges_counted(report);
+    };
+    EdgeInfo edges = analyse_edges(tris, mesh.vertices.size(), false, counted);
     report.duplicate_dropped = drop_duplicates(tris, edges.duplicates);
-    if (report.duplicate_dropped > 0) edges = analyse_edges(tris, mesh.vertices.size());
-    report.open_edges = edges.open;
-    report.nonmanifold_edges = edges.nonmanifold;
+    if (!edges.duplicates.empty()) edges = analyse_edges(tris, mesh.vertices.size(), true, counted);
 
     // Shells: triangles connected through manifold edges, each oriented like its seed.
     const uint32_t n = static_cast<uint32_t>(tris.size());

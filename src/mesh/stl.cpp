@@ -1,9 +1,11 @@
-// STL readers. Binary: one pass over the buffer already in memory, 50 bytes per facet. ASCII: a
-// whitespace tokenizer over "solid / facet / outer loop / vertex / endloop / endfacet / endsolid".
+// STL readers. Binary: 50 bytes per facet, welded as they come, from a file in blocks (the
+// file is never held whole) or from a buffer already in memory (a pipe). ASCII: a whitespace
+// tokenizer over "solid / facet / outer loop / vertex / endloop / endfacet / endsolid".
 // Stored facet normals are ignored: orientation comes from the vertex order and is checked later.
 #include <algorithm>
 #include <bit>
 #include <cctype>
+#include <cerrno>
 #include <cstring>
 #include <string>
 
@@ -13,14 +15,19 @@ namespace carve::detail {
 
 namespace {
 
-// Welds float32 points on their bit patterns (after turning -0 into +0). The key sits inside
-// the slot, so a probe costs one memory access, and read_binary_stl prefetches the slots of a
-// few facets ahead: on a large file the welding is bound by memory latency, not arithmetic.
+// Welds float32 points on their bit patterns (after turning -0 into +0). A slot is 4 bytes, a
+// vertex index and a few bits of the hash as a tag, and the coordinates are compared in the
+// vertex array itself: a soup of 3 million triangles has 9 million distinct points, whose
+// table of 16-byte slots with the key inside took 512 MB (768 MB while it grew). A look-up
+// now touches the vertex too; read_binary_stl prefetches both a few facets ahead, since on a
+// large file welding is bound by memory latency, not arithmetic.
 class FloatWelder {
   public:
-    explicit FloatWelder(size_t expected_points) {
+    // A closed mesh of n triangles has about n / 2 points, n triangles have at most 3 n.
+    explicit FloatWelder(size_t triangles) : triangles_(triangles) {
+        const size_t expected_points = triangles / 2 + 16;
         vertices.reserve(expected_points);
-        slots_.assign(std::bit_ceil(std::max<size_t>(16, 2 * expected_points)), Slot{});
+        slots_.assign(std::bit_ceil(std::max<size_t>(16, 2 * expected_points)), kEmpty);
         mask_ = slots_.size() - 1;
     }
 
@@ -29,33 +36,35 @@ class FloatWelder {
         return b == 0x80000000u ? 0u : b;
     }
 
-    // Where point (x, y, z) is looked up first. The caller prefetches it itself: wrapped in a
-    // function, GCC takes the prefetch for a pure call whose result is unused and drops it.
-    const void* slot_of(uint32_t x, uint32_t y, uint32_t z) const {
-        return &slots_[hash(x, y, z) & mask_];
+    // Where the point of hash h is looked up first: its slot, and, once that slot is in cache,
+    // the vertex it names. The caller prefetches them itself: wrapped in a function, GCC takes
+    // the prefetch for a pure call whose result is unused and drops it.
+    const void* slot_of(uint64_t h) const { return &slots_[h & mask_]; }
+    const void* vertex_of(uint64_t h) const {
+        const uint32_t s = slots_[h & mask_];
+        return s == kEmpty ? nullptr : &vertices[s & kIdMask];
     }
 
-    uint32_t add(uint32_t x, uint32_t y, uint32_t z) {
+    uint32_t add(uint32_t x, uint32_t y, uint32_t z, uint64_t h) {
         if (2 * (vertices.size() + 1) > slots_.size()) grow();
-        for (uint64_t i = hash(x, y, z) & mask_;; i = (i + 1) & mask_) {
-            Slot& s = slots_[i];
-            if (s.id == kEmpty) {
-                s = {x, y, z, static_cast<uint32_t>(vertices.size())};
-                vertices.push_back(
-                    {std::bit_cast<float>(x), std::bit_cast<float>(y), std::bit_cast<float>(z)});
-                return s.id;
+        const double dx = std::bit_cast<float>(x), dy = std::bit_cast<float>(y),
+                     dz = std::bit_cast<float>(z);
+        const uint32_t tag = tag_of(h);
+        for (uint64_t i = h & mask_;; i = (i + 1) & mask_) {
+            const uint32_t s = slots_[i];
+            if (s == kEmpty) {
+                const uint32_t id = static_cast<uint32_t>(vertices.size());
+                slots_[i] = tag | id;
+                if (vertices.size() == vertices.capacity()) reserve_more();
+                vertices.push_back({dx, dy, dz});
+                return id;
             }
-            if (s.x == x && s.y == y && s.z == z) return s.id;
+            if ((s & ~kIdMask) == tag) {
+                const Vec3& v = vertices[s & kIdMask];
+                if (v.x == dx && v.y == dy && v.z == dz) return s & kIdMask;
+            }
         }
     }
-
-    std::vector<Vec3> vertices;
-
-  private:
-    static constexpr uint32_t kEmpty = 0xFFFFFFFFu;
-    struct Slot {
-        uint32_t x = 0, y = 0, z = 0, id = kEmpty;
-    };
 
     static uint64_t hash(uint32_t x, uint32_t y, uint32_t z) {
         uint64_t h = ((uint64_t(x) << 32) | y) * 0x9E3779B97F4A7C15ULL;
@@ -66,20 +75,48 @@ class FloatWelder {
         return h;
     }
 
+    std::vector<Vec3> vertices;
+
+    // 26 bits of index. The all-ones slot (tag 63, index kIdMask) marks an empty one, so that
+    // kIdMask itself is never a vertex.
+    static constexpr uint32_t kIdMask = (1u << 26) - 1;
+    static constexpr size_t kMaxVertices = kIdMask;
+
+  private:
+    static constexpr uint32_t kEmpty = 0xFFFFFFFFu;
+
+    // The tag comes from the hash's top bits, the slot from its low ones.
+    static uint32_t tag_of(uint64_t h) { return static_cast<uint32_t>(h >> 58) << 26; }
+
+    // Past the closed mesh's estimate the vertices make room for one point per triangle (open
+    // meshes, many shells), then for all 3 at once (a soup), rather than doubling: a soup's 9
+    // million points doubled from 1.5 million held 144 MB of the old array beside 288 MB of
+    // the new while they were copied. Pages reserved but not reached cost no memory.
+    void reserve_more() {
+        const size_t size = vertices.size();
+        vertices.reserve(size < triangles_ ? triangles_ + 16 : std::max(3 * triangles_, 2 * size));
+    }
+
+    // The old table is dropped before the new one is made (the points are hashed again from
+    // the vertex array), so that growing never holds both.
     void grow() {
-        std::vector<Slot> old(slots_.size() * 2);
-        old.swap(slots_);
-        mask_ = slots_.size() - 1;
-        for (const Slot& s : old) {
-            if (s.id == kEmpty) continue;
-            uint64_t i = hash(s.x, s.y, s.z) & mask_;
-            while (slots_[i].id != kEmpty) i = (i + 1) & mask_;
-            slots_[i] = s;
+        const size_t size = slots_.size() * 2;
+        slots_ = std::vector<uint32_t>();  // frees it (= {} would keep its capacity)
+        slots_.assign(size, kEmpty);
+        mask_ = size - 1;
+        for (uint32_t id = 0; id < vertices.size(); ++id) {
+            const Vec3& v = vertices[id];
+            const uint64_t h = hash(key(static_cast<float>(v.x)), key(static_cast<float>(v.y)),
+                                    key(static_cast<float>(v.z)));
+            uint64_t i = h & mask_;
+            while (slots_[i] != kEmpty) i = (i + 1) & mask_;
+            slots_[i] = tag_of(h) | id;
         }
     }
 
-    std::vector<Slot> slots_;
+    std::vector<uint32_t> slots_;
     uint64_t mask_ = 0;
+    size_t triangles_;
 };
 
 // The 9 coordinates of a facet record as welder keys (little-endian file, any host).
@@ -93,36 +130,86 @@ void facet_keys(const char* facet, uint32_t k[9]) {
     }
 }
 
+// Welds `count` facet records, the first of which is facet number `first` of the file.
+void weld_facets(const char* facets, uint32_t count, uint32_t first, const std::string& path,
+                 FloatWelder& welder, Mesh& mesh) {
+    // The slots of the facet kFar ahead are prefetched; by the time the facet kNear ahead is
+    // reached its slots are in cache and name the vertices to prefetch. The points' hashes
+    // wait in a ring until their facet is welded.
+    constexpr uint32_t kFar = 16, kNear = 8, kRing = 32;
+    uint64_t ring[kRing][3];
+    uint32_t k[9];
+    auto hash_facet = [&](uint32_t j) {
+        facet_keys(facets + 50 * size_t(j), k);
+        for (int c = 0; c < 3; ++c)
+            ring[j % kRing][c] = FloatWelder::hash(k[3 * c], k[3 * c + 1], k[3 * c + 2]);
+    };
+    for (uint32_t j = 0; j < std::min(count, kFar); ++j) hash_facet(j);
+    for (uint32_t i = 0; i < count; ++i) {
+        if (i + kFar < count) {
+            hash_facet(i + kFar);
+            for (uint64_t h : ring[(i + kFar) % kRing]) __builtin_prefetch(welder.slot_of(h));
+        }
+        if (i + kNear < count)
+            for (uint64_t h : ring[(i + kNear) % kRing]) __builtin_prefetch(welder.vertex_of(h));
+        facet_keys(facets + 50 * size_t(i), k);
+        auto& tri = mesh.triangles[first + i];
+        for (int c = 0; c < 3; ++c) {
+            const double x = std::bit_cast<float>(k[3 * c]), y = std::bit_cast<float>(k[3 * c + 1]),
+                         z = std::bit_cast<float>(k[3 * c + 2]);
+            check_point(path, x, y, z, [&] { return "triangle " + std::to_string(first + i + 1); });
+            tri[c] = welder.add(k[3 * c], k[3 * c + 1], k[3 * c + 2], ring[i % kRing][c]);
+        }
+    }
+}
+
+// The facet count of the header, refused when the welder's indices could not number its
+// points (unreachable within the 512 MB input limit, which allows 10.7 million facets).
+uint32_t facet_count(const char header[84], const std::string& path) {
+    uint32_t count = 0;
+    std::memcpy(&count, header + 80, 4);
+    if constexpr (std::endian::native == std::endian::big) count = __builtin_bswap32(count);
+    if (3 * uint64_t(count) >= FloatWelder::kMaxVertices)
+        fail(path, "the binary STL announces " + std::to_string(count) +
+                       " triangles; carve reads at most 22 million");
+    return count;
+}
+
 }  // namespace
 
 void read_binary_stl(std::string_view data, const std::string& path, Mesh& mesh,
                      MeshReport& report) {
     report.format = "binary STL";
-    uint32_t count = 0;
-    std::memcpy(&count, data.data() + 80, 4);
-    if constexpr (std::endian::native == std::endian::big) count = __builtin_bswap32(count);
+    const uint32_t count = facet_count(data.data(), path);
     report.triangles_read = count;
-
-    // A closed mesh has about half as many vertices as triangles.
-    FloatWelder welder(count / 2 + 16);
+    FloatWelder welder(count);
     mesh.triangles.resize(count);
-    const char* facets = data.data() + 84;
-    constexpr uint32_t kAhead = 8;
-    uint32_t k[9];
-    for (uint32_t i = 0; i < count; ++i) {
-        if (i + kAhead < count) {
-            facet_keys(facets + 50 * size_t(i + kAhead), k);
-            for (int c = 0; c < 9; c += 3)
-                __builtin_prefetch(welder.slot_of(k[c], k[c + 1], k[c + 2]));
+    weld_facets(data.data() + 84, count, 0, path, welder, mesh);
+    mesh.vertices = std::move(welder.vertices);
+}
+
+void read_binary_stl(std::FILE* file, const std::string& path, Mesh& mesh, MeshReport& report) {
+    report.format = "binary STL";
+    char header[84];
+    if (std::fread(header, 1, sizeof header, file) != sizeof header)
+        fail(path, std::string("cannot read the file: ") + std::strerror(errno));
+    const uint32_t count = facet_count(header, path);
+    report.triangles_read = count;
+    FloatWelder welder(count);
+    mesh.triangles.resize(count);
+    // Blocks of 64k facets (3.2 MB): large enough that reading costs nothing next to welding.
+    constexpr uint32_t kBlock = 1u << 16;
+    std::vector<char> block(50 * size_t(std::min(count, kBlock)));
+    for (uint32_t done = 0; done < count;) {
+        const uint32_t n = std::min(count - done, kBlock);
+        const size_t got = std::fread(block.data(), 50, n, file);
+        if (got != n) {
+            if (std::ferror(file))
+                fail(path, std::string("cannot read the file: ") + std::strerror(errno));
+            fail(path, "the file shrank while it was read (truncated binary STL)");
         }
-        facet_keys(facets + 50 * size_t(i), k);
-        auto& tri = mesh.triangles[i];
-        for (int c = 0; c < 3; ++c) {
-            const double x = std::bit_cast<float>(k[3 * c]), y = std::bit_cast<float>(k[3 * c + 1]),
-                         z = std::bit_cast<float>(k[3 * c + 2]);
-            check_point(path, x, y, z, [&] { return "triangle " + std::to_string(i + 1); });
-            tri[c] = welder.add(k[3 * c], k[3 * c + 1], k[3 * c + 2]);
-        }
+        weld_facets(block.data(), n, done, path, welder, mesh);
+        done += n;
     }
     mesh.vertices = std::move(welder.vertices);
 }
@@ -192,7 +279,7 @@ void read_ascii_stl(std::string_view data, const std::string& path, Mesh& mesh,
         return value;
     };
 
-    Welder welder(data.size() / 400 + 16);
+    Welder welder(data.size() / 400 + 16, path);
     std::vector<uint32_t> loop;
     std::string_view tok = tokens.next();
     if (!same_word(tok, "solid")) malformed("expected 'solid', found " + describe(tok));

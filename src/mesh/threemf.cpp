@@ -215,11 +215,14 @@ std::string read_entry(zip_t* zip, zip_int64_t index, const std::string& path,
     // 600-byte archive would otherwise make us allocate (and zero) gigabytes.
     std::string text;
     text.reserve(static_cast<size_t>(st.size) + 1);
+    // The chunks never pass the reserve: the last one asks for the single byte that would show
+    // the stated size to be short (a 1 MB probe there doubled the string, 410 MB for 205).
     zip_int64_t got = 0;
     do {
         const size_t at = text.size();
-        text.resize(at + (1 << 20));
-        got = zip_fread(file, text.data() + at, 1 << 20);
+        const size_t chunk = std::min<size_t>(1 << 20, static_cast<size_t>(st.size) + 1 - at);
+        text.resize(at + chunk);
+        got = zip_fread(file, text.data() + at, chunk);
         text.resize(at + static_cast<size_t>(std::max<zip_int64_t>(got, 0)));
     } while (got > 0 && text.size() <= st.size);
     zip_fclose(file);
@@ -260,7 +263,7 @@ double unit_scale(std::string_view unit, const std::string& path) {
 
 }  // namespace
 
-void read_3mf(std::string_view data, const std::string& path, Mesh& mesh, MeshReport& report) {
+void read_3mf(std::string& data, const std::string& path, Mesh& mesh, MeshReport& report) {
     report.format = "3MF";
     zip_error_t error;
     zip_error_init(&error);
@@ -278,7 +281,11 @@ void read_3mf(std::string_view data, const std::string& path, Mesh& mesh, MeshRe
     const std::string model_name = root_model_name(zip.get(), path);
     zip_int64_t index = zip_name_locate(zip.get(), model_name.c_str(), ZIP_FL_NOCASE);
     if (index < 0) fail(path, "not a 3MF file: the archive has no " + model_name);
-    const std::string text = read_entry(zip.get(), index, path, model_name);
+    std::string text = read_entry(zip.get(), index, path, model_name);
+    zip.reset();
+    // The archive is no longer needed. Freed by a swap: moving an empty string in keeps the
+    // old buffer (libstdc++ copies a short string into the capacity it has).
+    std::string().swap(data);
 
     std::unordered_map<uint32_t, Object> objects;
     std::vector<std::pair<uint32_t, Affine>> items;
@@ -349,6 +356,10 @@ void read_3mf(std::string_view data, const std::string& path, Mesh& mesh, MeshRe
     } catch (const XmlError& x) {
         fail(path, std::string("malformed 3MF model: ") + x.what());
     }
+    // The objects hold their own copies: the model's text (up to 256 MB) is not needed while
+    // they are placed and welded.
+    const size_t text_size = text.size();
+    std::string().swap(text);
 
     for (auto& [id, object] : objects)
         for (const auto& c : object.components)
@@ -360,7 +371,7 @@ void read_3mf(std::string_view data, const std::string& path, Mesh& mesh, MeshRe
 
     Affine to_mm;
     for (int k : {0, 4, 8}) to_mm.m[k] = scale;
-    Welder welder(text.size() / 120 + 16);
+    Welder welder(text_size / 120 + 16, path);
     std::vector<uint32_t> welded;
     size_t instances = 0;
     auto place = [&](auto&& self, uint32_t id, const Affine& t, int depth) -> void {

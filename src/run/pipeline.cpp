@@ -97,17 +97,12 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
     if (profiling_enabled()) profile_geometry();
     const int64_t load_start_ns = thread_cpu_ns();  // the main thread alone until the pipeline
 
-    Mesh mesh = load_mesh(options.model_path, result.mesh);
+    // A triangle soup cannot be sliced (see is_triangle_soup); the loader refuses it as soon as
+    // its edges are counted, before the rest of the repair spends memory on it.
+    LoadOptions load_options;
+    load_options.refuse_soup = true;
+    Mesh mesh = load_mesh(options.model_path, result.mesh, load_options);
     for (const std::string& w : result.mesh.warnings) note(w);
-    // A triangle soup (most edges belong to one triangle only) is no solid: its slices are
-    // thousands of crossing segments whose union costs the square of their number (5,000
-    // random triangles ran for minutes). An open mesh with a hole has a few open edges.
-    const MeshReport& m = result.mesh;
-    if (m.triangles_read > 1000 && m.open_edges * 2 > 3 * m.triangles_read)
-        throw InputError(fmt::format(
-            "{}: not a solid: {} of the {} triangles' edges are shared with no other triangle "
-            "(a triangle soup); repair the mesh first",
-            options.model_path, m.open_edges, 3 * m.triangles_read));
     if (settings.scale != 1.0) {
         // Scale about the bottom centre so that the model stays on the bed where it was.
         const BBox3 b = result.mesh.bbox;

@@ -684,6 +684,36 @@ TEST(HostileWork, ATriangleSoupIsRefusedBeforeSlicing) {
     EXPECT_EQ(extra_files(d, {"soup.stl"}), std::vector<std::string>{});
 }
 
+// A soup of 300,000 triangles (900,000 distinct points, 15 MB of binary STL) is refused
+// within 200 MB of address space. Before the loader streamed the file, welded through 4-byte
+// slots and refused the soup as soon as its edges were counted, it needed about 296 MB: the
+// whole file, a table of 16-byte slots and a record of some 120 bytes for each of the
+// 300,000 one-triangle shells. carve needs about 118 MB for it now and 25 MB for a cube.
+TEST(HostileWork, ALargeTriangleSoupIsRefusedWithinBoundedMemory) {
+    SKIP_UNDER_ULIMIT_V();
+    const fs::path d = folder("big_soup");
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<float> u(0, 100);
+    const uint32_t n = 300000;
+    std::string stl(80, '\0');
+    stl.reserve(84 + 50 * size_t(n));
+    stl.append(reinterpret_cast<const char*>(&n), 4);
+    for (uint32_t t = 0; t < n; ++t) {
+        float f[12] = {0, 0, 0};
+        for (int k = 3; k < 12; ++k) f[k] = u(rng);
+        stl.append(reinterpret_cast<const char*>(f), sizeof f);
+        stl.append(2, '\0');
+    }
+    write(d / "soup.stl", stl);
+    const CarveRun r =
+        run_carve("slice " + (d / "soup.stl").string() + " -q -o " + (d / "o.gcode").string(),
+                  "ulimit -v 200000; ulimit -c 0;");
+    expect_one_line(r, kExitBadInput, "not a solid: 900000 of the 900000 triangles' edges",
+                    "big soup");
+    EXPECT_NE(r.err.find("(a triangle soup)"), std::string::npos) << r.err;
+    EXPECT_EQ(extra_files(d, {"soup.stl"}), std::vector<std::string>{});
+}
+
 TEST(HostileWork, AnAddressSpaceLimitIsReportedNotACrash) {
     SKIP_UNDER_ULIMIT_V();
     const fs::path d = folder("ulimit");

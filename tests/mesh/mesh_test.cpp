@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 #include <sys/resource.h>
+#include <sys/stat.h>
 #include <unistd.h>
 #include <zip.h>
 
@@ -13,9 +14,11 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <random>
 #include <set>
 #include <string>
+#include <thread>
 
 #include "base/error.hpp"
 #include "report/mesh_info.hpp"
@@ -420,6 +423,76 @@ TEST(MeshRepair, DuplicateTrianglesAreDropped) {
     EXPECT_TRUE(has_warning(r, "dropped 3 duplicate triangles")) << all_warnings(r);
 }
 
+// n disjoint triangles: every edge open.
+Mesh soup_mesh(uint32_t n) {
+    Mesh m;
+    for (uint32_t t = 0; t < n; ++t) {
+        const double x = 3.0 * t;
+        m.vertices.push_back({x, 0, 0});
+        m.vertices.push_back({x + 1, 0, 0});
+        m.vertices.push_back({x, 1, t % 7 * 0.5});
+        m.triangles.push_back({3 * t, 3 * t + 1, 3 * t + 2});
+    }
+    return m;
+}
+
+TEST(MeshRepair, TheEdgeCountsAreReportedOnceBeforeTheShellsAreWalked) {
+    Mesh m = soup_mesh(2000);
+    // Ten of them twice more, once facing the other way: 20 duplicates cancel out.
+    for (uint32_t t = 0; t < 10; ++t) {
+        const auto tri = m.triangles[t];
+        m.triangles.push_back({tri[0], tri[2], tri[1]});
+    }
+    MeshReport r;
+    int calls = 0;
+    size_t seen_open = 0;
+    analyse_and_repair(m, r, [&](const MeshReport& counted) {
+        ++calls;
+        seen_open = counted.open_edges;
+        EXPECT_EQ(counted.shells, 0u);  // not walked yet
+        EXPECT_EQ(counted.duplicate_dropped, 20u);
+    });
+    EXPECT_EQ(calls, 1);
+    EXPECT_EQ(seen_open, 3u * 1990);
+    EXPECT_EQ(r.open_edges, 3u * 1990);
+    EXPECT_EQ(r.shells, 1990u);
+    EXPECT_TRUE(is_triangle_soup(r));
+
+    // A throw from the callback ends the repair there.
+    Mesh again = soup_mesh(2000);
+    MeshReport r2;
+    EXPECT_THROW(analyse_and_repair(again, r2, [](const MeshReport&) { throw InputError("stop"); }),
+                 InputError);
+    EXPECT_EQ(r2.shells, 0u);
+}
+
+TEST(MeshRepair, ASoupIsRefusedOnlyWhenAsked) {
+    const std::string path = temp().file("soup.stl");
+    write_file(path, binary_stl(soup_mesh(2000), "soup"));
+    MeshReport r = load_ok(path);
+    EXPECT_EQ(r.open_edges, 6000u);
+    EXPECT_EQ(r.shells, 2000u);
+    EXPECT_TRUE(is_triangle_soup(r));
+    LoadOptions refuse;
+    refuse.refuse_soup = true;
+    try {
+        load_mesh(path, r, refuse);
+        ADD_FAILURE() << "the soup loaded";
+    } catch (const InputError& e) {
+        EXPECT_EQ(std::string(e.what()),
+                  path +
+                      ": not a solid: 6000 of the 6000 triangles' edges are shared with no "
+                      "other triangle (a triangle soup); repair the mesh first");
+    }
+    // A closed model passes, and so does a small soup (up to 1000 triangles).
+    const std::string cube = temp().file("cube_refuse.stl");
+    write_file(cube, binary_stl(cube_mesh(), "cube"));
+    EXPECT_NO_THROW(load_mesh(cube, r, refuse));
+    EXPECT_FALSE(is_triangle_soup(r));
+    write_file(path, binary_stl(soup_mesh(1000), "small soup"));
+    EXPECT_NO_THROW(load_mesh(path, r, refuse));
+}
+
 TEST(MeshRepair, Measures) {
     const Mesh m = cube_mesh(10, {5, -5, 2});
     EXPECT_NEAR(signed_volume(m), 1000.0, 1e-9);
@@ -439,6 +512,100 @@ TEST(MeshFormats, BinaryStlWhoseHeaderSaysSolid) {
     EXPECT_EQ(r.format, "binary STL");
     EXPECT_EQ(r.triangles, 12u);
     EXPECT_NEAR(r.volume_mm3, 8000.0, 1e-6);
+}
+
+// Loads bytes through a named pipe, which carve reads whole before it parses. load_mesh opens
+// the pipe and reads it to its end before it can fail, so the writer always finishes.
+MeshReport load_through_pipe(const std::string& bytes, const std::string& name, Mesh& mesh) {
+    const std::string fifo = temp().file(name);
+    std::remove(fifo.c_str());
+    EXPECT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+    std::thread writer([&] { write_file(fifo, bytes); });
+    MeshReport r;
+    try {
+        mesh = load_mesh(fifo, r);
+    } catch (...) {
+        writer.join();
+        throw;
+    }
+    writer.join();
+    return r;
+}
+
+// A binary STL file is welded block by block as it is read; from a pipe it is read whole
+// first. Both give the same mesh (skull: 100,002 facets, two blocks of 65,536).
+TEST(MeshFormats, BinaryStlStreamedFromAFileEqualsItReadWhole) {
+    CARVE_NEED_MODEL("skull.stl");
+    const std::string file = kModels + "/skull.stl";
+    std::ifstream in(file, std::ios::binary);
+    const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    MeshReport from_file;
+    Mesh piped;
+    const MeshReport from_pipe = load_through_pipe(bytes, "skull.fifo", piped);
+    Mesh streamed = load_mesh(file, from_file);
+    EXPECT_EQ(from_file.format, "binary STL");
+    EXPECT_EQ(from_pipe.format, "binary STL");
+    EXPECT_EQ(from_file.triangles_read, 100002u);
+    ASSERT_EQ(streamed.vertices.size(), piped.vertices.size());
+    ASSERT_EQ(streamed.triangles, piped.triangles);
+    for (size_t v = 0; v < piped.vertices.size(); ++v) {
+        ASSERT_EQ(streamed.vertices[v].x, piped.vertices[v].x) << v;
+        ASSERT_EQ(streamed.vertices[v].y, piped.vertices[v].y) << v;
+        ASSERT_EQ(streamed.vertices[v].z, piped.vertices[v].z) << v;
+    }
+    EXPECT_EQ(from_file.open_edges, 0u);
+    EXPECT_EQ(from_file.volume_mm3, from_pipe.volume_mm3);
+}
+
+// An .obj file is parsed in 4 MB blocks as it is read, from a pipe whole: the same mesh, and the
+// same line in an error past the first block. This one has a byte order mark, CRLF line ends,
+// comments, quads and no line end after its last face.
+TEST(MeshFormats, ObjStreamedFromAFileEqualsItReadWhole) {
+    std::string obj = "\xEF\xBB\xBF# a 300 x 300 grid of quads on a wavy sheet\r\n";
+    const int n = 300;
+    for (int j = 0; j <= n; ++j)
+        for (int i = 0; i <= n; ++i)
+            obj += "v " + std::to_string(i * 0.25) + " " + std::to_string(j * 0.25) + " " +
+                   std::to_string(std::sin(i * 0.1) * std::cos(j * 0.07)) + "  # vertex\r\n";
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            const int a = j * (n + 1) + i + 1;
+            obj += "f " + std::to_string(a) + " " + std::to_string(a + 1) + " " +
+                   std::to_string(a + n + 2) + " " + std::to_string(a + n + 1);
+            if (i + 1 < n || j + 1 < n) obj += "\n";
+        }
+    ASSERT_GT(obj.size(), size_t(5) << 20);  // more than one block
+    const std::string file = temp().file("grid.obj");
+    write_file(file, obj);
+    MeshReport from_file;
+    const Mesh streamed = load_mesh(file, from_file);
+    Mesh piped;
+    const MeshReport from_pipe = load_through_pipe(obj, "grid.fifo", piped);
+    EXPECT_EQ(from_file.format, "OBJ");
+    EXPECT_EQ(from_pipe.format, "OBJ");
+    EXPECT_EQ(from_file.triangles_read, size_t(2 * n * n));
+    ASSERT_EQ(streamed.triangles, piped.triangles);
+    ASSERT_EQ(streamed.vertices.size(), piped.vertices.size());
+    for (size_t v = 0; v < piped.vertices.size(); ++v) {
+        ASSERT_EQ(streamed.vertices[v].x, piped.vertices[v].x) << v;
+        ASSERT_EQ(streamed.vertices[v].z, piped.vertices[v].z) << v;
+    }
+    EXPECT_EQ(from_file.open_edges, from_pipe.open_edges);
+    EXPECT_EQ(from_file.open_edges, size_t(4 * n));
+
+    // A bad reference on the last line, some 6 MB in (in the second block).
+    const std::string broken = obj + "\nf 1 2 x";
+    const std::string line = std::to_string(2 + (n + 1) * (n + 1) + n * n);
+    write_file(file, broken);
+    expect_input_error(file, {"malformed OBJ at line " + line, "'x' is not a vertex reference"});
+    Mesh unused;
+    try {
+        load_through_pipe(broken, "broken.fifo", unused);
+        ADD_FAILURE() << "the broken OBJ loaded from a pipe";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("malformed OBJ at line " + line), std::string::npos)
+            << e.what();
+    }
 }
 
 TEST(MeshFormats, ObjWithQuadsNegativeIndicesAndSlashes) {
