@@ -17,7 +17,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     ++data, --size;
     const size_t stride = grid ? 9 : 36;
     const size_t count = std::min<size_t>(size / stride, 4000);
-    detail::Welder welder(3 * count);
+    static const std::string kPath = "fuzz input";
+    detail::Welder welder(3 * count, kPath);
     Mesh mesh;
     for (size_t t = 0; t < count; ++t) {
         const uint8_t* p = data + t * stride;
