@@ -83,6 +83,11 @@ std::vector<SettingSpec> make_table() {
          "axis [4]"},
         {"scale", "", "ratio", 0.01, 100.0, &S::scale,
          "Scale the model uniformly by this factor, ratio [1]"},
+        {"copies", "", "copies", 1, 400, &S::copies,
+         "Print this many copies of the model side by side, each its own object (labelled for "
+         "cancelling), copies [1]"},
+        {"copy-gap", "", "mm", 0.0, 100.0, &S::copy_gap,
+         "With --copies: the gap between two copies, mm [6]"},
         {"threads", "", "threads", 0, 512, &S::threads,
          "Threads the per-layer work runs on, from 1 (everything on one thread) up; the G-code "
          "is the same for every count, threads [0 = every core]"},

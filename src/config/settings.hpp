@@ -49,7 +49,11 @@ struct Settings {
     double bridge_angle_step = 5.0;  // degrees
     bool prune_bridges = true;
     double scale = 1.0;  // uniform scale applied to the model about its centre
-    int threads = 0;     // worker threads, 1 = all on the calling thread; 0 = every core
+    // Copies of the model printed side by side as separate objects (a print farm's plate), and
+    // the gap between them, mm (PrusaSlicer's default object distance).
+    int copies = 1;
+    double copy_gap = 6.0;
+    int threads = 0;  // worker threads, 1 = all on the calling thread; 0 = every core
     // mm; the seed may tear a cavity open at most this far beyond the dilated cavity per slice
     // (the report's conclusion proposes r/2). 0: the whole pruned medial axis opens in one
     // slice, as in the report's algorithm. Smaller is better supported and costs material.

@@ -58,6 +58,10 @@ class Emitter {
     const PrintStats& stats() const { return stats_; }
     const std::vector<ProgressMark>& progress_marks() const { return marks_; }
     const Bounds& bounds() const { return bounds_; }
+    // Several objects: each extrusion labelled as its own object's (the single object's label
+    // otherwise); their extents as written.
+    void set_objects(std::vector<ObjectLabel> objects);
+    const std::vector<Bounds>& object_bounds() const { return object_bounds_; }
 
   private:
     static constexpr double kZSpeed = 10.0;          // mm/s for layer changes and z-hops
@@ -144,6 +148,8 @@ class Emitter {
         double e_mm = 0;
         long long e_units = 0, feed = 0;
         bool retracted = false, first_travel = false, type_known = false, labelled = false;
+        std::vector<char> objects_labelled;
+        std::vector<Bounds> object_bounds;
         int fan = 0;
         Feature type = Feature::OuterWall;
         double width = 0, accel = 0, wipe_length = 0;
@@ -156,18 +162,23 @@ class Emitter {
     void restore(const Snapshot& k);
     void print_layer_cooled(const LayerToolpaths& layer);
     void print_paths(const LayerToolpaths& layer);
+    int object_of(const Point& p) const;
 
     const Settings& st_;
     Coord off_x_, off_y_;
     std::FILE* out_;
     std::string path_;
-    std::string object_;               // the object's label
-    std::vector<ProgressMark> marks_;  // where the M73 lines go
-    long long written_ = 0;            // bytes of text flushed to out_
-    double speed_factor_ = 1;          // cooling's slowdown of the layer being written
-    int layer_fan_ = 0;                // percent, for the layer's ordinary extrusions
-    double accel_ = -1;                // Klipper's M204 S in force
-    bool labelled_ = false;            // M486 A named the object
+    std::string object_name_;           // the object's label
+    std::vector<ProgressMark> marks_;   // where the M73 lines go
+    long long written_ = 0;             // bytes of text flushed to out_
+    double speed_factor_ = 1;           // cooling's slowdown of the layer being written
+    int layer_fan_ = 0;                 // percent, for the layer's ordinary extrusions
+    double accel_ = -1;                 // Klipper's M204 S in force
+    bool labelled_ = false;             // M486 A named the object
+    std::vector<ObjectLabel> objects_;  // with --copies: each object, else empty
+    std::vector<char> objects_labelled_;
+    std::vector<Bounds> object_bounds_;
+    int object_ = -1;  // index in objects_ of what is being printed
     fmt::memory_buffer buf_;
     double filament_area_ = 1;
     long long retract_units_ = 0;

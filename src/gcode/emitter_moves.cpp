@@ -287,6 +287,12 @@ void Emitter::printed(const Point& q, double len, double e_per_mm, Feature featu
     bounds_.max_y = std::max(bounds_.max_y, to_mm(q.Y));
     bounds_.min_z = std::min(bounds_.min_z, to_mm(z_));
     bounds_.max_z = std::max(bounds_.max_z, to_mm(z_));
+    if (object_ >= 0) {
+        Bounds& o = object_bounds_[static_cast<size_t>(object_)];
+        o.min_x = std::min(o.min_x, to_mm(q.X)), o.max_x = std::max(o.max_x, to_mm(q.X));
+        o.min_y = std::min(o.min_y, to_mm(q.Y)), o.max_y = std::max(o.max_y, to_mm(q.Y));
+        o.min_z = std::min(o.min_z, to_mm(z_)), o.max_z = std::max(o.max_z, to_mm(z_));
+    }
     pos_ = q;
 }
 

@@ -65,6 +65,7 @@ struct GcodeWriter::Impl {
     std::vector<long long> offsets, sizes;
     OutputGroup* group = nullptr;         // commit held back until the run's other outputs are done
     std::string object = "object";        // the object's label
+    std::vector<ObjectLabel> objects;     // several objects, or none
     std::vector<std::string> thumbnails;  // the header's thumbnail blocks
     bool finished = false;
     std::mutex mutex;
@@ -94,7 +95,7 @@ struct GcodeWriter::Impl {
     // figures and the configuration close the file (tail()), where Moonraker's PrusaSlicer
     // parser reads them.
     std::vector<std::string> head(const std::vector<std::string>& comments, const PrintStats& s,
-                                  const Bounds& b) const {
+                                  const Bounds& b, const std::vector<Bounds>& each) const {
         std::vector<std::string> lines{generated_by_line(), ";"};
         lines.insert(lines.end(), thumbnails.begin(), thumbnails.end());
         for (const std::string& c : comments) lines.push_back(c.rfind(';', 0) == 0 ? c : "; " + c);
@@ -113,10 +114,21 @@ struct GcodeWriter::Impl {
         lines.push_back(fmt::format(";LAYER_COUNT:{}", layer_count));
         lines.push_back(fmt::format("; estimated printing time (normal mode) = {}",
                                     format_duration(s.estimated_print_time_s)));
-        if (!b.empty())
+        if (!objects.empty()) {
+            const bool klipper = settings.flavor == GcodeFlavor::Klipper;
+            for (size_t k = 0; k < objects.size() && k < each.size(); ++k) {
+                const Bounds& o = each[k];
+                if (o.empty() || (!klipper && k > 0)) continue;
+                for (const std::string& l :
+                     object_definition(settings, objects[k].name, o.min_x, o.min_y, o.max_x,
+                                       o.max_y, static_cast<int>(objects.size())))
+                    lines.push_back(l);
+            }
+        } else if (!b.empty()) {
             for (const std::string& l :
                  object_definition(settings, object, b.min_x, b.min_y, b.max_x, b.max_y))
                 lines.push_back(l);
+        }
         lines.push_back("");
         return lines;
     }
@@ -164,6 +176,10 @@ void GcodeWriter::set_object_name(const std::string& name) {
     impl_->object = name.empty() ? "object" : name;
 }
 
+void GcodeWriter::set_objects(std::vector<ObjectLabel> objects) {
+    impl_->objects = std::move(objects);
+}
+
 void GcodeWriter::set_thumbnails(std::vector<std::string> lines) {
     impl_->thumbnails = std::move(lines);
 }
@@ -196,6 +212,7 @@ PrintStats GcodeWriter::finish(const std::vector<std::string>& header_comments) 
     try {
         std::setvbuf(body, nullptr, _IOFBF, 1 << 16);
         Emitter writer(m.settings, m.off_x, m.off_y, body, m.output_path, m.object);
+        if (!m.objects.empty()) writer.set_objects(m.objects);
         m.run(writer);
         writer.flush_all();
         if (std::fflush(body) != 0 || std::ferror(body) || std::fseek(body, 0, SEEK_SET) != 0)
@@ -206,7 +223,7 @@ PrintStats GcodeWriter::finish(const std::vector<std::string>& header_comments) 
         auto file = std::make_unique<AtomicFile>(m.output_path);
         out = file->stream();
         Emitter text(m.settings, m.off_x, m.off_y, out, m.output_path);
-        text.comment_block(m.head(header_comments, s, b));
+        text.comment_block(m.head(header_comments, s, b, writer.object_bounds()));
         text.flush_all();
         copy_with_progress(body, out, writer.progress_marks(), s.estimated_print_time_s,
                            m.output_path);

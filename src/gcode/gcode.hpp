@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "config/settings.hpp"
+#include "gcode/labels.hpp"
 #include "toolpath/toolpath.hpp"
 
 namespace carve {
@@ -46,6 +47,8 @@ class GcodeWriter {
     // The object's label ("; printing object NAME", EXCLUDE_OBJECT, M486), already made safe
     // for the hosts (gcode/labels.hpp object_label); "object" when empty.
     void set_object_name(const std::string& name);
+    // Several objects (--copies): each labelled on its own; see Emitter::set_objects.
+    void set_objects(std::vector<ObjectLabel> objects);
     // Comment lines for the header, the thumbnails' blocks (gcode/thumbnail.hpp).
     void set_thumbnails(std::vector<std::string> lines);
     // Writes header, layers bottom up and footer, then renames into place.

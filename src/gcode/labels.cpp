@@ -18,14 +18,14 @@ std::string object_label(const std::string& model_path) {
 }
 
 std::vector<std::string> object_definition(const Settings& s, const std::string& name, double x0,
-                                           double y0, double x1, double y1) {
+                                           double y0, double x1, double y1, int count) {
     if (s.flavor == GcodeFlavor::Klipper)
         return {
             fmt::format("EXCLUDE_OBJECT_DEFINE NAME={} CENTER={:.3f},{:.3f} "
                         "POLYGON=[[{:.3f},{:.3f}],[{:.3f},{:.3f}],[{:.3f},{:.3f}],[{:.3f},{:."
                         "3f}]]",
                         name, (x0 + x1) / 2, (y0 + y1) / 2, x0, y0, x1, y0, x1, y1, x0, y1)};
-    return {"M486 T1 ; objects to label"};
+    return {fmt::format("M486 T{} ; objects to label", count)};
 }
 
 std::vector<std::string> object_start(const Settings& s, const std::string& name, int id,

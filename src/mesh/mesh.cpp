@@ -7,6 +7,7 @@
 #include <cctype>
 #include <cerrno>
 #include <charconv>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -407,6 +408,29 @@ BBox3 bounding_box(const Mesh& mesh) {
         box.max.z = std::max(box.max.z, v.z);
     }
     return box;
+}
+
+Mesh arrange_copies(const Mesh& mesh, int copies, double gap, std::vector<CopyBox>& boxes) {
+    boxes.clear();
+    const BBox3 b = bounding_box(mesh);
+    const int n = std::max(1, copies);
+    const int columns = static_cast<int>(std::ceil(std::sqrt(double(n))));
+    const int rows = (n + columns - 1) / columns;
+    const double pitch_x = b.max.x - b.min.x + gap, pitch_y = b.max.y - b.min.y + gap;
+    // Copy k in column k % columns, row k / columns, the grid's centre on the mesh's.
+    const double x0 = -0.5 * (columns - 1) * pitch_x, y0 = 0.5 * (rows - 1) * pitch_y;
+    Mesh out;
+    out.vertices.reserve(mesh.vertices.size() * size_t(n));
+    out.triangles.reserve(mesh.triangles.size() * size_t(n));
+    for (int k = 0; k < n; ++k) {
+        const double dx = x0 + (k % columns) * pitch_x, dy = y0 - (k / columns) * pitch_y;
+        const auto first = static_cast<uint32_t>(out.vertices.size());
+        for (const Vec3& v : mesh.vertices) out.vertices.push_back({v.x + dx, v.y + dy, v.z});
+        for (const auto& t : mesh.triangles)
+            out.triangles.push_back({t[0] + first, t[1] + first, t[2] + first});
+        boxes.push_back({b.min.x + dx, b.min.y + dy, b.max.x + dx, b.max.y + dy});
+    }
+    return out;
 }
 
 }  // namespace carve

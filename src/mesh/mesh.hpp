@@ -70,4 +70,12 @@ void analyse_and_repair(Mesh& mesh, MeshReport& report,
 double signed_volume(const Mesh& mesh);
 BBox3 bounding_box(const Mesh& mesh);
 
+// `copies` of the mesh side by side, `gap` mm apart, in a grid as square as their count allows
+// (rows of ceil(sqrt(n))), centred where the one mesh was. `boxes` gets each copy's extent in
+// the plane, in the order their labels number them.
+struct CopyBox {
+    double min_x = 0, min_y = 0, max_x = 0, max_y = 0;
+};
+Mesh arrange_copies(const Mesh& mesh, int copies, double gap, std::vector<CopyBox>& boxes);
+
 }  // namespace carve

@@ -81,6 +81,7 @@ nlohmann::json stats_json(const RunResult& run, const Settings& settings) {
     s["max_bridge_length_mm"] = settings.prune_bridges ? settings.max_bridge_length : 0.0;
     s["prune_bridges"] = settings.prune_bridges;
     s["printer"] = settings.printer_name;
+    s["copies"] = settings.copies;
     j["settings"] = s;
     return j;
 }

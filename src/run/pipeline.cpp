@@ -113,13 +113,24 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
         result.mesh.bbox = bounding_box(mesh);
         result.mesh.volume_mm3 = signed_volume(mesh);
     }
+    std::vector<CopyBox> copy_boxes;
+    if (settings.copies > 1) {
+        // The copies are one mesh of disjoint shells: every stage works on them as on islands
+        // of one model; only the G-code labels each copy as its own object.
+        mesh = arrange_copies(mesh, settings.copies, settings.copy_gap, copy_boxes);
+        result.mesh.bbox = bounding_box(mesh);
+        result.mesh.volume_mm3 = signed_volume(mesh);
+    }
     const BBox3& box = result.mesh.bbox;
     const double size_x = box.max.x - box.min.x, size_y = box.max.y - box.min.y;
     if (settings.bed_check && (size_x > settings.bed_x || size_y > settings.bed_y))
         throw InputError(fmt::format(
-            "{}: the model ({:.1f} x {:.1f} mm) is larger than the bed ({:.0f} x {:.0f} mm); "
-            "scale it down, choose a larger --bed, or pass --no-bed-check",
-            options.model_path, size_x, size_y, settings.bed_x, settings.bed_y));
+            "{}: the model{} ({:.1f} x {:.1f} mm) is larger than the bed ({:.0f} x {:.0f} mm); "
+            "{}scale it down, choose a larger --bed, or pass --no-bed-check",
+            options.model_path,
+            settings.copies > 1 ? fmt::format(" in {} copies", settings.copies) : "", size_x,
+            size_y, settings.bed_x, settings.bed_y,
+            settings.copies > 1 ? "print fewer copies, " : ""));
     const double offset_x = settings.bed_x / 2 - (box.min.x + box.max.x) / 2;
     const double offset_y = settings.bed_y / 2 - (box.min.y + box.max.y) / 2;
 
@@ -169,6 +180,15 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
     GcodeWriter writer(options.gcode_path, settings, offset_x, offset_y, layer_count);
     writer.commit_with(group);
     writer.set_object_name(object_label(options.model_path));
+    if (!copy_boxes.empty()) {
+        std::vector<ObjectLabel> objects;
+        for (size_t k = 0; k < copy_boxes.size(); ++k) {
+            const CopyBox& c = copy_boxes[k];
+            objects.push_back({fmt::format("{}_{}", object_label(options.model_path), k + 1),
+                               c.min_x, c.min_y, c.max_x, c.max_y});
+        }
+        writer.set_objects(std::move(objects));
+    }
     if (!settings.thumbnails.empty())
         writer.set_thumbnails(thumbnail_blocks(mesh.vertices, mesh.triangles, settings.thumbnails));
     std::unique_ptr<AtomicDir> svg_dir, raster_dir;

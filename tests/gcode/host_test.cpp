@@ -10,6 +10,7 @@
 #include <stdlib.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -25,6 +26,7 @@
 #include "config/setting_table.hpp"
 #include "support/carve_run.hpp"
 #include "support/models.hpp"
+#include "support/stl_boxes.hpp"
 
 namespace fs = std::filesystem;
 using carve::test::read;
@@ -518,6 +520,89 @@ TEST(Hosts, ObjectLabelsAreBalanced) {
             EXPECT_NE(s.gcode.find("\nM486 Afandisk\n"), std::string::npos);
         }
     }
+}
+
+// --copies: each copy its own object, defined once in the header, every extrusion of the layers
+// between its own object's start and end (Klipper's names and M486's numbers), inside the
+// rectangle the header gave that object, and the material that of the copies together.
+TEST(Hosts, CopiesAreSeparateObjectsAHostCanCancel) {
+    std::vector<carve::test::StlTriangle> t;
+    carve::test::add_box(t, 0, 0, 0, 20, 14, 6);
+    const std::string box = carve::test::write_stl("copy_box.stl", t).string();
+    const Sliced one = slice(box, "", "copies1");
+    for (const std::string printer : {"generic", "klipper"}) {  // NOLINT: from literals
+        const bool klipper = printer == "klipper";
+        const Sliced s = slice(box, "--copies 4 --printer " + printer, "copies4" + printer);
+        std::map<std::string, std::array<double, 4>> defined;  // name -> x0, y0, x1, y1
+        std::map<std::string, int> starts;
+        std::string open;  // the object being printed, from the comments
+        int firmware_open = -1, outside = 0, misplaced = 0, m486_counts = 0;
+        double x = 0, y = 0;
+        bool in_layers = false;
+        for (const std::string& l : lines_of(s.gcode)) {
+            std::smatch m;
+            static const std::regex define(
+                R"(EXCLUDE_OBJECT_DEFINE NAME=(\S+) CENTER=\S+ POLYGON=\[\[([-\d.]+),([-\d.]+)\],\[([-\d.]+),[-\d.]+\],\[[-\d.]+,([-\d.]+)\].*)");
+            if (std::regex_match(l, m, define))
+                defined[m[1]] = {std::stod(m[2]), std::stod(m[3]), std::stod(m[4]),
+                                 std::stod(m[5])};
+            if (l == "M486 T4 ; objects to label") ++m486_counts;
+            if (l.rfind("; printing object ", 0) == 0) {
+                EXPECT_EQ(open, "");
+                open = l.substr(18);
+                ++starts[open];
+            }
+            if (l.rfind("; stop printing object ", 0) == 0) {
+                EXPECT_EQ(l.substr(23), open);
+                open.clear();
+            }
+            if (l.rfind("M486 S", 0) == 0) {
+                const int id = std::stoi(l.substr(6));
+                EXPECT_EQ(firmware_open < 0, id >= 0) << l;  // never nested
+                firmware_open = id;
+            }
+            if (l.rfind(";LAYER:", 0) == 0) in_layers = true;
+            if (l.rfind("G1 ", 0) == 0 || l.rfind("G0 ", 0) == 0) {
+                std::smatch w;
+                static const std::regex xy(R"(X([-\d.]+) Y([-\d.]+))");
+                if (std::regex_search(l, w, xy)) x = std::stod(w[1]), y = std::stod(w[2]);
+                const bool extrusion = l.rfind("G1 X", 0) == 0 && l.find(" E") != std::string::npos;
+                if (!in_layers || !extrusion) continue;
+                outside += open.empty() || (!klipper && firmware_open < 0);
+                if (klipper && defined.count(open)) {
+                    const auto& r = defined[open];
+                    misplaced +=
+                        x < r[0] - 0.01 || x > r[2] + 0.01 || y < r[1] - 0.01 || y > r[3] + 0.01;
+                }
+            }
+        }
+        EXPECT_EQ(outside, 0) << printer;
+        EXPECT_EQ(open, "") << printer;
+        ASSERT_EQ(starts.size(), 4u) << printer;
+        for (const auto& [name, n] : starts) EXPECT_GE(n, 30) << name;  // 30 layers each
+        if (klipper) {
+            EXPECT_EQ(defined.size(), 4u);
+            EXPECT_EQ(misplaced, 0);
+            for (const auto& [name, r] : defined) EXPECT_EQ(starts.count(name), 1u) << name;
+        } else {
+            EXPECT_EQ(m486_counts, 1);
+            for (int k = 1; k <= 4; ++k)
+                EXPECT_NE(s.gcode.find("\nM486 Acopy_box_" + std::to_string(k) + "\n"),
+                          std::string::npos);
+        }
+        EXPECT_NEAR(s.stats["extruded_volume_mm3"].get<double>(),
+                    4 * one.stats["extruded_volume_mm3"].get<double>(),
+                    0.01 * 4 * one.stats["extruded_volume_mm3"].get<double>());
+        EXPECT_NEAR(s.stats["material_percent"].get<double>(),
+                    one.stats["material_percent"].get<double>(), 0.05);
+    }
+    // More copies than the bed holds: one line naming the copies, nothing written.
+    const fs::path out = scratch() / "copies_many.gcode";
+    const carve::test::CarveRun r =
+        run_carve("slice " + box + " -o " + out.string() + " --copies 200");
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.err.find("in 200 copies"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(out));
 }
 
 TEST(Estimate, EqualsAnIndependentReadingOfTheFile) {
