@@ -415,7 +415,11 @@ void nesting_depths(const Mesh& mesh, const std::vector<uint32_t>& shell_of,
         size_t j = i;
         while (j < inside.size() && inside[j].first == inside[i].first) ++j;
         const uint32_t qs = static_cast<uint32_t>(inside[i].first >> 32);
-        if (2 * (j - i) > query_count[qs]) ++shells[qs].depth;
+        // Nested only with every extreme vertex inside: a shell that pokes out of the other
+        // (a blade standing 0.1 mm deep in a plate, two overlapping spheres) is a second solid
+        // the slicer unites with it, not a void. The majority this once asked for turned the
+        // six blades of a plate inside out, and their slices were cut away from it.
+        if (j - i == query_count[qs]) ++shells[qs].depth;
         i = j;
     }
 }

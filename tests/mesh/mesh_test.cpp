@@ -409,6 +409,32 @@ TEST(MeshRepair, BallInsideAVoidIsSolidAgain) {
     EXPECT_NEAR(r.volume_mm3, 216000.0 - 64000.0 + 8000.0, 1e-6);
 }
 
+// A shell standing partly inside another (a blade set 2 mm deep into a plate, all of it but its
+// top inside) is a second solid, not a void: nothing is turned, the volume is the two added.
+TEST(MeshRepair, ShellPokingOutOfAnotherIsNoVoid) {
+    Mesh m;
+    auto add = [&](const Mesh& part) {
+        const uint32_t base = static_cast<uint32_t>(m.vertices.size());
+        m.vertices.insert(m.vertices.end(), part.vertices.begin(), part.vertices.end());
+        for (auto t : part.triangles)
+            m.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
+    };
+    add(cube_mesh(20, {0, 0, 0}));
+    add(cube_mesh(10, {5, 5, 18}));
+    add(cube_mesh(4, {8, 8, 8}));  // and one wholly inside: a void once turned around
+    for (auto& t : m.triangles)
+        if (m.vertices[t[0]].z >= 8 && m.vertices[t[0]].z <= 12 && m.vertices[t[0]].x >= 8 &&
+            m.vertices[t[0]].x <= 12 && m.vertices[t[1]].x >= 8 && m.vertices[t[1]].x <= 12)
+            std::swap(t[1], t[2]);  // the inner cube's triangles face inwards, as a void's do
+    MeshReport r;
+    analyse_and_repair(m, r);
+    EXPECT_EQ(r.shells, 3u);
+    EXPECT_EQ(r.internal_voids, 1u) << all_warnings(r);
+    EXPECT_EQ(r.inverted_shells, 0u) << all_warnings(r);
+    EXPECT_EQ(r.flipped_triangles, 0u) << all_warnings(r);
+    EXPECT_NEAR(r.volume_mm3, 8000.0 + 1000.0 - 64.0, 1e-6);
+}
+
 TEST(MeshRepair, DuplicateTrianglesAreDropped) {
     Mesh m = cube_mesh();
     m.triangles.push_back(m.triangles[3]);
