@@ -118,7 +118,7 @@ Paths seeds(const Paths& remainder, const Paths& propagated, const Paths& uncove
                        erode(region, width / 2).empty();
             };
             for (Paths& comp : components(open)) {
-                // Up to the longest bridge when what has to be bridged is narrow: only the part
+                // Up to whole_width_max when what has to be bridged is narrow: only the part
                 // under the model's surface in the slice above (outside O'_{i+1}) is a ceiling.
                 // The rest lies under what this iteration left solid there (V^j_{i+1}: under
                 // C^j_{i+1} it would be propagated, not open), and is cut back below to a band
@@ -217,7 +217,7 @@ std::optional<LayerPartition> CarvingSweep::next() {
     const SkeletonOptions options = seed_options(settings_);
     const Coord tear = settings_.tear_limit > 0 ? to_units(settings_.tear_limit) : 0;
     const Coord whole = settings_.whole_width > 0 ? to_units(settings_.whole_width) : 0;
-    const Coord longest = settings_.prune_bridges ? to_units(settings_.max_bridge_length) : whole;
+    const Coord longest = std::max(whole, to_units(settings_.whole_width_max));
 
     Paths remainder = first_ == 0 ? layer->carvable : std::move(layer->remainder);  // V^{j-1}_i
     layer->cavities.reserve(layer->cavities.size() + previous_.size());

@@ -78,6 +78,7 @@ nlohmann::json stats_json(const RunResult& run, const Settings& settings) {
     s["filament_diameter_mm"] = settings.filament_diameter;
     s["tear_limit_mm"] = settings.tear_limit;
     s["whole_width_mm"] = settings.whole_width;
+    s["whole_width_max_mm"] = settings.whole_width_max;
     s["max_bridge_length_mm"] = settings.prune_bridges ? settings.max_bridge_length : 0.0;
     s["prune_bridges"] = settings.prune_bridges;
     s["printer"] = settings.printer_name;

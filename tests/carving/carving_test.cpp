@@ -274,7 +274,7 @@ TEST(Carving, WidePartUnderANarrowCeilingIsCarvedWhole) {
     const SweepFigures wide = sweep(path, s);
     EXPECT_LT(wide.worst_partition_error, 1e-3);
     EXPECT_LT(wide.worst_support_violation_mm2, 0.01);
-    s.max_bridge_length = s.whole_width;  // no part wider than the whole width is carved whole
+    s.whole_width_max = s.whole_width;  // no part wider than the whole width is carved whole
     const SweepFigures narrow = sweep(path, s);
     const auto later = [](const SweepFigures& f) {
         double v = 0;
@@ -282,7 +282,7 @@ TEST(Carving, WidePartUnderANarrowCeilingIsCarvedWhole) {
         return v;
     };
     std::printf("C^3..C^k: %.0f mm3 (whole up to %.0f mm), %.0f mm3 (up to %.0f mm)\n", later(wide),
-                Settings{}.max_bridge_length, later(narrow), s.whole_width);
+                Settings{}.whole_width_max, later(narrow), s.whole_width);
     EXPECT_LT(later(wide), 0.8 * later(narrow));
     EXPECT_NEAR(wide.carvable_mm3, narrow.carvable_mm3, 1e-6 * narrow.carvable_mm3);
 }

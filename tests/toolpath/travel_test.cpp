@@ -367,7 +367,7 @@ TEST(TravelRun, StepsInwardsEnterTheNextLayerWithoutRetracting) {
             retracted += m.retracted;
             entries += &m == &l.travels.front();
         }
-    EXPECT_GT(entries, 50);
+    EXPECT_GT(entries, 20);
     EXPECT_EQ(retracted, 0);
 }
 
