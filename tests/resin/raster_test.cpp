@@ -317,7 +317,8 @@ TEST(RasterWriter, WallPixelsMatchPrintPathLengths) {
     EXPECT_NEAR(total_pixels_mm2 / total_paths_mm2, 1.0, 0.25);
     EXPECT_NEAR(ratios[ratios.size() / 2], 1.0, 0.25);  // median layer
     EXPECT_GT(ratios.front(), 0.6);
-    EXPECT_LT(ratios.back(), 2.0);  // 1.89 at whole-width-max 14: a layer where a cavity lines the wall
+    EXPECT_LT(ratios.back(),
+              2.0);  // 1.89 at whole-width-max 14: a layer where a cavity lines the wall
 }
 
 // --raster-pixel: the images cover the same footprint whatever the pixel size, so their sides
