@@ -664,12 +664,12 @@ TEST(AtomicWriter, OutputPathsAreComparedAsFiles) {
 
 // --- runaway work and memory
 
-TEST(HostileWork, ATriangleSoupIsRefusedBeforeSlicing) {
-    const fs::path d = folder("soup");
-    std::mt19937 rng(7);
-    std::uniform_real_distribution<float> u(0, 50);
+// A binary STL of n random triangles in a cube `size` mm wide: no two share an edge.
+static std::string soup_stl(uint32_t n, unsigned seed, float size) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> u(0, size);
     std::string stl(80, '\0');
-    const uint32_t n = 5000;
+    stl.reserve(84 + 50 * size_t(n));
     stl.append(reinterpret_cast<const char*>(&n), 4);
     for (uint32_t t = 0; t < n; ++t) {
         float f[12] = {0, 0, 0};
@@ -677,7 +677,12 @@ TEST(HostileWork, ATriangleSoupIsRefusedBeforeSlicing) {
         stl.append(reinterpret_cast<const char*>(f), sizeof f);
         stl.append(2, '\0');
     }
-    write(d / "soup.stl", stl);
+    return stl;
+}
+
+TEST(HostileWork, ATriangleSoupIsRefusedBeforeSlicing) {
+    const fs::path d = folder("soup");
+    write(d / "soup.stl", soup_stl(5000, 7, 50));
     const CarveRun r =
         run_carve("slice " + (d / "soup.stl").string() + " -q -o " + (d / "o.gcode").string());
     expect_one_line(r, kExitBadInput, "triangle soup", "soup");
@@ -692,19 +697,7 @@ TEST(HostileWork, ATriangleSoupIsRefusedBeforeSlicing) {
 TEST(HostileWork, ALargeTriangleSoupIsRefusedWithinBoundedMemory) {
     SKIP_UNDER_ULIMIT_V();
     const fs::path d = folder("big_soup");
-    std::mt19937 rng(11);
-    std::uniform_real_distribution<float> u(0, 100);
-    const uint32_t n = 300000;
-    std::string stl(80, '\0');
-    stl.reserve(84 + 50 * size_t(n));
-    stl.append(reinterpret_cast<const char*>(&n), 4);
-    for (uint32_t t = 0; t < n; ++t) {
-        float f[12] = {0, 0, 0};
-        for (int k = 3; k < 12; ++k) f[k] = u(rng);
-        stl.append(reinterpret_cast<const char*>(f), sizeof f);
-        stl.append(2, '\0');
-    }
-    write(d / "soup.stl", stl);
+    write(d / "soup.stl", soup_stl(300000, 11, 100));
     const CarveRun r =
         run_carve("slice " + (d / "soup.stl").string() + " -q -o " + (d / "o.gcode").string(),
                   "ulimit -v 200000; ulimit -c 0;");
