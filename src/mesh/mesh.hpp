@@ -7,6 +7,7 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -39,6 +40,13 @@ struct MeshReport {
     double volume_mm3 = 0;  // after repair, from the divergence theorem
     BBox3 bbox;
     std::vector<std::string> warnings;  // one line each: what was wrong and what was done
+    // A 3MF's build items, each an object on the plate: name and extent in the plane, mm.
+    struct BuildItem {
+        std::string name;
+        double min_x = std::numeric_limits<double>::max(), min_y = min_x;
+        double max_x = std::numeric_limits<double>::lowest(), max_y = max_x;
+    };
+    std::vector<BuildItem> items;
 };
 
 // What load_mesh refuses besides unreadable files.

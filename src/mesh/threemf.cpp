@@ -180,6 +180,7 @@ struct Object {
     std::vector<std::array<uint32_t, 3>> triangles;
     std::vector<Component> components;
     bool referenced = false;  // used as a component of another object
+    std::string name;         // the object's name attribute, if any
 };
 
 // Limits on what a 3MF may make carve hold. A real model part is XML of ~100 bytes a triangle
@@ -334,6 +335,8 @@ void read_3mf(std::string& data, const std::string& path, Mesh& mesh, MeshReport
             } else if (e.name == "object") {
                 object_id = need_index(e.attributes, "id");
                 object = e.empty ? nullptr : &objects[object_id];
+                if (object && attribute(e.attributes, "name", value))
+                    object->name = std::string(value.substr(0, 200));
             } else if (e.name == "component") {
                 if (!object) continue;
                 if (attribute(e.attributes, "path", value))
@@ -374,6 +377,7 @@ void read_3mf(std::string& data, const std::string& path, Mesh& mesh, MeshReport
     Welder welder(text_size / 120 + 16, path);
     std::vector<uint32_t> welded;
     size_t instances = 0;
+    MeshReport::BuildItem* item = nullptr;  // the build item being placed, for its extent
     auto place = [&](auto&& self, uint32_t id, const Affine& t, int depth) -> void {
         if (depth > 32) fail(path, "3MF components nest too deeply (a cycle?)");
         // Nested components multiply: 30 levels of two copies each are 2^30 objects.
@@ -394,6 +398,12 @@ void read_3mf(std::string& data, const std::string& path, Mesh& mesh, MeshReport
                 check_point(path, p.x, p.y, p.z,
                             [&] { return "a vertex of 3MF object " + std::to_string(id); });
                 welded.push_back(welder.add(p.x, p.y, p.z));
+                if (item) {
+                    item->min_x = std::min(item->min_x, p.x),
+                    item->max_x = std::max(item->max_x, p.x);
+                    item->min_y = std::min(item->min_y, p.y),
+                    item->max_y = std::max(item->max_y, p.y);
+                }
             }
             // A mirroring transform turns the facets inside out; swap them back.
             const bool mirror = world.determinant() < 0;
@@ -412,7 +422,21 @@ void read_3mf(std::string& data, const std::string& path, Mesh& mesh, MeshReport
         }
         for (const auto& c : o.components) self(self, c.object, c.transform.then(t), depth + 1);
     };
-    for (const auto& [id, t] : items) place(place, id, t, 0);
+    // Each build item is an object on the plate of its own (printed as one, labelled apart so
+    // that a host can cancel it): its name, or the object's id, and its extent.
+    report.items.clear();
+    report.items.reserve(items.size());
+    for (const auto& [id, t] : items) {
+        report.items.push_back({});
+        item = &report.items.back();
+        const auto it = objects.find(id);
+        item->name = it != objects.end() && !it->second.name.empty()
+                         ? it->second.name
+                         : "object" + std::to_string(id);
+        place(place, id, t, 0);
+        if (item->min_x > item->max_x) report.items.pop_back();  // placed nothing
+    }
+    item = nullptr;
     report.triangles_read = mesh.triangles.size();
     mesh.vertices = welder.take();
 }

@@ -15,6 +15,7 @@
 #include <chrono>
 #include <cstdio>
 #include <deque>
+#include <map>
 #include <memory>
 #include <optional>
 #include <utility>
@@ -103,6 +104,7 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
     load_options.refuse_soup = true;
     Mesh mesh = load_mesh(options.model_path, result.mesh, load_options);
     for (const std::string& w : result.mesh.warnings) note(w);
+    const BBox3 loaded_box = result.mesh.bbox;  // before scaling: the 3MF items' frame
     if (settings.scale != 1.0) {
         // Scale about the bottom centre so that the model stays on the bed where it was.
         const BBox3 b = result.mesh.bbox;
@@ -186,6 +188,22 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
             const CopyBox& c = copy_boxes[k];
             objects.push_back({fmt::format("{}_{}", object_label(options.model_path), k + 1),
                                c.min_x, c.min_y, c.max_x, c.max_y});
+        }
+        writer.set_objects(std::move(objects));
+    } else if (result.mesh.items.size() > 1) {
+        // A 3MF plate of several build items: each labelled as the object it is, scaled as the
+        // mesh was (about its bottom centre), named as the file names it (made safe, and
+        // numbered when two share a name).
+        std::vector<ObjectLabel> objects;
+        const double s = settings.scale;
+        const double cx = (loaded_box.min.x + loaded_box.max.x) / 2;
+        const double cy = (loaded_box.min.y + loaded_box.max.y) / 2;
+        std::map<std::string, int> seen;
+        for (const MeshReport::BuildItem& it : result.mesh.items) {
+            std::string name = object_label(it.name);
+            if (++seen[name] > 1) name += fmt::format("_{}", seen[name]);
+            objects.push_back({name, cx + (it.min_x - cx) * s, cy + (it.min_y - cy) * s,
+                               cx + (it.max_x - cx) * s, cy + (it.max_y - cy) * s});
         }
         writer.set_objects(std::move(objects));
     }

@@ -754,6 +754,22 @@ TEST(MeshFormats, ThreeMfItemsComponentsMirrorAndUnits) {
     EXPECT_EQ(r.inverted_shells, 0u);  // the mirror's winding was swapped back on reading
     EXPECT_NEAR(r.volume_mm3, 16000.0, 1e-6);
     EXPECT_DOUBLE_EQ(r.bbox.min.x, -120.0);
+    // Each build item an object of its own, with its extent (--copies' labels use them).
+    ASSERT_EQ(r.items.size(), 2u);
+    EXPECT_EQ(r.items[0].name, "object1");
+    EXPECT_EQ(r.items[1].name, "object2");
+    EXPECT_DOUBLE_EQ(r.items[0].min_x, 0.0);
+    EXPECT_DOUBLE_EQ(r.items[0].max_x, 20.0);
+    EXPECT_DOUBLE_EQ(r.items[1].min_x, -120.0);
+    EXPECT_DOUBLE_EQ(r.items[1].max_x, -100.0);
+    EXPECT_DOUBLE_EQ(r.items[1].max_y, 20.0);
+    std::string named = model_xml("<item objectid=\"1\"/>\n<item objectid=\"2\"/>\n");
+    named.replace(named.find("<object id=\"1\" type=\"model\">"), 28,
+                  "<object id=\"1\" type=\"model\" name=\"Left part\">");
+    write_3mf(path, named);
+    r = load_ok(path);
+    ASSERT_EQ(r.items.size(), 2u);
+    EXPECT_EQ(r.items[0].name, "Left part");
 
     write_3mf(path, model_xml("<item objectid=\"1\"/>\n", "centimeter"));
     r = load_ok(path);
