@@ -66,7 +66,9 @@ Emitter::Emitter(const Settings& st, Coord off_x, Coord off_y, std::FILE* out, s
       off_y_(off_y),
       out_(out),
       path_(std::move(path)),
-      object_name_(std::move(object)),
+      objects_{ObjectLabel{std::move(object)}},
+      objects_labelled_(1, 0),
+      object_bounds_(1),
       planner_(machine_limits(st)) {
     const double r = st.filament_diameter / 2;
     filament_area_ = std::numbers::pi * r * r;
@@ -207,17 +209,33 @@ void Emitter::mark_progress(double elapsed_s) {
 }
 
 Emitter::Snapshot Emitter::save() const {
-    return {buf_.size(), pos_,          z_,          e_mm_,     e_units_,          feed_,
-            retracted_,  first_travel_, type_known_, labelled_, objects_labelled_, object_bounds_,
-            fan_,        type_,         width_,      accel_,    wipe_length_,      planner_,
-            stats_,      bounds_,       wipe_path_};
+    return {buf_.size(),
+            pos_,
+            z_,
+            e_mm_,
+            e_units_,
+            feed_,
+            retracted_,
+            first_travel_,
+            type_known_,
+            objects_labelled_,
+            object_bounds_,
+            fan_,
+            type_,
+            width_,
+            accel_,
+            wipe_length_,
+            planner_,
+            stats_,
+            bounds_,
+            wipe_path_};
 }
 
 void Emitter::restore(const Snapshot& k) {
     buf_.resize(k.text);
     pos_ = k.pos, z_ = k.z, e_mm_ = k.e_mm, e_units_ = k.e_units, feed_ = k.feed;
     retracted_ = k.retracted, first_travel_ = k.first_travel, type_known_ = k.type_known;
-    labelled_ = k.labelled, fan_ = k.fan, type_ = k.type, width_ = k.width, accel_ = k.accel;
+    fan_ = k.fan, type_ = k.type, width_ = k.width, accel_ = k.accel;
     objects_labelled_ = k.objects_labelled, object_bounds_ = k.object_bounds;
     wipe_length_ = k.wipe_length, planner_ = k.planner, stats_ = k.stats, bounds_ = k.bounds;
     wipe_path_ = k.wipe_path;
@@ -263,6 +281,7 @@ void Emitter::set_objects(std::vector<ObjectLabel> objects) {
 
 // The object whose box holds p (model coordinates), else the one whose box is nearest.
 int Emitter::object_of(const Point& p) const {
+    if (objects_.size() == 1) return 0;
     const double x = to_mm(p.X), y = to_mm(p.Y);
     int best = 0;
     double best_d = std::numeric_limits<double>::max();
@@ -279,44 +298,29 @@ int Emitter::object_of(const Point& p) const {
 void Emitter::print_paths(const LayerToolpaths& layer) {
     comber_.reset();
     set_fan(fan_byte(layer_fan_));
-    if (!objects_.empty()) {
-        // Each object's run of extrusions between its own start and end lines: a host that
-        // cancels one skips them, the travel into the object included.
-        object_ = -1;
-        static const Travel unplanned;
-        for (size_t i = 0; i < layer.extrusions.size(); ++i) {
-            const Extrusion& ex = layer.extrusions[i];
-            if (ex.points.size() >= 2) {
-                const int k = object_of(ex.points.front());
-                if (k != object_) {
-                    if (object_ >= 0)
-                        for (const std::string& l : object_end(st_, objects_[object_].name))
-                            line(l);
-                    for (const std::string& l :
-                         object_start(st_, objects_[k].name, k, !objects_labelled_[k]))
-                        line(l);
-                    objects_labelled_[k] = 1;
-                    object_ = k;
-                }
-            }
-            extrude(ex, i < layer.travels.size() ? layer.travels[i] : unplanned);
-        }
-        if (object_ >= 0)
-            for (const std::string& l : object_end(st_, objects_[object_].name)) line(l);
-        object_ = -1;
-        return;
-    }
-    bool any = false;
-    for (const Extrusion& ex : layer.extrusions) any = any || ex.points.size() >= 2;
-    if (any) {
-        for (const std::string& l : object_start(st_, object_name_, 0, !labelled_)) line(l);
-        labelled_ = true;
-    }
+    // Each object's run of extrusions between its own start and end lines: a host that cancels
+    // one skips them, the travel into the object included. One object: the whole layer.
+    object_ = -1;
     static const Travel unplanned;
-    for (size_t i = 0; i < layer.extrusions.size(); ++i)
-        extrude(layer.extrusions[i], i < layer.travels.size() ? layer.travels[i] : unplanned);
-    if (any)
-        for (const std::string& l : object_end(st_, object_name_)) line(l);
+    for (size_t i = 0; i < layer.extrusions.size(); ++i) {
+        const Extrusion& ex = layer.extrusions[i];
+        if (ex.points.size() >= 2) {
+            const int k = object_of(ex.points.front());
+            if (k != object_) {
+                if (object_ >= 0)
+                    for (const std::string& l : object_end(st_, objects_[object_].name)) line(l);
+                for (const std::string& l :
+                     object_start(st_, objects_[k].name, k, !objects_labelled_[k]))
+                    line(l);
+                objects_labelled_[k] = 1;
+                object_ = k;
+            }
+        }
+        extrude(ex, i < layer.travels.size() ? layer.travels[i] : unplanned);
+    }
+    if (object_ >= 0)
+        for (const std::string& l : object_end(st_, objects_[object_].name)) line(l);
+    object_ = -1;
 }
 
 }  // namespace carve

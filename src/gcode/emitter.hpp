@@ -147,7 +147,7 @@ class Emitter {
         Coord z = 0;
         double e_mm = 0;
         long long e_units = 0, feed = 0;
-        bool retracted = false, first_travel = false, type_known = false, labelled = false;
+        bool retracted = false, first_travel = false, type_known = false;
         std::vector<char> objects_labelled;
         std::vector<Bounds> object_bounds;
         int fan = 0;
@@ -168,15 +168,14 @@ class Emitter {
     Coord off_x_, off_y_;
     std::FILE* out_;
     std::string path_;
-    std::string object_name_;           // the object's label
-    std::vector<ProgressMark> marks_;   // where the M73 lines go
-    long long written_ = 0;             // bytes of text flushed to out_
-    double speed_factor_ = 1;           // cooling's slowdown of the layer being written
-    int layer_fan_ = 0;                 // percent, for the layer's ordinary extrusions
-    double accel_ = -1;                 // Klipper's M204 S in force
-    bool labelled_ = false;             // M486 A named the object
-    std::vector<ObjectLabel> objects_;  // with --copies: each object, else empty
-    std::vector<char> objects_labelled_;
+    std::vector<ProgressMark> marks_;  // where the M73 lines go
+    long long written_ = 0;            // bytes of text flushed to out_
+    double speed_factor_ = 1;          // cooling's slowdown of the layer being written
+    int layer_fan_ = 0;                // percent, for the layer's ordinary extrusions
+    double accel_ = -1;                // Klipper's M204 S in force
+    // The objects on the bed: one (the model, named at construction) or what set_objects gave.
+    std::vector<ObjectLabel> objects_;
+    std::vector<char> objects_labelled_;  // M486 A named it
     std::vector<Bounds> object_bounds_;
     int object_ = -1;  // index in objects_ of what is being printed
     fmt::memory_buffer buf_;
