@@ -2,7 +2,6 @@
 #include "gcode/thumbnail.hpp"
 
 #include <fmt/format.h>
-#include <png.h>
 
 #include <algorithm>
 #include <cmath>
@@ -11,6 +10,7 @@
 #include <limits>
 
 #include "base/error.hpp"
+#include "base/png.hpp"
 
 namespace carve {
 
@@ -31,33 +31,6 @@ V3 cross(V3 a, V3 b) {
 V3 unit(V3 a) {
     const double n = std::sqrt(dot(a, a));
     return n > 0 ? V3{a.x / n, a.y / n, a.z / n} : a;
-}
-
-// libpng reports errors through longjmp; this function holds no C++ object that needs a
-// destructor between setjmp and the calls that may jump.
-bool write_png_rgba(FILE* file, int width, int height, const uint8_t* pixels) {
-    png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
-    if (!png) return false;
-    png_infop info = png_create_info_struct(png);
-    if (!info) {
-        png_destroy_write_struct(&png, nullptr);
-        return false;
-    }
-    if (setjmp(png_jmpbuf(png))) {
-        png_destroy_write_struct(&png, &info);
-        return false;
-    }
-    png_init_io(png, file);
-    png_set_compression_level(png, 9);  // the header's size, read by every host
-    png_set_IHDR(png, info, static_cast<png_uint_32>(width), static_cast<png_uint_32>(height), 8,
-                 PNG_COLOR_TYPE_RGBA, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT,
-                 PNG_FILTER_TYPE_DEFAULT);
-    png_write_info(png, info);
-    for (int row = 0; row < height; ++row)
-        png_write_row(png, pixels + static_cast<size_t>(row) * static_cast<size_t>(width) * 4);
-    png_write_end(png, info);
-    png_destroy_write_struct(&png, &info);
-    return true;
 }
 
 }  // namespace
@@ -146,7 +119,8 @@ std::string encode_png_rgba(const std::vector<uint8_t>& rgba, int width, int hei
     size_t size = 0;
     FILE* mem = open_memstream(&data, &size);
     if (!mem) throw OutputError("cannot make a thumbnail: out of memory");
-    const bool ok = write_png_rgba(mem, width, height, rgba.data());
+    // Level 9: the header's size, read by every host.
+    const bool ok = write_png(mem, width, height, rgba.data(), PngFormat{4, 9, false});
     std::fclose(mem);
     std::string png(data ? data : "", data ? size : 0);
     std::free(data);
