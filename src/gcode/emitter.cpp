@@ -88,7 +88,7 @@ void Emitter::start() {
     // wait for the bed twice and leave the macro's own order (soak, mesh) without effect.
     const bool macro_heats =
         st_.flavor == GcodeFlavor::Klipper && start_text.find("PRINT_START") != std::string::npos;
-    for (const std::string& l : machine_limit_lines(st_)) line(l);
+    for (const std::string& l : machine_limit_lines(st_, kZSpeed)) line(l);
     set_fan(0);
     if (klipper_macro) {
         line(fmt::format("PRINT_START BED_TEMP={} EXTRUDER_TEMP={}",

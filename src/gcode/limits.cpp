@@ -31,7 +31,18 @@ double retract_speed_limit(const Settings& s) {
                                             : std::min(s.retract_speed, s.max_feedrate_e);
 }
 
-std::vector<std::string> machine_limit_lines(const Settings& s) {
+bool feed_limits_bind(const Settings& s, double z_speed) {
+    // Each feature's speed is capped by max_print_speed where that is set; the wipe moves at
+    // most at the travel speed.
+    double print = std::max(
+        {s.perimeter_speed, s.cover_speed, s.cavity_speed, s.bridge_speed, s.first_layer_speed});
+    if (s.max_print_speed > 0) print = std::min(print, s.max_print_speed);
+    const double xy = std::max(print, s.travel_speed);
+    return xy > std::min(s.max_feedrate_x, s.max_feedrate_y) || z_speed > s.max_feedrate_z ||
+           (!s.firmware_retraction && s.retract_speed > s.max_feedrate_e);
+}
+
+std::vector<std::string> machine_limit_lines(const Settings& s, double z_speed) {
     if (s.flavor == GcodeFlavor::Klipper) return {};
     auto n = [](double v) { return plain_number(v); };
     const double feed_unit = s.flavor == GcodeFlavor::RepRap ? 60.0 : 1.0;
@@ -39,10 +50,16 @@ std::vector<std::string> machine_limit_lines(const Settings& s) {
     out.push_back(fmt::format("M201 X{} Y{} Z{} E{} ; sets maximum accelerations, mm/sec^2",
                               n(s.max_acceleration_x), n(s.max_acceleration_y),
                               n(s.max_acceleration_z), n(s.max_acceleration_e)));
-    out.push_back(fmt::format("M203 X{} Y{} Z{} E{} ; sets maximum feedrates, {}",
-                              n(s.max_feedrate_x * feed_unit), n(s.max_feedrate_y * feed_unit),
-                              n(s.max_feedrate_z * feed_unit), n(s.max_feedrate_e * feed_unit),
-                              feed_unit == 1.0 ? "mm / sec" : "mm / min"));
+    if (feed_limits_bind(s, z_speed))
+        out.push_back(fmt::format("M203 X{} Y{} Z{} E{} ; sets maximum feedrates, {}",
+                                  n(s.max_feedrate_x * feed_unit), n(s.max_feedrate_y * feed_unit),
+                                  n(s.max_feedrate_z * feed_unit), n(s.max_feedrate_e * feed_unit),
+                                  feed_unit == 1.0 ? "mm / sec" : "mm / min"));
+    else
+        out.push_back(fmt::format(
+            "; maximum feedrates X{} Y{} Z{} E{} mm/sec, above every feed "
+            "rate of this file: no M203",
+            n(s.max_feedrate_x), n(s.max_feedrate_y), n(s.max_feedrate_z), n(s.max_feedrate_e)));
     out.push_back(
         fmt::format("M204 P{} R{} T{} ; sets acceleration (P, T) and retract "
                     "acceleration (R), mm/sec^2",

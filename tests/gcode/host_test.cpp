@@ -206,7 +206,8 @@ class Replay {
     const std::map<int, double>& layer_s() const { return layer_time_; }
     // The fastest extruding F (mm/s) of each layer.
     const std::map<int, double>& layer_fastest() const { return fastest_; }
-    bool saw_limits() const { return saw_m201_ && saw_m203_ && saw_m204_ && saw_m205_; }
+    bool saw_limits() const { return saw_m201_ && saw_m204_ && saw_m205_; }
+    bool saw_m203() const { return saw_m203_; }
 
   private:
     struct Block {
@@ -616,6 +617,9 @@ TEST(Estimate, EqualsAnIndependentReadingOfTheFile) {
         const Sliced s = slice(fandisk(), "--cavities 2 " + args, "estimate");
         const Replay r(s.gcode);
         EXPECT_TRUE(r.saw_limits()) << args;
+        // M203 only where a commanded feed rate reaches it (the slow X axis): PrusaSlicer's
+        // viewer would read it in mm/min.
+        EXPECT_EQ(r.saw_m203(), args.rfind("--load", 0) == 0) << args;
         const double carve_s = s.stats["estimated_print_time_s"].get<double>();
         EXPECT_NEAR(r.total_s() / carve_s, 1.0, 0.02)
             << args << ": carve " << carve_s << " s, the file read back " << r.total_s() << " s";
@@ -623,6 +627,7 @@ TEST(Estimate, EqualsAnIndependentReadingOfTheFile) {
         if (args == "--printer generic") generic_s = carve_s;
         if (args.rfind("--load", 0) == 0) {
             EXPECT_NE(s.gcode.find("\nM201 X400 Y600 "), std::string::npos);
+            EXPECT_NE(s.gcode.find("\nM203 X80 Y"), std::string::npos);
             EXPECT_NE(s.gcode.find("\nM205 X5 Y8 "), std::string::npos);
             EXPECT_GT(carve_s, generic_s * 1.05) << "slower axes, longer print";
         }
