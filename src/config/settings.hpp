@@ -76,6 +76,12 @@ struct Settings {
     // x1.47 16.5 -> 11.0 down). At 20 mm cat and fandisk hang more (13.6, 48.3).
     double whole_width_max = 14.0;
     double max_bridge_length = 10.0;  // mm; a longer span would sag more than the minimum it holds
+    // mm; what the slice above prints deeper than this inside a cavity gets a rib under it
+    // (supports/ribs.hpp): `carve check` counts extrusion more than 2 mm from the layer below as
+    // hanging. 0: no ribs.
+    double rib_reach = 1.6;
+    double rib_spacing = 2.0;  // mm; the lattice ribs are seeded on
+    double rib_piece = 1.0;    // mm; the line a rib prints on each layer
     // Resource guard: a slice with more contour vertices stops the run (0 = no limit). Millions
     // of vertices per layer would make carving run for hours.
     long long max_vertices_per_layer = 5'000'000;
