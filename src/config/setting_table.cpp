@@ -102,9 +102,9 @@ std::vector<SettingSpec> make_table() {
          "column grown down through the cavity leaning at most the overhang angle, mm; 0 = no "
          "ribs [1.6]"},
         {"rib-spacing", "", "mm", 0.5, 100.0, &S::rib_spacing,
-         "Spacing of the lattice the ribs are seeded on, mm [2]"},
+         "Spacing of the lattice the ribs are seeded on, mm [2.6]"},
         {"rib-piece", "", "mm", 0.0, 100.0, &S::rib_piece,
-         "Length of the line a rib prints on each layer (at least two line widths), mm [1]"},
+         "Length of the line a rib prints on each layer (at least two line widths), mm [0.8]"},
         {"max-vertices-per-layer", "", "vertices", 0, 1e9, &S::max_vertices_per_layer,
          "Give up when one slice has more contour vertices than this; 0 = no limit, vertices "
          "[5000000]"},

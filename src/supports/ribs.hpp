@@ -22,8 +22,9 @@ struct RibOptions {
     Coord line_width = 400;  // w
     Coord lean = 200;        // r: how far a rib may move from one layer to the next
     Coord reach = 1600;      // what lies deeper than this inside the cavity below gets a rib
-    Coord spacing = 2000;    // the lattice ribs are seeded on
-    Coord piece = 1000;      // length of the short line a rib prints on each layer
+    Coord spacing = 2600;    // the lattice ribs are seeded on
+    Coord piece = 800;       // length of the short line a rib prints on each layer
+    Coord attract = 7800;    // a rib nearer another than this and than any wall leans to it
 };
 
 RibOptions rib_options(const Settings& settings);

@@ -28,8 +28,9 @@ RibOptions options() {
     o.line_width = 400;
     o.lean = 200;
     o.reach = 1600;
-    o.spacing = 2000;
-    o.piece = 1000;
+    o.spacing = 2600;
+    o.piece = 800;
+    o.attract = 3 * o.spacing;
     return o;
 }
 
@@ -123,6 +124,11 @@ TEST(Ribs, EachPieceStandsWithinTheLeanOfTheLayerBelow) {
             double best = distance_to(m, solid_below);
             for (const Path& p : below.ribs) best = std::min(best, distance(m, middle(p)));
             EXPECT_LE(best, double(o.lean) + 2.0) << "layer " << i;
+            // Where it stands on the solid below, the whole piece does, not its middle alone.
+            if (distance_to(m, solid_below) <= double(o.lean) + 2.0) {
+                EXPECT_LE(distance_to(piece.front(), solid_below), double(o.lean) + 2.0);
+                EXPECT_LE(distance_to(piece.back(), solid_below), double(o.lean) + 2.0);
+            }
         }
     }
     EXPECT_GT(pieces, 0);
