@@ -80,10 +80,10 @@ std::vector<SettingSpec> make_table() {
          "A part of the volume to carve narrower than this is carved whole and its ceiling "
          "printed as bridges, mm; also a part up to --whole-width-max wide whose ceiling (what "
          "lies under the model's surface) is narrower than this; 0 tears every part along its "
-         "axis [4]"},
+         "axis; the ribs hold ceilings of any width [1000]"},
         {"whole-width-max", "", "mm", 0.0, 1000.0, &S::whole_width_max,
          "How wide a part whose ceiling is narrower than --whole-width may be and still be "
-         "carved whole, mm [14]"},
+         "carved whole, mm [1000]"},
         {"scale", "", "ratio", 0.01, 100.0, &S::scale,
          "Scale the model uniformly by this factor, ratio [1]"},
         {"copies", "", "copies", 1, 400, &S::copies,
