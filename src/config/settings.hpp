@@ -67,10 +67,11 @@ struct Settings {
     // whatever would hang (supports/ribs.hpp) no width hangs any more, so every part is carved
     // whole (1000 mm). Material at 4 / 1000 mm, both with ribs: fandisk 9.03 / 8.21 %, skull
     // 5.05 / 3.99, cat 7.69 / 7.15, elephant 7.01 / 6.37, skull x1.43 3.66 / 2.80, the flat
-    // box 16.7 / 12.45, the bladed plate 24.8 / 20.4; hanging inside under 0.7 mm2 on each, and
-    // the estimated print time lower on each. Fandisk x2.5: 3.82 / 3.34 %, rib material 1,099 /
-    // 1,011 mm3 (a part carved whole still grows by at most r a slice downwards, so the ribs
-    // under its ceiling stay short and the material follows the surface).
+    // box 16.7 / 12.45, the bladed plate 24.8 / 20.4; hanging inside under 0.7 mm2 on each.
+    // The print time fell on the models but rose on the flat shapes, whose one cavity takes
+    // thousands of short rib lines (README, How it compares). Fandisk x2.5: 3.82 / 3.34 %, rib
+    // material 1,099 / 1,011 mm3: a part carved whole still grows by at most r a slice
+    // downwards, so its ceilings are no wider than the nested cavities' were.
     double whole_width = 1000.0;
     // mm; how wide that component may be (14 before ribs, see above).
     double whole_width_max = 1000.0;
