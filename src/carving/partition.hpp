@@ -23,6 +23,13 @@ struct Bridge {
     bool cover = false;
 };
 
+// A minimum the bridges left without a printable support (its region on this slice), kept for
+// the ribs stage, which may hold it from below.
+struct UnheldMinimum {
+    Paths region;
+    bool ceiling = false;  // a cover over a cavity below
+};
+
 struct LayerPartition {
     int index = 0;  // i, bottom-up
     double z = 0;   // cut height in mm, model coordinates
@@ -52,6 +59,13 @@ struct LayerPartition {
     int minima_held_by_wall = 0;  // no bridge, but within a line width of the wall below
     int ceilings_found = 0;       // of them, covers over a cavity below
     int ceilings_unsupported = 0;
+    std::vector<UnheldMinimum> unheld;  // the minima counted unsupported above
+    // Ribs (supports/ribs.hpp): short open lines inside the cavities, each on a rib that holds
+    // what the slices above would leave hanging.
+    Paths ribs;
+    // Of the slice above's unsupported minima, those the ribs printed on this slice hold.
+    int minima_held_by_ribs = 0;
+    int ceilings_held_by_ribs = 0;
 };
 
 // A stage that hands out layers one at a time, top down (the sweep, a queue between threads).

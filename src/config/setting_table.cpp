@@ -80,10 +80,10 @@ std::vector<SettingSpec> make_table() {
          "A part of the volume to carve narrower than this is carved whole and its ceiling "
          "printed as bridges, mm; also a part up to --whole-width-max wide whose ceiling (what "
          "lies under the model's surface) is narrower than this; 0 tears every part along its "
-         "axis [4]"},
+         "axis; the ribs hold ceilings of any width [1000]"},
         {"whole-width-max", "", "mm", 0.0, 1000.0, &S::whole_width_max,
          "How wide a part whose ceiling is narrower than --whole-width may be and still be "
-         "carved whole, mm [14]"},
+         "carved whole, mm [1000]"},
         {"scale", "", "ratio", 0.01, 100.0, &S::scale,
          "Scale the model uniformly by this factor, ratio [1]"},
         {"copies", "", "copies", 1, 400, &S::copies,
@@ -97,6 +97,14 @@ std::vector<SettingSpec> make_table() {
         {"max-bridge-length", "", "mm", 1.0, 500.0, &S::max_bridge_length,
          "Longest span a bridge may have, mm; a longer one is split into pieces bridged apart, "
          "and what no shorter line reaches is left out [10]"},
+        {"rib-reach", "", "mm", 0.0, 100.0, &S::rib_reach,
+         "What the layer above prints deeper than this inside a cavity gets a rib under it, a "
+         "column grown down through the cavity leaning at most the overhang angle, mm; 0 = no "
+         "ribs [1.6]"},
+        {"rib-spacing", "", "mm", 0.5, 100.0, &S::rib_spacing,
+         "Spacing of the lattice the ribs are seeded on, mm [2.6]"},
+        {"rib-piece", "", "mm", 0.0, 100.0, &S::rib_piece,
+         "Length of the line a rib prints on each layer (at least two line widths), mm [0.8]"},
         {"max-vertices-per-layer", "", "vertices", 0, 1e9, &S::max_vertices_per_layer,
          "Give up when one slice has more contour vertices than this; 0 = no limit, vertices "
          "[5000000]"},

@@ -59,23 +59,32 @@ struct Settings {
     // slice, as in the report's algorithm. Smaller is better supported and costs material.
     double tear_limit = 0.0;
     // mm; a component of V^{j-1} that holds no disk this wide is carved whole in one slice and
-    // its ceiling bridged (0: every component tears along its medial axis, as in the report).
-    // 4 mm, not the 10 mm a bridge can span: `carve check` counts the middle of a span more
-    // than 2 mm from its anchors as hanging, and a flat 60 x 60 x 12 mm box went from 0 to
-    // 72 mm2 hanging inside at 6 or 10 mm (a thin-bladed plate from 2 to 264-294 mm2). A
-    // component up to max_bridge_length wide is carved whole too when the part of it under the
-    // model's surface in the slice above holds no disk this wide (the rest lies under earlier
-    // cavities, where there is no ceiling to bridge): the flat box and the plate keep their
-    // figures, domes lose their nested rings of walls.
-    double whole_width = 4.0;
-    // mm; how wide that component may be. 14 mm, measured on the shared models against the
-    // bridge length (10): material cat 7.76 -> 7.61 %, elephant 7.11 -> 6.98, fandisk 8.89 ->
-    // 8.84, man 12.14 -> 11.88, skull 5.17 -> 5.02, skull x1.43 3.91 -> 3.63 (CuraEngine
-    // lightning 3.80), cat x1.47 5.41 -> 5.34; hanging inside summed over the seven 127 -> 118
-    // mm2 (skull 8.6 -> 14.5 and elephant 8.4 -> 12.6 up, skull x1.43 46.6 -> 35.6 and cat
-    // x1.47 16.5 -> 11.0 down). At 20 mm cat and fandisk hang more (13.6, 48.3).
-    double whole_width_max = 14.0;
+    // its ceiling bridged (0: every component tears along its medial axis, as in the report). A
+    // component up to whole_width_max wide is carved whole too when the part of it under the
+    // model's surface in the slice above holds no disk this wide. Before ribs it was 4 mm (and
+    // 14 mm for that maximum): `carve check` counts the middle of a span more than 2 mm from its
+    // anchors as hanging, and a flat 60 x 60 x 12 mm box hung 72 mm2 at 10 mm. With ribs under
+    // whatever would hang (supports/ribs.hpp) no width hangs any more, so every part is carved
+    // whole (1000 mm). Material at 4 / 1000 mm, both with ribs: fandisk 9.03 / 8.21 %, skull
+    // 5.05 / 3.99, cat 7.69 / 7.15, elephant 7.01 / 6.37, skull x1.43 3.66 / 2.80, the flat
+    // box 16.7 / 12.45, the bladed plate 24.8 / 20.4; hanging inside under 0.7 mm2 on each.
+    // The print time fell on the models but rose on the flat shapes, whose one cavity takes
+    // thousands of short rib lines (README, How it compares). Fandisk x2.5: 3.82 / 3.34 %, rib
+    // material 1,099 / 1,011 mm3: a part carved whole still grows by at most r a slice
+    // downwards, so its ceilings are no wider than the nested cavities' were.
+    double whole_width = 1000.0;
+    // mm; how wide that component may be (14 before ribs, see above).
+    double whole_width_max = 1000.0;
     double max_bridge_length = 10.0;  // mm; a longer span would sag more than the minimum it holds
+    // mm; what the slice above prints deeper than this inside a cavity gets a rib under it
+    // (supports/ribs.hpp): `carve check` counts extrusion more than 2 mm from the layer below as
+    // hanging. 0: no ribs.
+    double rib_reach = 1.6;
+    // mm; the lattice ribs are seeded on. 2.6 rather than 2: a point it must hold is then within
+    // 1.84 mm of a rib; rib material fandisk 216 -> 174 mm3, skull 132 -> 106, nothing more
+    // hanging (3.0: fandisk hangs 1.3 mm2).
+    double rib_spacing = 2.6;
+    double rib_piece = 0.8;  // mm; the line a rib prints on each layer (2 line widths at least)
     // Resource guard: a slice with more contour vertices stops the run (0 = no limit). Millions
     // of vertices per layer would make carving run for hours.
     long long max_vertices_per_layer = 5'000'000;

@@ -200,6 +200,7 @@ double Emitter::speed_of(Feature f) const {
             v = st_.cover_speed;
             break;
         case Feature::CavityWall:
+        case Feature::Rib:
             v = st_.cavity_speed;
             break;
         case Feature::Bridge:

@@ -100,6 +100,9 @@ std::string HtmlReportWriter::Impl::drawing(const LayerPartition& layer,
             case Feature::CavityWall:
                 kind = 3, j = cavity_class(e.cavity);
                 break;
+            case Feature::Rib:  // drawn with the walls of the cavity it stands in
+                kind = 3, j = cavity_class(0);
+                break;
             case Feature::Bridge:
                 kind = 4;
                 break;
@@ -171,6 +174,7 @@ void HtmlReportWriter::add_layer(const LayerPartition& layer, const LayerToolpat
                 r.cover_mm += len;
                 break;
             case Feature::CavityWall:
+            case Feature::Rib:
                 r.cavity_wall_mm += len;
                 break;
             case Feature::Bridge:

@@ -23,15 +23,18 @@ struct RunResult {
     int minima_found = 0;         // local minima and ceilings over a cavity, all slices
     int minima_unsupported = 0;   // of them, left without a support that prints
     int minima_held_by_wall = 0;  // no bridge, but within a line width of the wall below
+    int minima_held_by_ribs = 0;  // no printable bridge, but ribs under them
     int ceilings_found = 0;       // of the minima, covers over a cavity below
     int ceilings_unsupported = 0;
+    int ceilings_held_by_ribs = 0;
+    int ribs = 0;  // rib pieces printed, all layers
     // The model's own overhang, summed over the layers: beyond the slice below by more than
     // h tan(support angle), and of that more than 2 mm beyond it (supports/overhang.hpp).
     double external_overhang_mm2 = 0;
     double far_external_overhang_mm2 = 0;
     // Extruded volume by feature (index: Feature), the remainder's solid fill apart, and the
     // walls of each cavity (index j; 0 unused).
-    double feature_mm3[5] = {0, 0, 0, 0, 0};
+    double feature_mm3[6] = {0, 0, 0, 0, 0, 0};
     double remainder_fill_mm3 = 0;
     std::vector<double> cavity_wall_mm3;
     double bridge_length_mm = 0;

@@ -36,12 +36,15 @@ nlohmann::json stats_json(const RunResult& run, const Settings& settings) {
     j["cover_volume_mm3"] = run.cover_volume_mm3;
     j["cover_bridges"] = run.cover_bridges;
     j["minima_found"] = run.minima_found;
-    j["minima_bridged"] =
-        run.minima_found - run.minima_unsupported - run.minima_held_by_wall;  // wholly, by bridges
+    j["minima_bridged"] = run.minima_found - run.minima_unsupported - run.minima_held_by_wall -
+                          run.minima_held_by_ribs;  // wholly, by bridges
     // Held by the wall below: no deeper than a line width inside the cavity below.
     j["minima_supported_otherwise"] = run.minima_held_by_wall;
+    // No printable bridge, but ribs under what of them lies deeper than --rib-reach.
+    j["minima_held_by_ribs"] = run.minima_held_by_ribs;
     j["minima_unsupported"] = run.minima_unsupported;
     j["ceilings_found"] = run.ceilings_found;
+    j["ceilings_held_by_ribs"] = run.ceilings_held_by_ribs;
     j["ceilings_unsupported"] = run.ceilings_unsupported;
     // The model's own overhang (no supports are printed): what only supports would hold.
     j["external_overhang_mm2"] = run.external_overhang_mm2;
@@ -52,6 +55,7 @@ nlohmann::json stats_json(const RunResult& run, const Settings& settings) {
     m["covers_mm3"] = run.feature_mm3[2];
     m["cavity_walls_mm3"] = run.feature_mm3[3];
     m["bridges_mm3"] = run.feature_mm3[4];
+    m["ribs_mm3"] = run.feature_mm3[5];
     m["remainder_mm3"] = run.remainder_fill_mm3;
     std::vector<double> walls(run.cavity_wall_mm3.begin() + (run.cavity_wall_mm3.empty() ? 0 : 1),
                               run.cavity_wall_mm3.end());
@@ -80,6 +84,8 @@ nlohmann::json stats_json(const RunResult& run, const Settings& settings) {
     s["whole_width_mm"] = settings.whole_width;
     s["whole_width_max_mm"] = settings.whole_width_max;
     s["max_bridge_length_mm"] = settings.prune_bridges ? settings.max_bridge_length : 0.0;
+    s["rib_reach_mm"] = settings.rib_reach;
+    s["rib_spacing_mm"] = settings.rib_spacing;
     s["prune_bridges"] = settings.prune_bridges;
     s["printer"] = settings.printer_name;
     s["copies"] = settings.copies;

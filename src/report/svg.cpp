@@ -163,7 +163,7 @@ std::string layer_svg(const LayerPartition& layer, const LayerToolpaths* paths,
 
     const double line_px = std::clamp(options.path_width_mm * f.scale, 0.4, 3.0);
     if (paths) {
-        std::array<double, 5> length_mm{};
+        std::array<double, 6> length_mm{};
         for (const Extrusion& e : paths->extrusions)
             length_mm[size_t(e.feature)] += length(Paths{e.points}, e.closed) / 1000.0;
         auto add_line = [&](Feature feat, const std::string& colour, const char* name) {
@@ -176,6 +176,7 @@ std::string layer_svg(const LayerPartition& layer, const LayerToolpaths* paths,
         add_line(Feature::CavityWall, dark(cavity_colour(1)), "cavity walls");
         add_line(Feature::Cover, kCoverLine, "cover lines");
         add_line(Feature::Bridge, kBridge, "bridge lines");
+        add_line(Feature::Rib, kBridge, "ribs");
     }
     const double legend_w = options.legend ? 230 : 0;
     const double legend_h = options.legend ? 22.0 * double(legend.size()) + 50 : 0;
@@ -247,6 +248,7 @@ std::string layer_svg(const LayerPartition& layer, const LayerToolpaths* paths,
         stroke(Feature::Shell, 0, "shell", kShell, 1);
         stroke(Feature::OuterWall, 0, "outer-wall", kOuterWall, 1.2);
         stroke(Feature::Bridge, 0, "bridge-lines", kBridge, 1.5);
+        stroke(Feature::Rib, 0, "ribs", kBridge, 1.2);
         svg += "</g>\n";
     }
 

@@ -37,6 +37,7 @@
 #include "slice/slicer.hpp"
 #include "supports/bridges.hpp"
 #include "supports/overhang.hpp"
+#include "supports/ribs.hpp"
 #include "toolpath/toolpath.hpp"
 
 namespace carve {
@@ -254,11 +255,12 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
     const int k = sweep_iterations(settings);
     const int c = std::max(0, settings.covers);
     const int kSlice = 0, kErode = 1, kWindow = 2, kCovers = 3, kSweep = 4;
-    const int kHold = kSweep + k, kWork = kHold + 1, kSink = kWork + 1, filter_count = kSink + 1;
+    const int kHold = kSweep + k, kWork = kHold + 1, kRibs = kWork + 1, kPaths = kRibs + 1;
+    const int kSink = kPaths + 1, filter_count = kSink + 1;
     // The slicer's tokens, then c + 1 that flush the window (c layers) and the hold-back.
     SpanLog span(profiling_enabled() ? layer_count + c + 1 : 0, filter_count);
     span.serial.assign(filter_count, true);
-    span.serial[kErode] = span.serial[kCovers] = span.serial[kWork] = false;
+    span.serial[kErode] = span.serial[kCovers] = span.serial[kWork] = span.serial[kPaths] = false;
 
     int next_seq = 0, ends_left = c + 1;
     TokenPool pool;  // before the filters and their state: freed after them
@@ -363,6 +365,22 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
                 add_bridges(t->layer, t->below ? &*t->below : nullptr, bridging);
             }
             t->below.reset();
+            return t;
+        });
+    // Ribs grow down from what would hang: serial top down, each slice's only after the slices
+    // above it (nothing is held back: a rib on slice i depends on slices i and above).
+    RibPlanner ribs(rib_options(settings));
+    auto rib_filter = tbb::make_filter<TokenPtr, TokenPtr>(tbb::filter_mode::serial_in_order,
+                                                           [&](TokenPtr t) -> TokenPtr {
+                                                               if (!t) return t;
+                                                               SpanTimer timer(span, t->seq, kRibs);
+                                                               ribs.add(t->layer);
+                                                               return t;
+                                                           });
+    auto paths = tbb::make_filter<TokenPtr, TokenPtr>(
+        tbb::filter_mode::parallel, [&](TokenPtr t) -> TokenPtr {
+            if (!t) return t;
+            SpanTimer timer(span, t->seq, kPaths);
             t->paths = plan_layer(t->layer, settings);
             if (options.in_parallel_stage) options.in_parallel_stage(t->layer.index);
             writer.add_layer(t->paths);  // thread-safe: the spill is indexed by layer
@@ -398,6 +416,12 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
             result.minima_found += layer.minima_found;
             result.minima_unsupported += layer.minima_unsupported;
             result.minima_held_by_wall += layer.minima_held_by_wall;
+            // Ribs on this slice hold minima of the slice above, already counted unsupported.
+            result.minima_unsupported -= layer.minima_held_by_ribs;
+            result.minima_held_by_ribs += layer.minima_held_by_ribs;
+            result.ceilings_unsupported -= layer.ceilings_held_by_ribs;
+            result.ceilings_held_by_ribs += layer.ceilings_held_by_ribs;
+            result.ribs += static_cast<int>(layer.ribs.size());
             result.ceilings_found += layer.ceilings_found;
             result.ceilings_unsupported += layer.ceilings_unsupported;
             for (size_t i = 0; i < t->paths.extrusions.size(); ++i) {
@@ -447,7 +471,9 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
         // An exception in any filter cancels the pipeline; parallel_pipeline waits for the
         // filters still running and rethrows it here, with its type and message, before
         // this frame's stages and writers are destroyed.
-        arena.execute([&] { tbb::parallel_pipeline(tokens, chain & hold & work & sink); });
+        arena.execute([&] {
+            tbb::parallel_pipeline(tokens, chain & hold & work & rib_filter & paths & sink);
+        });
     }
     for (double v : result.cavity_volume_mm3)
         if (v > 0) ++result.cavities;
@@ -501,7 +527,7 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
     if (profiling_enabled()) {
         std::vector<std::string> names{"slice", "erode", "window", "covers"};
         for (int j = 1; j <= k; ++j) names.push_back(fmt::format("sweep C{}", j));
-        names.insert(names.end(), {"hold back", "bridges+paths", "writers"});
+        names.insert(names.end(), {"hold back", "bridges", "ribs", "paths", "writers"});
         std::fputs(profile_table().c_str(), stderr);
         std::fputs(span_table(span, names, load_s, finish_s, threads).c_str(), stderr);
     }

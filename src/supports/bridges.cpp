@@ -283,6 +283,7 @@ void add_cover_bridges(LayerPartition& layer, const LayerPartition& below,
             if (br.lines.empty() || longest_line(br.lines) > double(options.max_length)) {
                 ++layer.minima_unsupported;
                 ++layer.ceilings_unsupported;
+                layer.unheld.push_back({need, true});
             }
             if (br.lines.empty()) continue;
             br.cavity = static_cast<int>(j) + 1;
@@ -355,8 +356,10 @@ void add_bridges(LayerPartition& layer, const LayerPartition* below, const Bridg
                 if (std::abs(area(deep)) <
                     options.min_area_r2 * double(options.dilation) * double(options.dilation))
                     ++layer.minima_held_by_wall;
-                else
+                else {
                     ++layer.minima_unsupported;
+                    layer.unheld.push_back({need, false});
+                }
             }
         }
     }

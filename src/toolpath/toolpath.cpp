@@ -126,6 +126,8 @@ std::string_view feature_name(Feature f) {
             return "Internal infill";
         case Feature::Bridge:
             return "Bridge infill";
+        case Feature::Rib:
+            return "Support material";
     }
     return "Custom";
 }
@@ -284,7 +286,7 @@ LayerToolpaths plan_layer(const LayerPartition& layer, const Settings& settings)
     if (outers > 1) index.emplace(shape);
     const size_t island_count = index ? size_t(index->islands()) : outers;
     struct Island {
-        std::vector<Extrusion> outer, shells, covers, solid;
+        std::vector<Extrusion> outer, shells, covers, solid, ribs;
         std::vector<std::vector<Extrusion>> cavities;
         std::vector<Bridge> bridges;
         bool done = false;
@@ -312,6 +314,15 @@ LayerToolpaths plan_layer(const LayerPartition& layer, const Settings& settings)
             if (!e.points.empty())
                 islands[island_at(e.points.front())].cavities[j].push_back(std::move(e));
     distribute(solid_lines, &Island::solid);
+    std::vector<Extrusion> ribs;
+    for (const Path& l : layer.ribs) {
+        if (l.size() < 2) continue;
+        Extrusion e;
+        e.feature = Feature::Rib;
+        e.points = l;
+        ribs.push_back(std::move(e));
+    }
+    distribute(ribs, &Island::ribs);
     for (const Bridge& b : layer.bridges) {
         const auto first =
             std::find_if(b.lines.begin(), b.lines.end(), [](const Path& l) { return !l.empty(); });
@@ -338,7 +349,7 @@ LayerToolpaths plan_layer(const LayerPartition& layer, const Settings& settings)
         double best = std::numeric_limits<double>::max();
         for (const Extrusion& e : isl.outer) best = std::min(best, d2(pos, e.points.front()));
         if (!isl.outer.empty()) return best;
-        for (const auto* group : {&isl.shells, &isl.covers, &isl.solid})
+        for (const auto* group : {&isl.shells, &isl.covers, &isl.solid, &isl.ribs})
             for (const Extrusion& e : *group) best = std::min(best, d2(pos, e.points.front()));
         for (const auto& group : isl.cavities)
             for (const Extrusion& e : group) best = std::min(best, d2(pos, e.points.front()));
@@ -362,6 +373,9 @@ LayerToolpaths plan_layer(const LayerPartition& layer, const Settings& settings)
         append(isl.covers);
         for (auto& group : isl.cavities) append(group);
         append(isl.solid);
+        // Ribs stand on the layer below like the walls; the bridges of this layer do not need
+        // them (they hold the layer above).
+        append(isl.ribs);
         // Bridges last: they hang over the cavity below, anchored on the walls just printed.
         for (Extrusion& e : order_bridges(isl.bridges, settings.bridge_flow, pos))
             result.extrusions.push_back(std::move(e));

@@ -11,7 +11,7 @@
 
 namespace carve {
 
-enum class Feature { OuterWall, Shell, Cover, CavityWall, Bridge };
+enum class Feature { OuterWall, Shell, Cover, CavityWall, Bridge, Rib };
 // How the travel to a path was planned: not at all (the first path of a layer: the G-code stage
 // plans it, knowing where the layer below ended), inside the part (no retraction), or leaving it.
 enum class TravelKind : unsigned char { Unplanned, Inside, Leaves };

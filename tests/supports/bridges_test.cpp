@@ -186,6 +186,10 @@ TEST(Bridges, WhatEachIterationLeftFollowsTheMinimaOnARealModel) {
     // restriction from it. On fandisk, slice by slice, it must still be that union, and the
     // cavities and the remainder a partition of the carvable region.
     Settings settings;
+    // Nested cavities, several bridged on one slice: parts torn as before ribs (carved whole,
+    // the default since, fandisk has one cavity).
+    settings.whole_width = 4;
+    settings.whole_width_max = 14;
     MeshReport report;
     Mesh mesh = load_mesh(carve::test::repo_model("fandisk.stl"), report);
     TopDownSlicer slicer(mesh, settings.layer_height);

@@ -281,6 +281,7 @@ TEST(Toolpath, PrintOrderFollowsTheReport) {
     b.cavity = 2;
     b.lines = {{{2 * kMm, 0}, {5 * kMm, 0}}, {{2 * kMm, 400}, {5 * kMm, 400}}};
     l.bridges.push_back(b);
+    l.ribs = {{{-3 * kMm, 0}, {-2200, 0}}};  // after the walls it stands beside, before bridges
     LayerToolpaths t = plan_layer(l, st);
     auto rank = [](const Extrusion& e) {
         switch (e.feature) {
@@ -292,6 +293,8 @@ TEST(Toolpath, PrintOrderFollowsTheReport) {
                 return 2;
             case Feature::CavityWall:
                 return 10 + e.cavity;
+            case Feature::Rib:
+                return 500;
             case Feature::Bridge:
                 return 1000;
         }
@@ -300,7 +303,7 @@ TEST(Toolpath, PrintOrderFollowsTheReport) {
     std::vector<int> seen;
     for (const Extrusion& e : t.extrusions) seen.push_back(rank(e));
     EXPECT_TRUE(std::is_sorted(seen.begin(), seen.end()));
-    for (int r : {0, 1, 2, 11, 12, 1000})
+    for (int r : {0, 1, 2, 11, 12, 500, 1000})
         EXPECT_NE(std::find(seen.begin(), seen.end(), r), seen.end()) << "missing group " << r;
     auto bridges = of_feature(t, Feature::Bridge);
     ASSERT_EQ(bridges.size(), 2u);
@@ -313,6 +316,7 @@ TEST(Toolpath, PrintOrderFollowsTheReport) {
 TEST(Toolpath, FeatureNamesArePrusaSlicerWords) {
     EXPECT_EQ(feature_name(Feature::OuterWall), "External perimeter");
     EXPECT_EQ(feature_name(Feature::Shell), "Perimeter");
+    EXPECT_EQ(feature_name(Feature::Rib), "Support material");
     EXPECT_EQ(feature_name(Feature::Cover), "Solid infill");
     EXPECT_EQ(feature_name(Feature::CavityWall), "Internal infill");
     EXPECT_EQ(feature_name(Feature::Bridge), "Bridge infill");

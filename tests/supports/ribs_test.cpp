@@ -1,0 +1,175 @@
+// Ribs under what would hang (supports/ribs.hpp): on constructed slices (a flat ceiling over a
+// cavity too wide to bridge), and end to end through the carve executable, judged by the
+// G-code check.
+#include "supports/ribs.hpp"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "geometry/morphology.hpp"
+#include "geometry/polygon.hpp"
+#include "support/carve_run.hpp"
+#include "support/shapes.hpp"
+#include "support/stl_boxes.hpp"
+
+using namespace carve;
+using carve::test::rect_region;
+
+namespace {
+
+constexpr Coord kMm = 1000;
+
+RibOptions options() {
+    RibOptions o;
+    o.line_width = 400;
+    o.lean = 200;
+    o.reach = 1600;
+    o.spacing = 2600;
+    o.piece = 800;
+    o.attract = 3 * o.spacing;
+    return o;
+}
+
+// A 30 mm box: solid bottom layers 0 and 1, a 28 mm cavity from layer 2 to `top` - 1, and a
+// solid ceiling at `top`.
+LayerPartition box_layer(int i, int top) {
+    LayerPartition l;
+    l.index = i;
+    l.outline = rect_region(0, 0, 30 * kMm, 30 * kMm);
+    if (i >= 2 && i < top) l.cavities = {rect_region(kMm, kMm, 29 * kMm, 29 * kMm)};
+    return l;
+}
+
+// What a layer prints: everything but its cavities less half a line width, plus its ribs.
+Paths printed(const LayerPartition& l) {
+    Paths empty;
+    for (const Paths& c : l.cavities) empty = unite(empty, erode(c, 200));
+    Paths p = subtract(l.outline, empty);
+    if (!l.ribs.empty()) p = unite(p, dilate_lines(l.ribs, 200));
+    return p;
+}
+
+double distance_to(const Point& q, const Paths& region) {
+    if (point_in_region(q, region)) return 0;
+    double best = 1e18;
+    for (const Path& c : region)
+        for (size_t i = 0; i < c.size(); ++i) {
+            const Point& a = c[i];
+            const Point& b = c[(i + 1) % c.size()];
+            const double dx = double(b.X - a.X), dy = double(b.Y - a.Y);
+            const double len2 = dx * dx + dy * dy;
+            double t = len2 > 0 ? ((q.X - a.X) * dx + (q.Y - a.Y) * dy) / len2 : 0;
+            t = std::clamp(t, 0.0, 1.0);
+            best = std::min(best, std::hypot(q.X - (a.X + t * dx), q.Y - (a.Y + t * dy)));
+        }
+    return best;
+}
+
+Point middle(const Path& l) {
+    return Point((l.front().X + l.back().X) / 2, (l.front().Y + l.back().Y) / 2);
+}
+
+std::vector<LayerPartition> planned_box(int top, const RibOptions& o) {
+    std::vector<LayerPartition> layers;
+    for (int i = 0; i <= top; ++i) layers.push_back(box_layer(i, top));
+    RibPlanner planner(o);
+    for (int i = top; i >= 0; --i) planner.add(layers[size_t(i)]);
+    return layers;
+}
+
+}  // namespace
+
+TEST(Ribs, WideCeilingIsHeldWithinTwoMillimetres) {
+    const int top = 60;
+    const std::vector<LayerPartition> layers = planned_box(top, options());
+    ASSERT_FALSE(layers[top - 1].ribs.empty());
+    // Every point of the ceiling lies within 2 mm of what the layer below prints.
+    const Paths below = printed(layers[top - 1]);
+    int far = 0;
+    for (Coord y = 0; y <= 30 * kMm; y += 250)
+        for (Coord x = 0; x <= 30 * kMm; x += 250)
+            if (distance_to(Point(x, y), below) > 2.0 * kMm) ++far;
+    EXPECT_EQ(far, 0);
+    // Without ribs the middle of the ceiling is 14 mm from the walls.
+    RibOptions off = options();
+    off.enabled = false;
+    const std::vector<LayerPartition> bare = planned_box(top, off);
+    EXPECT_TRUE(bare[top - 1].ribs.empty());
+    EXPECT_GT(distance_to(Point(15 * kMm, 15 * kMm), printed(bare[top - 1])), 10.0 * kMm);
+}
+
+TEST(Ribs, EachPieceStandsWithinTheLeanOfTheLayerBelow) {
+    const int top = 60;
+    const RibOptions o = options();
+    const std::vector<LayerPartition> layers = planned_box(top, o);
+    int pieces = 0;
+    for (int i = top - 1; i >= 1; --i) {
+        const LayerPartition& here = layers[size_t(i)];
+        const LayerPartition& below = layers[size_t(i - 1)];
+        Paths solid_below = subtract(below.outline, [&] {
+            Paths e;
+            for (const Paths& c : below.cavities) e = unite(e, erode(c, 200));
+            return e;
+        }());
+        for (const Path& piece : here.ribs) {
+            ++pieces;
+            EXPECT_GE(length(Paths{piece}, false), double(o.line_width));
+            // The rib's point on this layer: within r of its point on the layer below, or of
+            // what that layer prints solid.
+            const Point m = middle(piece);
+            double best = distance_to(m, solid_below);
+            for (const Path& p : below.ribs) best = std::min(best, distance(m, middle(p)));
+            EXPECT_LE(best, double(o.lean) + 2.0) << "layer " << i;
+            // Where it stands on the solid below, the whole piece does, not its middle alone.
+            if (distance_to(m, solid_below) <= double(o.lean) + 2.0) {
+                EXPECT_LE(distance_to(piece.front(), solid_below), double(o.lean) + 2.0);
+                EXPECT_LE(distance_to(piece.back(), solid_below), double(o.lean) + 2.0);
+            }
+        }
+    }
+    EXPECT_GT(pieces, 0);
+    // Every rib stands on something: nothing is left on the bottom cover's layers.
+    EXPECT_TRUE(layers[1].ribs.empty());
+    EXPECT_TRUE(layers[0].ribs.empty());
+}
+
+TEST(Ribs, UnheldCeilingIsCountedHeldByRibs) {
+    const int top = 30;
+    std::vector<LayerPartition> layers;
+    for (int i = 0; i <= top; ++i) layers.push_back(box_layer(i, top));
+    layers[top].unheld.push_back({rect_region(kMm, kMm, 29 * kMm, 29 * kMm), true});
+    RibPlanner planner(options());
+    for (int i = top; i >= 0; --i) planner.add(layers[size_t(i)]);
+    EXPECT_EQ(layers[top - 1].minima_held_by_ribs, 1);
+    EXPECT_EQ(layers[top - 1].ceilings_held_by_ribs, 1);
+}
+
+// End to end: a flat 40 x 40 x 10 mm box carved whole under its top, whose ceiling no bridge
+// of 10 mm spans. The G-code check finds nothing hanging inside, and no minimum is left
+// unsupported; without ribs the middle of the ceiling hangs.
+TEST(Ribs, FlatBoxCeilingHeldEndToEnd) {
+    std::vector<test::StlTriangle> t;
+    test::add_box(t, 0, 0, 0, 40, 40, 10);
+    const auto stl = test::write_stl("flat_box.stl", t);
+    auto run = [&](const std::string& extra) {
+        const auto gcode = test::scratch() / "flat_box.gcode";
+        const auto stats = test::scratch() / "flat_box.json";
+        const test::CarveRun r = test::run_carve(
+            "slice " + stl.string() + " -o " + gcode.string() + " --stats " + stats.string() +
+            " --stats-check --whole-width 40 --whole-width-max 40 " + extra);
+        EXPECT_EQ(r.status, 0) << r.err;
+        return nlohmann::json::parse(test::read(stats));
+    };
+    const nlohmann::json with = run("");
+    EXPECT_LT(with["check"]["hanging_inside_mm2"].get<double>(), 1.0);
+    EXPECT_EQ(with["minima_unsupported"].get<int>(), 0);
+    EXPECT_GT(with["material_by_feature"]["ribs_mm3"].get<double>(), 0);
+    const nlohmann::json without = run("--rib-reach 0");
+    EXPECT_GT(without["check"]["hanging_inside_mm2"].get<double>(), 10.0);
+    EXPECT_GT(without["minima_unsupported"].get<int>(), 0);
+    EXPECT_EQ(without["material_by_feature"]["ribs_mm3"].get<double>(), 0);
+}
