@@ -8,7 +8,9 @@
 #include "check/gcode_analysis.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <deque>
 #include <limits>
 #include <numbers>
 
@@ -106,6 +108,7 @@ class Analyser {
         }
         GcodeAnalysis& r = result_;
         r.extruded_volume_mm3 = r.filament_length_mm * filament_area_;
+        r.support_gap_mm = opt_.support_gap_mm;
         if (r.footprint_area_mm2 > 0) {
             r.unsupported_fraction = r.unsupported_area_mm2 / r.footprint_area_mm2;
             r.far_unsupported_fraction = r.far_unsupported_area_mm2 / r.footprint_area_mm2;
@@ -130,6 +133,12 @@ class Analyser {
         }
         if (starts_with(c, "TYPE:")) {
             type_ = std::string(trim(c.substr(5)));
+            // PrusaSlicer "Support material", "Support material interface"; CuraEngine
+            // "SUPPORT", "SUPPORT-INTERFACE".
+            std::string lower = type_;
+            for (char& ch : lower)
+                ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+            support_type_ = lower.find("support") != std::string::npos;
             return;
         }
         double v = 0;
@@ -395,10 +404,13 @@ class Analyser {
                 std::fabs(sw - pw) > kWidthTolerance * pw)
                 extend = false;
         }
+        if (extend && lines_.back().support != support_type_) extend = false;
         if (!extend) {
             lines_.emplace_back();
             lines_.back().points.push_back(Point(to_units(x_), to_units(y_)));
+            lines_.back().support = support_type_;
         }
+        if (support_type_) result_.support_volume_mm3 += de * filament_area_;
         Polyline& p = lines_.back();
         p.points.push_back(Point(to_units(nx), to_units(ny)));
         p.e += de;
@@ -448,14 +460,36 @@ class Analyser {
             return;
         }
         Paths footprint = widen(lines_, h, filament_area_, opt_.bead);
+        Paths support_footprint;
+        if (std::any_of(lines_.begin(), lines_.end(),
+                        [](const Polyline& l) { return l.support; })) {
+            std::vector<Polyline> support_lines;
+            for (const Polyline& l : lines_)
+                if (l.support) support_lines.push_back(l);
+            support_footprint = widen(support_lines, h, filament_area_, opt_.bead);
+        }
         lines_.clear();
         layer_.footprint_area_mm2 = region_area_mm2(footprint);
+        // The supports' tops within the gap below the layer under this one hold it too.
+        while (!support_tops_.empty() &&
+               support_tops_.front().first < layer_.z_mm - h - opt_.support_gap_mm - kZTolerance)
+            support_tops_.pop_front();
+        Paths with_tops;
+        for (const auto& [z, fp] : support_tops_)
+            if (z < layer_.z_mm - h - kZTolerance && !fp.empty())
+                with_tops.insert(with_tops.end(), fp.begin(), fp.end());
+        if (!with_tops.empty())
+            with_tops.insert(with_tops.end(), prev_footprint_.begin(), prev_footprint_.end());
+        const Paths& below = with_tops.empty() ? prev_footprint_ : with_tops;
         if (!on_bed_ && have_prev_) {
-            Paths unsupported = difference(footprint, dilate_round(prev_footprint_, r_units_));
+            Paths unsupported = difference(footprint, dilate_round(below, r_units_));
             layer_.unsupported_area_mm2 = region_area_mm2(unsupported);
             if (!unsupported.empty()) {
-                Paths far = far_region(unsupported, prev_footprint_, far_units_);
+                Paths far = far_region(unsupported, below, far_units_);
                 layer_.far_unsupported_area_mm2 = region_area_mm2(far);
+                if (!support_footprint.empty() && !far.empty())
+                    layer_.hanging_support_mm2 =
+                        region_area_mm2(intersection(far, support_footprint));
                 if (opt_.model_slice && have_prev_model_ && !far.empty()) {
                     // Over the model's slice one layer down: something inside the object could
                     // have held it. The rest hangs beyond the model itself.
@@ -473,7 +507,7 @@ class Analyser {
             width_sum_ += width * layer_.path_length_mm;
             width_weight_ += layer_.path_length_mm;
         }
-        if (opt_.model_slice) check_model(footprint, h);
+        if (opt_.model_slice) check_model(footprint, support_footprint, h);
         layer_travel_.clear();
 
         GcodeAnalysis& r = result_;
@@ -488,18 +522,22 @@ class Analyser {
         r.max_outside_model_mm = std::max(r.max_outside_model_mm, layer_.max_outside_model_mm);
         r.hanging_inside_mm2 += layer_.hanging_inside_mm2;
         r.hanging_overhang_mm2 += layer_.hanging_overhang_mm2;
+        r.hanging_support_mm2 += layer_.hanging_support_mm2;
+        r.outside_support_mm2 += layer_.outside_support_mm2;
         r.travel_inside_mm += layer_.travel_inside_mm;
         r.travel_outside_mm += layer_.travel_outside_mm;
         r.wall_crossings += layer_.wall_crossings;
         if (opt_.keep_layers) r.per_layer.push_back(layer_);
 
         prev_footprint_ = std::move(footprint);
+        if (!support_footprint.empty() || !support_tops_.empty())
+            support_tops_.emplace_back(layer_.z_mm, std::move(support_footprint));
         have_prev_ = true;
         prev_z_ = layer_.z_mm;
         prev_height_ = h;
     }
 
-    void check_model(const Paths& footprint, double h) {
+    void check_model(const Paths& footprint, const Paths& support_footprint, double h) {
         result_.model_checked = true;
         Paths model = opt_.model_slice(layer_.z_mm - h / 2);
         double tolerance = opt_.model_tolerance_mm;
@@ -513,6 +551,8 @@ class Analyser {
         Paths grown = dilate_round(model, to_units(tolerance));
         Paths outside_tol = difference(footprint, grown);
         layer_.outside_area_mm2 = region_area_mm2(outside_tol);
+        if (!support_footprint.empty())
+            layer_.outside_support_mm2 = region_area_mm2(difference(support_footprint, grown));
         if (!layer_travel_.empty()) {
             const TravelFigures t = measure_travel(layer_travel_, grown);
             layer_.travel_inside_mm = t.inside_mm;
@@ -547,6 +587,8 @@ class Analyser {
     bool have_prev_ = false;
     double prev_z_ = 0, prev_height_ = 0, first_z_ = 0;
     Paths prev_footprint_;
+    // Support footprints of the last layers (z, footprint), bottom up, for support_gap_mm.
+    std::deque<std::pair<double, Paths>> support_tops_;
 
     double width_sum_ = 0, width_weight_ = 0, tolerance_sum_ = 0;
 
@@ -554,8 +596,9 @@ class Analyser {
     bool have_prev_model_ = false;
     Paths prev_model_;
 
-    double feed_mm_s_ = 50;  // until the file sets F
-    std::string type_;       // the last ;TYPE: comment
+    double feed_mm_s_ = 50;      // until the file sets F
+    std::string type_;           // the last ;TYPE: comment
+    bool support_type_ = false;  // it names support
 
     // Moves since the last extrusion, waiting for the layer that the next extrusion opens.
     struct Pending {

@@ -111,6 +111,43 @@ std::vector<Extrusion> order_bridges(const std::vector<Bridge>& bridges, double 
     return out;
 }
 
+// Supports (supports/support_volume.hpp): the interface as dense lines across the body's walls,
+// the body as its outline and walls along x every kSupportSpacing, at the same places on every
+// layer so that they stack. The interface's lowest layer bridges between those walls.
+constexpr double kSupportSpacingMm = 2.5;
+
+std::vector<Extrusion> support_paths(const LayerPartition& layer, const Settings& settings) {
+    std::vector<Extrusion> out;
+    if (layer.support.empty()) return out;
+    const Coord s = settings.nozzle_radius(), w = settings.line_width();
+    const Paths body = layer.support_interface.empty()
+                           ? layer.support
+                           : subtract(layer.support, layer.support_interface);
+    const Paths inner = erode(body, s);
+    add_loops(inner, Feature::Support, 0, 2.0 * double(w), out);
+    if (!inner.empty()) {
+        const BBox2 b = bounds(inner);
+        const Coord pitch = to_units(kSupportSpacingMm);
+        Paths lines;
+        const Coord first = (b.min_y / pitch) * pitch;
+        for (Coord y = first; y <= b.max_y; y += pitch)
+            if (y > b.min_y) lines.push_back(Path{Point(b.min_x - w, y), Point(b.max_x + w, y)});
+        for (Path& l : clip_lines(lines, inner)) {
+            if (l.size() < 2 || length(Paths{l}, false) < double(w)) continue;
+            Extrusion e;
+            e.feature = Feature::Support;
+            e.points = std::move(l);
+            out.push_back(std::move(e));
+        }
+    }
+    if (!layer.support_interface.empty()) {
+        std::vector<Extrusion> dense =
+            fill_solid(erode(layer.support_interface, s), 90.0, 2 * w, Feature::SupportInterface);
+        for (Extrusion& e : dense) out.push_back(std::move(e));
+    }
+    return out;
+}
+
 }  // namespace
 
 std::string_view feature_name(Feature f) {
@@ -126,6 +163,10 @@ std::string_view feature_name(Feature f) {
             return "Internal infill";
         case Feature::Bridge:
             return "Bridge infill";
+        case Feature::Support:
+            return "Support material";
+        case Feature::SupportInterface:
+            return "Support material interface";
     }
     return "Custom";
 }
@@ -366,6 +407,10 @@ LayerToolpaths plan_layer(const LayerPartition& layer, const Settings& settings)
         for (Extrusion& e : order_bridges(isl.bridges, settings.bridge_flow, pos))
             result.extrusions.push_back(std::move(e));
     }
+
+    // Supports last: nothing of the model rests on them within the layer.
+    std::vector<Extrusion> supports = support_paths(layer, settings);
+    if (!supports.empty()) append(supports);
 
     // 6. Travel between the paths (issue #18): inside the island without retraction where it
     // can, retracted and through the islands where it must leave. Planned here, on the worker
