@@ -49,6 +49,7 @@ struct LayerPartition {
     // overhang (its interface). Empty without --support.
     Paths support;
     Paths support_interface;
+    Paths support_walls;  // single walls below the region (open polylines), outside it
     // Local minima of this slice (cavity minima and ceilings over a cavity below) the supports
     // stage found, and how many of them it left without a support that prints: a bridge whose
     // lines would be longer than the printable span.

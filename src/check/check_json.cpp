@@ -81,6 +81,8 @@ nlohmann::json to_json(const GcodeAnalysis& a, bool with_layers) {
                 lj["max_outside_model_mm"] = l.max_outside_model_mm;
                 lj["hanging_inside_mm2"] = l.hanging_inside_mm2;
                 lj["hanging_overhang_mm2"] = l.hanging_overhang_mm2;
+                lj["hanging_support_mm2"] = l.hanging_support_mm2;
+                lj["outside_support_mm2"] = l.outside_support_mm2;
                 lj["travel_inside_mm"] = l.travel_inside_mm;
                 lj["travel_outside_mm"] = l.travel_outside_mm;
                 lj["wall_crossings"] = l.wall_crossings;

@@ -30,6 +30,7 @@ using ClipperLib::Clipper;
 using ClipperLib::ClipperOffset;
 
 constexpr double kZTolerance = 1e-4;      // mm: same layer
+constexpr double kMaxLayerMm = 1.0;       // no layer is thicker: how far back recent layers go
 constexpr double kMinMoveMm = 1e-6;       // shorter XY moves draw nothing
 constexpr double kReliableMm = 0.05;      // shorter moves carry too much rounding to judge a width
 constexpr double kWidthTolerance = 0.05;  // relative width change that starts a new polyline
@@ -139,6 +140,11 @@ class Analyser {
             for (char& ch : lower)
                 ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
             support_type_ = lower.find("support") != std::string::npos;
+            return;
+        }
+        if (starts_with(c, "HEIGHT:")) {
+            double v = 0;
+            if (parse_number(trim(c.substr(7)), v) && v > 0 && v < 10) line_height_ = v;
             return;
         }
         double v = 0;
@@ -387,8 +393,11 @@ class Analyser {
                 box.min_y = std::min(box.min_y, py), box.max_y = std::max(box.max_y, py);
             }
         };
-        grow(all_layers_);
-        if (!on_bed_) grow(above_first_);
+        // Supports stand beside the model: the model is placed by the rest.
+        if (!support_type_) {
+            grow(all_layers_);
+            if (!on_bed_) grow(above_first_);
+        }
         if (scan_only_) {
             layer_.extruded_volume_mm3 += de * filament_area_;
             layer_.path_length_mm += length;
@@ -404,11 +413,16 @@ class Analyser {
                 std::fabs(sw - pw) > kWidthTolerance * pw)
                 extend = false;
         }
-        if (extend && lines_.back().support != support_type_) extend = false;
+        if (extend && (lines_.back().support != support_type_ ||
+                       (support_type_ && lines_.back().height != line_height_)))
+            extend = false;
         if (!extend) {
             lines_.emplace_back();
             lines_.back().points.push_back(Point(to_units(x_), to_units(y_)));
             lines_.back().support = support_type_;
+            // Only for support: PrusaSlicer prints its support thicker than the layers (and says
+            // so), while its bridges' ;HEIGHT: is the thread's diameter, not the layer's.
+            lines_.back().height = support_type_ ? line_height_ : 0;
         }
         if (support_type_) result_.support_volume_mm3 += de * filament_area_;
         Polyline& p = lines_.back();
@@ -459,37 +473,77 @@ class Analyser {
             layer_travel_.clear();
             return;
         }
-        Paths footprint = widen(lines_, h, filament_area_, opt_.bead);
+        // A layer holding only support (PrusaSlicer interleaves them between the object's
+        // layers) is not the object's layer below: the object's lines are as thick as the step
+        // from the last layer that held the object, and what lies below them reaches that far.
+        const bool support_only =
+            std::all_of(lines_.begin(), lines_.end(), [](const Polyline& l) { return l.support; });
+        const double model_h =
+            !support_only && have_model_z_ && layer_.z_mm - model_z_ > h + kZTolerance
+                ? layer_.z_mm - model_z_
+                : h;
+        Paths footprint = widen(lines_, model_h, filament_area_, opt_.bead);
         Paths support_footprint;
+        double thickest = model_h;  // a ;HEIGHT: comment may say support is thicker
+        for (const Polyline& l : lines_) thickest = std::max(thickest, l.height);
+        if (!support_only) {
+            have_model_z_ = true;
+            model_z_ = layer_.z_mm;
+        }
         if (std::any_of(lines_.begin(), lines_.end(),
                         [](const Polyline& l) { return l.support; })) {
             std::vector<Polyline> support_lines;
             for (const Polyline& l : lines_)
                 if (l.support) support_lines.push_back(l);
-            support_footprint = widen(support_lines, h, filament_area_, opt_.bead);
+            support_footprint = widen(support_lines, model_h, filament_area_, opt_.bead);
         }
         lines_.clear();
         layer_.footprint_area_mm2 = region_area_mm2(footprint);
-        // The supports' tops within the gap below the layer under this one hold it too.
-        while (!support_tops_.empty() &&
-               support_tops_.front().first < layer_.z_mm - h - opt_.support_gap_mm - kZTolerance)
-            support_tops_.pop_front();
-        Paths with_tops;
-        for (const auto& [z, fp] : support_tops_)
-            if (z < layer_.z_mm - h - kZTolerance && !fp.empty())
-                with_tops.insert(with_tops.end(), fp.begin(), fp.end());
-        if (!with_tops.empty())
-            with_tops.insert(with_tops.end(), prev_footprint_.begin(), prev_footprint_.end());
-        const Paths& below = with_tops.empty() ? prev_footprint_ : with_tops;
+        // What lies below: the layers within the thickness of this one (one layer, unless a
+        // slicer interleaves thinner layers, as PrusaSlicer does between its support's layers
+        // and the object's), and the supports' tops within the gap below that (a support holds
+        // its overhang across a gap of a layer or so).
+        const double reach_z = layer_.z_mm - thickest - kZTolerance;
+        while (!recent_.empty() && recent_.front().z < reach_z - opt_.support_gap_mm - kMaxLayerMm)
+            recent_.pop_front();
+        Paths merged;
+        size_t parts = 0;
+        for (const Recent& r : recent_) {
+            if (r.z > layer_.z_mm - kZTolerance) continue;  // a sequential print's next object
+            const Paths* add = r.z >= reach_z                         ? &r.footprint
+                               : r.z >= reach_z - opt_.support_gap_mm ? &r.support
+                                                                      : nullptr;
+            if (!add || add->empty()) continue;
+            if (add != &recent_.back().footprint) ++parts;
+            merged.insert(merged.end(), add->begin(), add->end());
+        }
+        if (parts > 0) merged.insert(merged.end(), prev_footprint_.begin(), prev_footprint_.end());
+        // Most layers: the previous layer alone, read in place.
+        const Paths& below = parts == 0 ? prev_footprint_ : merged;
         if (!on_bed_ && have_prev_) {
             Paths unsupported = difference(footprint, dilate_round(below, r_units_));
             layer_.unsupported_area_mm2 = region_area_mm2(unsupported);
             if (!unsupported.empty()) {
                 Paths far = far_region(unsupported, below, far_units_);
+                if (!support_footprint.empty() && !far.empty()) {
+                    // A support standing on the model's top leaves the same gap: support
+                    // extrusion is held by anything printed within the gap below it.
+                    Paths on_model;
+                    for (const Recent& r : recent_)
+                        if (r.z < reach_z && r.z >= reach_z - opt_.support_gap_mm &&
+                            !r.footprint.empty())
+                            on_model.insert(on_model.end(), r.footprint.begin(), r.footprint.end());
+                    Paths far_support = intersection(far, support_footprint);
+                    if (!on_model.empty() && !far_support.empty()) {
+                        on_model.insert(on_model.end(), below.begin(), below.end());
+                        Paths rest = difference(far, support_footprint);
+                        far_support = far_region(far_support, on_model, far_units_);
+                        far = std::move(rest);
+                        far.insert(far.end(), far_support.begin(), far_support.end());
+                    }
+                    layer_.hanging_support_mm2 = region_area_mm2(far_support);
+                }
                 layer_.far_unsupported_area_mm2 = region_area_mm2(far);
-                if (!support_footprint.empty() && !far.empty())
-                    layer_.hanging_support_mm2 =
-                        region_area_mm2(intersection(far, support_footprint));
                 if (opt_.model_slice && have_prev_model_ && !far.empty()) {
                     // Over the model's slice one layer down: something inside the object could
                     // have held it. The rest hangs beyond the model itself.
@@ -529,9 +583,10 @@ class Analyser {
         r.wall_crossings += layer_.wall_crossings;
         if (opt_.keep_layers) r.per_layer.push_back(layer_);
 
+        // The last layer is read from prev_footprint_, the ones before from recent_.
+        if (have_prev_) recent_.back().footprint = prev_footprint_;
+        recent_.push_back({layer_.z_mm, {}, std::move(support_footprint)});
         prev_footprint_ = std::move(footprint);
-        if (!support_footprint.empty() || !support_tops_.empty())
-            support_tops_.emplace_back(layer_.z_mm, std::move(support_footprint));
         have_prev_ = true;
         prev_z_ = layer_.z_mm;
         prev_height_ = h;
@@ -587,8 +642,14 @@ class Analyser {
     bool have_prev_ = false;
     double prev_z_ = 0, prev_height_ = 0, first_z_ = 0;
     Paths prev_footprint_;
-    // Support footprints of the last layers (z, footprint), bottom up, for support_gap_mm.
-    std::deque<std::pair<double, Paths>> support_tops_;
+    // The last layers, bottom up: their z, footprint (empty for the last one, which is
+    // prev_footprint_) and support footprint, for layers interleaved thinner than this one and for
+    // support_gap_mm.
+    struct Recent {
+        double z = 0;
+        Paths footprint, support;
+    };
+    std::deque<Recent> recent_;
 
     double width_sum_ = 0, width_weight_ = 0, tolerance_sum_ = 0;
 
@@ -599,6 +660,9 @@ class Analyser {
     double feed_mm_s_ = 50;      // until the file sets F
     std::string type_;           // the last ;TYPE: comment
     bool support_type_ = false;  // it names support
+    double line_height_ = 0;     // the last ;HEIGHT: comment (PrusaSlicer), 0 = none
+    bool have_model_z_ = false;  // a layer with more than support was read
+    double model_z_ = 0;         // the last one's z
 
     // Moves since the last extrusion, waiting for the layer that the next extrusion opens.
     struct Pending {

@@ -379,6 +379,7 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
             SupportLayer s = planner.plan(out->layer.index);
             out->layer.support = std::move(s.region);
             out->layer.support_interface = std::move(s.interface);
+            out->layer.support_walls = std::move(s.walls);
             out->support_new_mm2 = s.new_mm2;
             return out;
         });

@@ -8,6 +8,7 @@
 
 #include "geometry/morphology.hpp"
 #include "geometry/polygon.hpp"
+#include "skeleton/skeleton.hpp"
 
 namespace carve {
 
@@ -115,6 +116,10 @@ const Paths& SupportPlanner::outline(int index) const {
 
 namespace {
 
+// How far a single line reaches out unheld beside the support below it without sagging: a line
+// width and a half (the check calls 2 mm hanging).
+constexpr Coord kHeld = 600;
+
 // The region's bounding box grown by `margin`, as a rectangle: what of the model can matter.
 Paths box_around(const Paths& region, Coord margin) {
     const BBox2 b = bounds(region);
@@ -155,19 +160,35 @@ SupportLayer SupportPlanner::plan(int j) {
             fresh = subtract(fresh, shadow_->below(z, o.xy_gap));
         }
     }
-    Paths region = fresh.empty() ? carried_ : unite(carried_, fresh);
-    if (!region.empty()) {
+    // Overhangs of neighbouring layers (the rings under a dome) and the support carried from
+    // above meet within a lean or two: closed, they are one region printed sparse, not a stack
+    // of thin columns side by side.
+    Paths region = fresh.empty() ? carried_ : close(unite(carried_, fresh), 2 * o.lean);
+    Paths walls = walls_;
+    Paths hug;  // beside the model: where the support does not narrow
+    if (!region.empty() || !walls.empty()) {
         // Clear of the model by xy_gap beside it, and by g layers above and below: the support
         // never touches the model, and where it meets the model's top (auto) it stops there.
         Paths model;
-        const Paths near = box_around(region, o.xy_gap + 2);
+        Paths reach = region;
+        reach.insert(reach.end(), walls.begin(), walls.end());
+        const Paths near = box_around(reach, o.xy_gap + o.lean + 2 * w);
         for (int k = j - g; k <= j + g; ++k) {
             const Paths& m = outline(k);
             if (m.empty()) continue;
             const Paths clipped = intersect(m, near);
             model.insert(model.end(), clipped.begin(), clipped.end());
         }
-        if (!model.empty()) region = subtract(region, dilate(unite(model), o.xy_gap));
+        if (!model.empty()) {
+            const Paths keep_off = dilate(unite(model), o.xy_gap);
+            if (!region.empty()) region = subtract(region, keep_off);
+            hug = dilate(keep_off, o.lean + w);
+            if (!walls.empty()) {
+                // A wall is a line: it keeps half a width more off the model.
+                const Paths wall_off = dilate(keep_off, w / 2);
+                walls = clip_lines(walls, subtract(near, wall_off));
+            }
+        }
         region = without_specks(region, min_area / 4);
     }
     out.region = region;
@@ -183,14 +204,67 @@ SupportLayer SupportPlanner::plan(int j) {
         out.new_mm2 = area_mm2(intersect(fresh, region));
     }
 
+    // Walls standing under nothing of the region: printed as lines (inside the region its own
+    // walls hold the same place).
+    if (!walls.empty()) {
+        out.walls =
+            region.empty() ? walls : clip_lines(walls, subtract(box_around(walls, w), region));
+        // Drop stubs shorter than a line width: nothing stands on them.
+        Paths kept;
+        for (Path& l : out.walls)
+            if (l.size() >= 2 && length(Paths{l}, false) >= double(w)) kept.push_back(std::move(l));
+        out.walls = std::move(kept);
+    }
+
     // Going down, each part narrows by `lean` (its edge then leans at the cavities' angle and
-    // holds itself) until it is no wider than a trunk, which goes straight down.
+    // holds itself). What of a part is too thin for its outline (under a line width: a
+    // peninsula narrowing away, a sliver) is printed as its medial axis instead, and that axis
+    // goes on down as a single wall, so that nothing of it is left hanging when the part
+    // narrows past it. A compact part no wider than a trunk goes straight down as a column; a
+    // long thin one narrows on until it would vanish, and its axis goes on down as a wall (a
+    // ring under a dome's rim becomes one cylinder).
     Paths carried;
+    const SkeletonOptions axis{w, w / 2, 5};
+    auto add_axis = [&](const Paths& piece, bool print_here) {
+        for (Path& l : medial_axis(piece, axis)) {
+            if (l.size() < 2 || length(Paths{l}, false) < double(w)) continue;
+            if (print_here) out.walls.push_back(l);
+            walls.push_back(std::move(l));
+        }
+    };
     for (Paths& c : components(region)) {
-        Paths next = erode(c, o.trunk).empty() ? std::move(c) : erode(c, o.lean);
+        const Paths printable = open(c, w / 2);
+        // Beside the model the support keeps its width, thin parts too: under a dome it is the
+        // shadow of every ring above, to which each layer adds the next ring (narrowing there,
+        // or dropping a ring too thin to print, would leave each ring a thin band of its own);
+        // elsewhere it narrows.
+        const Paths along = hug.empty() ? Paths{} : intersect(c, hug);
+        // What is too thin to print and reaches further than a line's safe overhang from the
+        // rest, away from the model, is printed as its axis and goes on down as a wall (a
+        // corner rounded off by the opening is held by the outline beside it).
+        if (Paths lost = subtract(c, printable); area(lost) > 0.25 * double(w) * double(w)) {
+            Paths held = printable.empty() ? Paths{} : dilate(printable, kHeld);
+            if (!along.empty()) held = held.empty() ? along : unite(held, along);
+            for (Paths& piece : components(lost))
+                if (held.empty() || !subtract(piece, held).empty()) add_axis(piece, true);
+        }
+        if (!printable.empty() && erode(printable, o.trunk).empty()) {
+            const BBox2 b = bounds(printable);
+            if (std::max(b.max_x - b.min_x, b.max_y - b.min_y) <= 3 * o.trunk) {
+                carried.insert(carried.end(), printable.begin(), printable.end());
+                continue;
+            }
+        }
+        Paths next = printable.empty() ? Paths{} : erode(printable, o.lean);
+        if (!along.empty()) next = next.empty() ? along : unite(next, along);
+        if (next.empty()) {
+            if (!printable.empty()) add_axis(printable, false);
+            continue;
+        }
         carried.insert(carried.end(), next.begin(), next.end());
     }
     carried_ = std::move(carried);
+    walls_ = std::move(walls);
 
     next_ = j - 1;
     while (!outlines_.empty() && outlines_.front().first > next_ + g + 1) outlines_.pop_front();

@@ -59,6 +59,7 @@ class ModelShadow {
 struct SupportLayer {
     Paths region;        // everything of the support in the layer
     Paths interface;     // of it, the dense part under an overhang
+    Paths walls;         // single walls (open or closed polylines) outside the region
     double new_mm2 = 0;  // overhang area that starts being supported in this layer
 };
 
@@ -84,6 +85,7 @@ class SupportPlanner {
     int next_ = -1;                               // next layer to plan
     int lowest_ = -1;                             // lowest outline added
     Paths carried_;                               // the support region passed down
+    Paths walls_;                                 // single walls passed down
     std::deque<Paths> fresh_;                     // new overhangs of the last interface layers
     Paths empty_;
 };

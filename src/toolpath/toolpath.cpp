@@ -118,6 +118,15 @@ constexpr double kSupportSpacingMm = 2.5;
 
 std::vector<Extrusion> support_paths(const LayerPartition& layer, const Settings& settings) {
     std::vector<Extrusion> out;
+    for (const Path& l : layer.support_walls) {
+        if (l.size() < 2) continue;
+        Extrusion e;
+        e.feature = Feature::Support;
+        e.points = l;
+        e.closed = l.size() > 2 && l.front() == l.back();
+        if (e.closed) e.points.pop_back();
+        out.push_back(std::move(e));
+    }
     if (layer.support.empty()) return out;
     const Coord s = settings.nozzle_radius(), w = settings.line_width();
     const Paths body = layer.support_interface.empty()
@@ -426,11 +435,42 @@ LayerToolpaths plan_layer(const LayerPartition& layer, const Settings& settings)
         auto exit_of = [](const Extrusion& e) {
             return e.closed ? e.points.front() : e.points.back();
         };
+        // Between two support paths the nozzle travels through the air beside the model, round
+        // it, without retracting: a string on a support is cut off with it (CuraEngine does
+        // the same), and a support layer is many short paths.
+        std::optional<Comber> air;
+        auto is_support = [](const Extrusion& e) {
+            return e.feature == Feature::Support || e.feature == Feature::SupportInterface;
+        };
         result.travels.resize(result.extrusions.size());
         Point at = exit_of(result.extrusions.front());
         for (size_t i = 1; i < result.extrusions.size(); ++i) {
             const Extrusion& e = result.extrusions[i];
             if (e.points.size() < 2) continue;  // the G-code stage skips it too
+            if (is_support(e) && is_support(result.extrusions[i - 1])) {
+                if (!air) {
+                    Paths all;
+                    for (size_t k = i - 1; k < result.extrusions.size(); ++k)
+                        all.push_back(result.extrusions[k].points);
+                    const BBox2 b = bounds(all);
+                    const Coord m = 2 * w;
+                    const Paths box{
+                        Path{Point(b.min_x - m, b.min_y - m), Point(b.max_x + m, b.min_y - m),
+                             Point(b.max_x + m, b.max_y + m), Point(b.min_x - m, b.max_y + m)}};
+                    air.emplace(subtract(box, dilate(layer.outline, s)));
+                }
+                const Point to = e.points.front();
+                std::optional<Path> via;
+                if (air->island_of(at) >= 0 && air->island_of(at) == air->island_of(to))
+                    via = air->visible(at, to) ? std::optional<Path>(Path{}) : air->route(at, to);
+                if (via) {
+                    if (!via->empty()) via->pop_back();  // the route ends at the path's start
+                    result.travels[i].via = std::move(*via);
+                    result.travels[i].kind = TravelKind::Inside;
+                    at = exit_of(e);
+                    continue;
+                }
+            }
             TravelPlan t = plan_travel(comber, at, e.points.front(), options);
             if (t.leaves && use_thin) {
                 if (!thin) thin.emplace(layer.wall_region);
