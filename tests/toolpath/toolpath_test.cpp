@@ -294,6 +294,9 @@ TEST(Toolpath, PrintOrderFollowsTheReport) {
                 return 10 + e.cavity;
             case Feature::Bridge:
                 return 1000;
+            case Feature::Support:
+            case Feature::SupportInterface:
+                return 2000;  // after the model's own paths
         }
         return -1;
     };
