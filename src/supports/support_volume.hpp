@@ -1,17 +1,18 @@
 // Supports for the model's own overhangs (issue #20), decided from above like the cavities.
 //
-// Shape, chosen by measurement against PrusaSlicer's snug grid and CuraEngine's trees (README,
-// bench/results/supports.md): under each overhang a region that narrows going down by r per layer
-// (so its edge leans at --max-overhang and holds itself, as a cavity's walls do) until a part of
-// it is no wider than a trunk (about 3 mm); that part then goes straight down to the bed or the
-// model. Each layer of it is printed as a single-wall outline and sparse straight walls inside
-// at fixed places (the same lines layer after layer, so they stack into vertical walls), with a
-// few dense interface layers on top. A support holding a wide overhang thus costs a pyramid of
-// sparse walls and a trunk, not a full column.
+// Shape, chosen by measurement against PrusaSlicer's snug supports and CuraEngine's trees
+// (README "Supports", bench/results/supports.md): under each overhang a region that narrows going
+// down by r per layer (its edge leans at --max-overhang and holds itself, as a cavity's walls do)
+// except beside the model, where it keeps its width so that the rings under a dome merge into one
+// shadow instead of standing as thin bands side by side. A compact part about 3 mm wide goes
+// straight down as a column; what becomes too thin to print is printed as its medial axis, which
+// goes on down as a single wall. Each layer is printed as the region's outline, straight walls at
+// fixed places (the same lines layer after layer, so they stack) and a few dense interface layers
+// on top. A wide overhang thus costs a pyramid of sparse walls ending in a blade, not a column.
 //
-// Memory stays flat in the model's height: the planner keeps the current support region, the
-// new overhangs of the last interface layers and a window of 2g + 2 outlines (g = the z gap in
-// layers).
+// Memory stays flat in the model's height: the planner keeps the current support region and
+// walls, the new overhangs of the last interface layers and a window of 2g + 2 outlines (g = the
+// z gap in layers).
 #pragma once
 
 #include <array>

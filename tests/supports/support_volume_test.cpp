@@ -191,6 +191,10 @@ TEST(SupportCli, MushroomKeepsBothGapsAndHoldsTheCap) {
     const std::string g = test::read(with);
     EXPECT_NE(g.find(";TYPE:Support material\n"), std::string::npos);
     EXPECT_NE(g.find(";TYPE:Support material interface\n"), std::string::npos);
+    // The configuration block names the supports (it does not without them).
+    EXPECT_NE(g.find("\n; support_material = 1\n"), std::string::npos);
+    EXPECT_NE(g.find("\n; support_material_contact_distance = 0.2\n"), std::string::npos);
+    EXPECT_EQ(test::read(none).find("support_material_contact_distance"), std::string::npos);
     const auto j = json_of(stats);
     EXPECT_GT(j["support_volume_mm3"].get<double>(), 0);
     EXPECT_GT(j["supported_area_mm2"].get<double>(), 500);
