@@ -51,6 +51,12 @@ struct LayerPartition {
     // need not redo the differences. Empty when unknown (a hand-made layer).
     std::vector<Paths> uncarved;
     std::vector<Bridge> bridges;  // filled in by the supports stage
+    // Supports for the model's own overhangs (supports/support_volume.hpp), outside the model:
+    // the support's region in this layer and, within it, the part printed dense under an
+    // overhang (its interface). Empty without --support.
+    Paths support;
+    Paths support_interface;
+    Paths support_walls;  // single walls below the region (open polylines), outside it
     // Local minima of this slice (cavity minima and ceilings over a cavity below) the supports
     // stage found, and how many of them it left without a support that prints: a bridge whose
     // lines would be longer than the printable span.

@@ -32,6 +32,8 @@ nlohmann::json to_json(const GcodeAnalysis& a, bool with_layers) {
         {"arcs", a.arcs},
         {"z_reversals", a.z_reversals},
         {"model_checked", a.model_checked},
+        {"support_volume_mm3", a.support_volume_mm3},
+        {"support_gap_mm", a.support_gap_mm},
     };
     {
         double total = 0;
@@ -43,9 +45,13 @@ nlohmann::json to_json(const GcodeAnalysis& a, bool with_layers) {
     }
     if (a.model_checked) {
         j["outside_area_mm2"] = a.outside_area_mm2;
+        // Split: support extrusion is meant to lie outside the model; the rest is not.
+        j["outside_support_mm2"] = a.outside_support_mm2;
+        j["outside_other_mm2"] = std::max(0.0, a.outside_area_mm2 - a.outside_support_mm2);
         j["max_outside_model_mm"] = a.max_outside_model_mm;
         j["hanging_inside_mm2"] = a.hanging_inside_mm2;
         j["hanging_overhang_mm2"] = a.hanging_overhang_mm2;
+        j["hanging_support_mm2"] = a.hanging_support_mm2;
         j["travel_inside_mm"] = a.travel_inside_mm;
         j["travel_outside_mm"] = a.travel_outside_mm;
         j["wall_crossings"] = a.wall_crossings;
@@ -75,6 +81,8 @@ nlohmann::json to_json(const GcodeAnalysis& a, bool with_layers) {
                 lj["max_outside_model_mm"] = l.max_outside_model_mm;
                 lj["hanging_inside_mm2"] = l.hanging_inside_mm2;
                 lj["hanging_overhang_mm2"] = l.hanging_overhang_mm2;
+                lj["hanging_support_mm2"] = l.hanging_support_mm2;
+                lj["outside_support_mm2"] = l.outside_support_mm2;
                 lj["travel_inside_mm"] = l.travel_inside_mm;
                 lj["travel_outside_mm"] = l.travel_outside_mm;
                 lj["wall_crossings"] = l.wall_crossings;

@@ -70,7 +70,8 @@ Paths widen(const std::vector<Polyline>& lines, double height_mm, double filamen
     std::map<Coord, Paths> by_half_width;
     for (const Polyline& l : lines) {
         if (l.length <= 0 || l.points.empty()) continue;
-        double width = line_width(l.e * filament_area / l.length, height_mm, bead);
+        double width =
+            line_width(l.e * filament_area / l.length, l.height > 0 ? l.height : height_mm, bead);
         Coord half = static_cast<Coord>(std::llround(width * kUnitsPerMm / 2));
         if (half < 1) continue;
         by_half_width[half].push_back(l.points);

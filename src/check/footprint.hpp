@@ -24,8 +24,10 @@ double open_length_mm(const Paths& paths);
 // Consecutive extruding moves of one width, drawn without a travel in between.
 struct Polyline {
     Path points;
-    double e = 0;       // filament mm
-    double length = 0;  // mm
+    double e = 0;          // filament mm
+    double length = 0;     // mm
+    bool support = false;  // drawn under a ;TYPE: naming support (any slicer's words)
+    double height = 0;     // mm, from a ;HEIGHT: comment; 0 = the layer's z step
 };
 
 // Width of a bead that lays `volume_per_mm` (mm^3 per mm) at layer height `height`.

@@ -8,7 +8,9 @@
 #include "check/gcode_analysis.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <deque>
 #include <limits>
 #include <numbers>
 
@@ -28,6 +30,7 @@ using ClipperLib::Clipper;
 using ClipperLib::ClipperOffset;
 
 constexpr double kZTolerance = 1e-4;      // mm: same layer
+constexpr double kMaxLayerMm = 1.0;       // no layer is thicker: how far back recent layers go
 constexpr double kMinMoveMm = 1e-6;       // shorter XY moves draw nothing
 constexpr double kReliableMm = 0.05;      // shorter moves carry too much rounding to judge a width
 constexpr double kWidthTolerance = 0.05;  // relative width change that starts a new polyline
@@ -106,6 +109,7 @@ class Analyser {
         }
         GcodeAnalysis& r = result_;
         r.extruded_volume_mm3 = r.filament_length_mm * filament_area_;
+        r.support_gap_mm = opt_.support_gap_mm;
         if (r.footprint_area_mm2 > 0) {
             r.unsupported_fraction = r.unsupported_area_mm2 / r.footprint_area_mm2;
             r.far_unsupported_fraction = r.far_unsupported_area_mm2 / r.footprint_area_mm2;
@@ -130,6 +134,17 @@ class Analyser {
         }
         if (starts_with(c, "TYPE:")) {
             type_ = std::string(trim(c.substr(5)));
+            // PrusaSlicer "Support material", "Support material interface"; CuraEngine
+            // "SUPPORT", "SUPPORT-INTERFACE".
+            std::string lower = type_;
+            for (char& ch : lower)
+                ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+            support_type_ = lower.find("support") != std::string::npos;
+            return;
+        }
+        if (starts_with(c, "HEIGHT:")) {
+            double v = 0;
+            if (parse_number(trim(c.substr(7)), v) && v > 0 && v < 10) line_height_ = v;
             return;
         }
         double v = 0;
@@ -378,8 +393,11 @@ class Analyser {
                 box.min_y = std::min(box.min_y, py), box.max_y = std::max(box.max_y, py);
             }
         };
-        grow(all_layers_);
-        if (!on_bed_) grow(above_first_);
+        // Supports stand beside the model: the model is placed by the rest.
+        if (!support_type_) {
+            grow(all_layers_);
+            if (!on_bed_) grow(above_first_);
+        }
         if (scan_only_) {
             layer_.extruded_volume_mm3 += de * filament_area_;
             layer_.path_length_mm += length;
@@ -395,10 +413,18 @@ class Analyser {
                 std::fabs(sw - pw) > kWidthTolerance * pw)
                 extend = false;
         }
+        if (extend && (lines_.back().support != support_type_ ||
+                       (support_type_ && lines_.back().height != line_height_)))
+            extend = false;
         if (!extend) {
             lines_.emplace_back();
             lines_.back().points.push_back(Point(to_units(x_), to_units(y_)));
+            lines_.back().support = support_type_;
+            // Only for support: PrusaSlicer prints its support thicker than the layers (and says
+            // so), while its bridges' ;HEIGHT: is the thread's diameter, not the layer's.
+            lines_.back().height = support_type_ ? line_height_ : 0;
         }
+        if (support_type_) result_.support_volume_mm3 += de * filament_area_;
         Polyline& p = lines_.back();
         p.points.push_back(Point(to_units(nx), to_units(ny)));
         p.e += de;
@@ -447,14 +473,76 @@ class Analyser {
             layer_travel_.clear();
             return;
         }
-        Paths footprint = widen(lines_, h, filament_area_, opt_.bead);
+        // A layer holding only support (PrusaSlicer interleaves them between the object's
+        // layers) is not the object's layer below: the object's lines are as thick as the step
+        // from the last layer that held the object, and what lies below them reaches that far.
+        const bool support_only =
+            std::all_of(lines_.begin(), lines_.end(), [](const Polyline& l) { return l.support; });
+        const double model_h =
+            !support_only && have_model_z_ && layer_.z_mm - model_z_ > h + kZTolerance
+                ? layer_.z_mm - model_z_
+                : h;
+        Paths footprint = widen(lines_, model_h, filament_area_, opt_.bead);
+        Paths support_footprint;
+        double thickest = model_h;  // a ;HEIGHT: comment may say support is thicker
+        for (const Polyline& l : lines_) thickest = std::max(thickest, l.height);
+        if (!support_only) {
+            have_model_z_ = true;
+            model_z_ = layer_.z_mm;
+        }
+        if (std::any_of(lines_.begin(), lines_.end(),
+                        [](const Polyline& l) { return l.support; })) {
+            std::vector<Polyline> support_lines;
+            for (const Polyline& l : lines_)
+                if (l.support) support_lines.push_back(l);
+            support_footprint = widen(support_lines, model_h, filament_area_, opt_.bead);
+        }
         lines_.clear();
         layer_.footprint_area_mm2 = region_area_mm2(footprint);
+        // What lies below: the layers within the thickness of this one (one layer, unless a
+        // slicer interleaves thinner layers, as PrusaSlicer does between its support's layers
+        // and the object's), and the supports' tops within the gap below that (a support holds
+        // its overhang across a gap of a layer or so).
+        const double reach_z = layer_.z_mm - thickest - kZTolerance;
+        while (!recent_.empty() && recent_.front().z < reach_z - opt_.support_gap_mm - kMaxLayerMm)
+            recent_.pop_front();
+        Paths merged;
+        size_t parts = 0;
+        for (const Recent& r : recent_) {
+            if (r.z > layer_.z_mm - kZTolerance) continue;  // a sequential print's next object
+            const Paths* add = r.z >= reach_z                         ? &r.footprint
+                               : r.z >= reach_z - opt_.support_gap_mm ? &r.support
+                                                                      : nullptr;
+            if (!add || add->empty()) continue;
+            if (add != &recent_.back().footprint) ++parts;
+            merged.insert(merged.end(), add->begin(), add->end());
+        }
+        if (parts > 0) merged.insert(merged.end(), prev_footprint_.begin(), prev_footprint_.end());
+        // Most layers: the previous layer alone, read in place.
+        const Paths& below = parts == 0 ? prev_footprint_ : merged;
         if (!on_bed_ && have_prev_) {
-            Paths unsupported = difference(footprint, dilate_round(prev_footprint_, r_units_));
+            Paths unsupported = difference(footprint, dilate_round(below, r_units_));
             layer_.unsupported_area_mm2 = region_area_mm2(unsupported);
             if (!unsupported.empty()) {
-                Paths far = far_region(unsupported, prev_footprint_, far_units_);
+                Paths far = far_region(unsupported, below, far_units_);
+                if (!support_footprint.empty() && !far.empty()) {
+                    // A support standing on the model's top leaves the same gap: support
+                    // extrusion is held by anything printed within the gap below it.
+                    Paths on_model;
+                    for (const Recent& r : recent_)
+                        if (r.z < reach_z && r.z >= reach_z - opt_.support_gap_mm &&
+                            !r.footprint.empty())
+                            on_model.insert(on_model.end(), r.footprint.begin(), r.footprint.end());
+                    Paths far_support = intersection(far, support_footprint);
+                    if (!on_model.empty() && !far_support.empty()) {
+                        on_model.insert(on_model.end(), below.begin(), below.end());
+                        Paths rest = difference(far, support_footprint);
+                        far_support = far_region(far_support, on_model, far_units_);
+                        far = std::move(rest);
+                        far.insert(far.end(), far_support.begin(), far_support.end());
+                    }
+                    layer_.hanging_support_mm2 = region_area_mm2(far_support);
+                }
                 layer_.far_unsupported_area_mm2 = region_area_mm2(far);
                 if (opt_.model_slice && have_prev_model_ && !far.empty()) {
                     // Over the model's slice one layer down: something inside the object could
@@ -473,7 +561,7 @@ class Analyser {
             width_sum_ += width * layer_.path_length_mm;
             width_weight_ += layer_.path_length_mm;
         }
-        if (opt_.model_slice) check_model(footprint, h);
+        if (opt_.model_slice) check_model(footprint, support_footprint, h);
         layer_travel_.clear();
 
         GcodeAnalysis& r = result_;
@@ -488,18 +576,23 @@ class Analyser {
         r.max_outside_model_mm = std::max(r.max_outside_model_mm, layer_.max_outside_model_mm);
         r.hanging_inside_mm2 += layer_.hanging_inside_mm2;
         r.hanging_overhang_mm2 += layer_.hanging_overhang_mm2;
+        r.hanging_support_mm2 += layer_.hanging_support_mm2;
+        r.outside_support_mm2 += layer_.outside_support_mm2;
         r.travel_inside_mm += layer_.travel_inside_mm;
         r.travel_outside_mm += layer_.travel_outside_mm;
         r.wall_crossings += layer_.wall_crossings;
         if (opt_.keep_layers) r.per_layer.push_back(layer_);
 
+        // The last layer is read from prev_footprint_, the ones before from recent_.
+        if (have_prev_) recent_.back().footprint = prev_footprint_;
+        recent_.push_back({layer_.z_mm, {}, std::move(support_footprint)});
         prev_footprint_ = std::move(footprint);
         have_prev_ = true;
         prev_z_ = layer_.z_mm;
         prev_height_ = h;
     }
 
-    void check_model(const Paths& footprint, double h) {
+    void check_model(const Paths& footprint, const Paths& support_footprint, double h) {
         result_.model_checked = true;
         Paths model = opt_.model_slice(layer_.z_mm - h / 2);
         double tolerance = opt_.model_tolerance_mm;
@@ -513,6 +606,8 @@ class Analyser {
         Paths grown = dilate_round(model, to_units(tolerance));
         Paths outside_tol = difference(footprint, grown);
         layer_.outside_area_mm2 = region_area_mm2(outside_tol);
+        if (!support_footprint.empty())
+            layer_.outside_support_mm2 = region_area_mm2(difference(support_footprint, grown));
         if (!layer_travel_.empty()) {
             const TravelFigures t = measure_travel(layer_travel_, grown);
             layer_.travel_inside_mm = t.inside_mm;
@@ -547,6 +642,14 @@ class Analyser {
     bool have_prev_ = false;
     double prev_z_ = 0, prev_height_ = 0, first_z_ = 0;
     Paths prev_footprint_;
+    // The last layers, bottom up: their z, footprint (empty for the last one, which is
+    // prev_footprint_) and support footprint, for layers interleaved thinner than this one and for
+    // support_gap_mm.
+    struct Recent {
+        double z = 0;
+        Paths footprint, support;
+    };
+    std::deque<Recent> recent_;
 
     double width_sum_ = 0, width_weight_ = 0, tolerance_sum_ = 0;
 
@@ -554,8 +657,12 @@ class Analyser {
     bool have_prev_model_ = false;
     Paths prev_model_;
 
-    double feed_mm_s_ = 50;  // until the file sets F
-    std::string type_;       // the last ;TYPE: comment
+    double feed_mm_s_ = 50;      // until the file sets F
+    std::string type_;           // the last ;TYPE: comment
+    bool support_type_ = false;  // it names support
+    double line_height_ = 0;     // the last ;HEIGHT: comment (PrusaSlicer), 0 = none
+    bool have_model_z_ = false;  // a layer with more than support was read
+    double model_z_ = 0;         // the last one's z
 
     // Moves since the last extrusion, waiting for the layer that the next extrusion opens.
     struct Pending {

@@ -30,6 +30,11 @@ enum class BeadModel {
 struct GcodeAnalysisOptions {
     double support_radius_mm = 0.2;  // r: overhang a layer may take over the one below
     double far_radius_mm = 2.0;      // distance beyond which extrusion counts as far-unsupported
+    // A support's top holds what lies over it across a gap: the footprint of support extrusion
+    // (a ;TYPE: with "support" in it) of the layers down to this far below the layer under the
+    // current one counts as below too. Without it an overhang printed over a support with the
+    // usual one-layer gap would count as hanging.
+    double support_gap_mm = 0.2;
     double filament_diameter_mm = 1.75;
     BeadModel bead = BeadModel::kRounded;
     // Use "; filament_diameter = " (PrusaSlicer) or ";EXTRUDER_TRAIN.0.MATERIAL.DIAMETER:" (Cura
@@ -66,12 +71,14 @@ struct LayerFigures {
     double unsupported_area_mm2 = 0;      // footprint minus previous footprint dilated by r
     double far_unsupported_area_mm2 = 0;  // footprint minus previous footprint dilated by 2 mm
     double outside_area_mm2 = 0;          // with a model: footprint outside the dilated model slice
+    double outside_support_mm2 = 0;       // of it, support extrusion (the rest: outside_other)
     double max_outside_model_mm = 0;      // with a model: farthest footprint point from the slice
     // With a model: the far-unsupported area split by the model's slice one layer down.
     // Inside lies over it (the interior could have held it); overhang is the rest (the model's
     // own external overhang, which only supports fix).
     double hanging_inside_mm2 = 0;
     double hanging_overhang_mm2 = 0;
+    double hanging_support_mm2 = 0;  // of the far-unsupported area, support extrusion's own
     long long retractions = 0;
     double travel_length_mm = 0;   // travels that end at this layer's extrusions (see Analyser)
     double travel_inside_mm = 0;   // with a model: within the slice grown by the tolerance
@@ -113,9 +120,13 @@ struct GcodeAnalysis {
     int z_reversals = 0;  // extrusion at a lower z than the layer before (sequential prints)
     bool model_checked = false;
     double outside_area_mm2 = 0;
+    double outside_support_mm2 = 0;  // of it, support extrusion
     double max_outside_model_mm = 0;
     double hanging_inside_mm2 = 0;  // see LayerFigures
     double hanging_overhang_mm2 = 0;
+    double hanging_support_mm2 = 0;
+    double support_volume_mm3 = 0;  // extruded under a ;TYPE: naming support
+    double support_gap_mm = 0;      // GcodeAnalysisOptions::support_gap_mm as used
     double travel_inside_mm = 0;
     double travel_outside_mm = 0;
     long long wall_crossings = 0;

@@ -111,7 +111,8 @@ int run(int argc, char** argv) {
     carve::Settings settings;
     carve::RunOptions run;
     std::string cavities_text = "6", walls_text = "single", preset, profile_path, printer_name,
-                flavor_text = "marlin", bed_text, combing_text = "all", seam_text = "aligned";
+                flavor_text = "marlin", bed_text, combing_text = "all", seam_text = "aligned",
+                support_text = "none";
     bool quiet = false, no_bed_check = false, relative_e = false, m73_on = false, m73_off = false;
     std::string thumbnails_text;
     bool thumbnails_given = false;
@@ -174,6 +175,12 @@ int run(int argc, char** argv) {
                      "Travel inside the part without retracting: off (straight travels), inside "
                      "(not over covers) or all (anywhere in the island) [all]")
         ->check(CLI::IsMember({"off", "inside", "all"}));
+    slice
+        ->add_option("--support", support_text,
+                     "Supports under the model's own overhangs: none, auto (down to the bed or "
+                     "onto the model) or buildplate (only where nothing of the model lies below) "
+                     "[none]")
+        ->check(CLI::IsMember({"none", "auto", "buildplate"}));
     slice->add_flag("!--no-avoid-crossing-perimeters,--avoid-crossing-perimeters",
                     settings.avoid_crossing_perimeters,
                     "A travel that must leave its island goes inside it to where the next island "
@@ -265,6 +272,11 @@ int run(int argc, char** argv) {
         ->add_option("--far-radius", check_options.far_radius_mm,
                      "Distance no filament bridges, mm [2]")
         ->check(strict(0.01, 100, "mm"));
+    check
+        ->add_option("--support-gap", check_options.support_gap_mm,
+                     "A support's top this far below the layer under an extrusion holds it too "
+                     "(the z gap supports leave), mm [0.2]")
+        ->check(strict(0, 10, "mm"));
     check
         ->add_option("--filament-diameter", check_options.filament_diameter_mm,
                      "Filament diameter, mm [1.75]")
@@ -404,6 +416,10 @@ int run(int argc, char** argv) {
             settings.combing = combing_text == "off"      ? carve::Combing::Off
                                : combing_text == "inside" ? carve::Combing::Inside
                                                           : carve::Combing::All;
+        if (slice->count("--support"))
+            settings.support = support_text == "auto"         ? carve::SupportMode::Auto
+                               : support_text == "buildplate" ? carve::SupportMode::Buildplate
+                                                              : carve::SupportMode::None;
         if (slice->count("--seam"))
             settings.seam = seam_text == "nearest"  ? carve::SeamMode::Nearest
                             : seam_text == "rear"   ? carve::SeamMode::Rear

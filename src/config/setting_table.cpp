@@ -27,9 +27,17 @@ std::vector<SettingSpec> make_table() {
          "Largest overhang from vertical the printer bridges, degrees; the per-layer dilation "
          "is r = h * tan(angle) [45]"},
         {"support-angle", "", "degrees", 0.0, 85.0, &S::support_angle,
-         "Overhang from vertical beyond which the model's own surface needs support; carve "
-         "prints none yet, but measures that overhang and warns when it will hang, degrees [0 = "
+         "Overhang from vertical beyond which the model's own surface needs support; with "
+         "--support none carve measures that overhang and warns when it will hang, degrees [0 = "
          "--max-overhang]"},
+        {"support-z-gap", "support_material_contact_distance", "mm", 0.0, 2.0, &S::support_z_gap,
+         "Gap between a support's top and the overhang it holds, rounded to whole layers, mm "
+         "[0.2]"},
+        {"support-xy-gap", "", "mm", 0.0, 10.0, &S::support_xy_gap,
+         "Gap between a support and the model's side, mm [0.25]"},
+        {"support-interface-layers", "support_material_interface_layers", "layers", 0, 10,
+         &S::support_interface_layers,
+         "Dense layers at the top of every support, under the overhang, layers [2]"},
         {"covers", "", "layers", 0, 50, &S::covers, "Solid layers at tops and bottoms, layers [2]"},
         {"shells", "", "lines", 0, 20, &S::shells,
          "Extra perimeters inside the outer wall, lines [0]"},

@@ -206,6 +206,12 @@ double Emitter::speed_of(Feature f) const {
         case Feature::Bridge:
             v = st_.bridge_speed;
             break;
+        case Feature::Support:
+            v = st_.cavity_speed;
+            break;
+        case Feature::SupportInterface:
+            v = st_.cover_speed;
+            break;
     }
     if (st_.max_print_speed > 0) v = std::min(v, st_.max_print_speed);
     if (layer_ == 0) v = std::min(v, st_.first_layer_speed);

@@ -95,6 +95,12 @@ std::vector<std::string> config_block(const Settings& s) {
     for (const SettingSpec& spec : setting_table()) {
         // The thread count shapes nothing: the G-code is the same for every count.
         if (std::string_view(spec.option) == "threads") continue;
+        // The support settings shape nothing without supports: left out then, so that a print
+        // without supports keeps the block it had before they existed.
+        if (s.support == SupportMode::None &&
+            std::string_view(spec.option).starts_with("support-") &&
+            std::string_view(spec.option) != "support-angle")
+            continue;
         std::string key = *spec.ini_key ? spec.ini_key : spec.option;
         for (char& c : key)
             if (c == '-') c = '_';
@@ -144,6 +150,11 @@ std::vector<std::string> config_block(const Settings& s) {
         {"layer_gcode", escaped(s.layer_gcode)},
     };
     kv.insert(kv.end(), words.begin(), words.end());
+    if (s.support != SupportMode::None) {
+        kv.emplace_back("support_material", "1");
+        kv.emplace_back("support_material_buildplate_only",
+                        flag(s.support == SupportMode::Buildplate));
+    }
     std::vector<std::string> out{"; prusaslicer_config = begin"};
     for (const auto& [k, v] : kv) out.push_back(fmt::format("; {} = {}", k, v));
     out.push_back("; prusaslicer_config = end");

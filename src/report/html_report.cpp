@@ -106,10 +106,16 @@ std::string HtmlReportWriter::Impl::drawing(const LayerPartition& layer,
             case Feature::Bridge:
                 kind = 4;
                 break;
+            case Feature::Support:
+                kind = 5;
+                break;
+            case Feature::SupportInterface:
+                kind = 6;
+                break;
         }
         groups[{kind, j}] += html::svg_path_data(Paths{e.points}, e.closed, tol, kGrid);
     }
-    static constexpr const char* kKinds[] = {"o", "s", "c", "w", "b"};
+    static constexpr const char* kKinds[] = {"o", "s", "c", "w", "b", "p", "i"};
     nlohmann::json drawn = nlohmann::json::array();
     for (auto& [key, d] : groups)
         if (!d.empty()) drawn.push_back({kKinds[key.first], key.second, std::move(d)});
@@ -180,6 +186,10 @@ void HtmlReportWriter::add_layer(const LayerPartition& layer, const LayerToolpat
             case Feature::Bridge:
                 r.bridge_mm += len;
                 break;
+            case Feature::Support:
+            case Feature::SupportInterface:
+                r.support_mm += len;
+                break;
         }
     }
     // What a conventional slicer would extrude on the same slice: two perimeters, solid where
@@ -187,6 +197,7 @@ void HtmlReportWriter::add_layer(const LayerPartition& layer, const LayerToolpat
     r.conventional_mm3 = 2 * r.perimeter_mm * w * h + r.covers_mm2 * h + 0.15 * r.carvable_mm2 * h;
 
     expand(m.box, bounds(layer.outline.empty() ? layer.wall_region : layer.outline));
+    expand(m.box, bounds(layer.support));
 
     // The first layer to arrive is the top one: its index tells how many will follow.
     if (m.expected_layers == 0) m.expected_layers = layer.index + 1;
@@ -294,6 +305,12 @@ void HtmlReportWriter::Impl::write_head(std::ostream& out, const PageFigures& f)
     for (size_t k = 0; k < kCavityColours.size(); ++k)
         out << fmt::format("#view .w.k{0}{{stroke:{1}}} #view .r.k{0}{{fill:{1}}}\n", k + 1,
                            kCavityColours[k]);
+    if (st.support != SupportMode::None)
+        out << fmt::format(
+            "#view .p{{stroke:{};stroke-width:{:.1f}px}} #view "
+            ".i{{stroke:{};stroke-width:{:.1f}px}}"
+            " #view.hide-p .p,#view.hide-p .i{{display:none}}\n",
+            kSupportColour, 0.75 * line_w, kSupportInterfaceColour, 0.75 * line_w);
     out << "</style>\n</head>\n<body>\n";
 }
 
@@ -420,6 +437,7 @@ std::array<double, 4> HtmlReportWriter::Impl::write_viewer(std::ostream& out,
     cav_sw += "</span>";
     toggle("w", cav_sw, "cavity walls, one colour per cavity", true);
     toggle("b", sw(kBridgeColour), "bridges", true);
+    if (st.support != SupportMode::None) toggle("p", sw(kSupportColour), "supports", true);
     toggle("r", sw(kCavityColours[0], true), "cavity regions", true);
     toggle("O", sw("#dfe3e8"), "slice of the model", true);
     toggle("g", sw("#c9ced6"), "layer below", false);

@@ -43,6 +43,7 @@ struct ReportLayer {
     std::vector<double> cavity_mm2;  // C^1 .. C^k
     int bridges = 0;
     double wall_mm = 0, cover_mm = 0, cavity_wall_mm = 0, bridge_mm = 0;  // path lengths
+    double support_mm = 0;
     double tolerance_mm = 0;     // simplification used for the drawing
     long offset = 0, bytes = 0;  // drawing record in the spill file
 };

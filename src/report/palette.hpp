@@ -16,6 +16,9 @@ inline constexpr std::array<const char*, 12> kCavityColours = {
 inline constexpr const char* kBridgeColour = "#ff00ff";
 inline constexpr const char* kOuterWallColour = "#000000";
 inline constexpr const char* kShellColour = "#3b3b3b";
+// Supports under the model's overhangs: teal, apart from the cavities' hues and the bridges.
+inline constexpr const char* kSupportColour = "#0ca678";
+inline constexpr const char* kSupportInterfaceColour = "#087f5b";
 
 // Index into kCavityColours of cavity C^j (j >= 1; the palette repeats after 12).
 inline size_t cavity_colour_index(int j) {

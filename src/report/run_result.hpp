@@ -32,9 +32,13 @@ struct RunResult {
     // h tan(support angle), and of that more than 2 mm beyond it (supports/overhang.hpp).
     double external_overhang_mm2 = 0;
     double far_external_overhang_mm2 = 0;
+    // Supports (--support): the overhang area they start under, summed over the layers, and the
+    // volume of their regions (what a solid support would fill).
+    double supported_area_mm2 = 0;
+    double support_region_volume_mm3 = 0;
     // Extruded volume by feature (index: Feature), the remainder's solid fill apart, and the
     // walls of each cavity (index j; 0 unused).
-    double feature_mm3[6] = {0, 0, 0, 0, 0, 0};
+    double feature_mm3[8] = {0, 0, 0, 0, 0, 0, 0, 0};
     double remainder_fill_mm3 = 0;
     std::vector<double> cavity_wall_mm3;
     double bridge_length_mm = 0;

@@ -49,6 +49,11 @@ nlohmann::json stats_json(const RunResult& run, const Settings& settings) {
     // The model's own overhang (no supports are printed): what only supports would hold.
     j["external_overhang_mm2"] = run.external_overhang_mm2;
     j["far_external_overhang_mm2"] = run.far_external_overhang_mm2;
+    // Supports: what they print (body and interface), the overhang they start under, and the
+    // volume their regions span.
+    j["support_volume_mm3"] = run.feature_mm3[6] + run.feature_mm3[7];
+    j["supported_area_mm2"] = run.supported_area_mm2;
+    j["support_region_volume_mm3"] = run.support_region_volume_mm3;
     nlohmann::json m;
     m["outer_wall_mm3"] = run.feature_mm3[0];
     m["shells_mm3"] = run.feature_mm3[1];
@@ -56,6 +61,8 @@ nlohmann::json stats_json(const RunResult& run, const Settings& settings) {
     m["cavity_walls_mm3"] = run.feature_mm3[3];
     m["bridges_mm3"] = run.feature_mm3[4];
     m["ribs_mm3"] = run.feature_mm3[5];
+    m["support_mm3"] = run.feature_mm3[6];
+    m["support_interface_mm3"] = run.feature_mm3[7];
     m["remainder_mm3"] = run.remainder_fill_mm3;
     std::vector<double> walls(run.cavity_wall_mm3.begin() + (run.cavity_wall_mm3.empty() ? 0 : 1),
                               run.cavity_wall_mm3.end());
@@ -89,6 +96,12 @@ nlohmann::json stats_json(const RunResult& run, const Settings& settings) {
     s["prune_bridges"] = settings.prune_bridges;
     s["printer"] = settings.printer_name;
     s["copies"] = settings.copies;
+    s["support"] = settings.support == SupportMode::Auto         ? "auto"
+                   : settings.support == SupportMode::Buildplate ? "buildplate"
+                                                                 : "none";
+    s["support_z_gap_mm"] = settings.support_gap_layers() * settings.layer_height;
+    s["support_xy_gap_mm"] = settings.support_xy_gap;
+    s["support_interface_layers"] = settings.support_interface_layers;
     j["settings"] = s;
     return j;
 }
@@ -108,6 +121,9 @@ std::string summary_text(const RunResult& run, const Settings& settings) {
         "material   {:.2f} cm3 = {:.1f} % of the model, {:.2f} m of filament, {:.1f} g\n",
         run.print.extruded_volume_mm3 / 1000, run.material_percent(),
         run.print.filament_length_mm / 1000, run.print.filament_weight_g);
+    if (const double v = run.feature_mm3[6] + run.feature_mm3[7]; v > 0)
+        out += fmt::format("supports   {:.2f} cm3 under {:.0f} mm2 of overhang\n", v / 1000,
+                           run.supported_area_mm2);
     out += fmt::format("print time {} (estimate)\n",
                        format_duration(run.print.estimated_print_time_s));
     if (run.check)
@@ -137,6 +153,11 @@ std::string describe(const GcodeAnalysis& a) {
             fmt::format(": {:.1f} mm2 inside (over the model's slice below), {:.1f} mm2 overhang",
                         a.hanging_inside_mm2, a.hanging_overhang_mm2);
     out += "\n";
+    if (a.support_volume_mm3 > 0)
+        out += fmt::format("support          {:.1f} mm3 extruded{}\n", a.support_volume_mm3,
+                           a.hanging_support_mm2 > 0
+                               ? fmt::format(", {:.1f} mm2 of it hanging", a.hanging_support_mm2)
+                               : std::string());
     out += fmt::format("retractions      {}", a.retractions);
     if (a.firmware_retractions > 0) out += fmt::format(" ({} G10)", a.firmware_retractions);
     out += "\n";
@@ -146,8 +167,12 @@ std::string describe(const GcodeAnalysis& a) {
                            a.wall_crossings);
     out += "\n";
     if (a.model_checked) {
-        out += fmt::format("outside model    {:.1f} mm2 (farthest {:.2f} mm)\n", a.outside_area_mm2,
+        out += fmt::format("outside model    {:.1f} mm2 (farthest {:.2f} mm)", a.outside_area_mm2,
                            a.max_outside_model_mm);
+        if (a.outside_support_mm2 > 0)
+            out += fmt::format(": {:.1f} mm2 support, {:.1f} mm2 other", a.outside_support_mm2,
+                               std::max(0.0, a.outside_area_mm2 - a.outside_support_mm2));
+        out += "\n";
         if (!a.mesh_alignment.empty())
             out += fmt::format("mesh offset      {:.3f}, {:.3f}, {:.3f} mm ({})\n",
                                a.mesh_offset_mm[0], a.mesh_offset_mm[1], a.mesh_offset_mm[2],

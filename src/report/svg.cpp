@@ -31,6 +31,8 @@ constexpr const char* kBridge = kBridgeColour;
 constexpr const char* kOuterWall = kOuterWallColour;
 constexpr const char* kShell = kShellColour;
 constexpr const char* kCoverLine = "#ffffff";
+constexpr const char* kSupport = kSupportColour;
+constexpr const char* kSupportInterface = kSupportInterfaceColour;
 
 // The cavity's colour darkened, for its wall lines: dark enough to read on its own fill.
 std::string dark(const std::string& colour) {
@@ -122,6 +124,7 @@ std::string layer_svg(const LayerPartition& layer, const LayerToolpaths* paths,
     BBox2 box;
     expand(box, bounds(layer.outline));
     expand(box, bounds(layer.wall_region));
+    expand(box, bounds(layer.support));
     if (paths)
         for (const Extrusion& e : paths->extrusions) expand(box, bounds(e.points));
     if (box.empty) box = {0, 0, 10000, 10000, false};  // an empty layer still gets a frame
@@ -160,10 +163,12 @@ std::string layer_svg(const LayerPartition& layer, const LayerToolpaths* paths,
                           "remainder V" + superscript(k) + " " + mm2(layer.remainder)});
     if (!layer.bridges.empty())
         legend.push_back({fill_swatch(kBridge), fmt::format("bridges ({})", layer.bridges.size())});
+    if (!layer.support.empty())
+        legend.push_back({fill_swatch(kSupport), "support " + mm2(layer.support)});
 
     const double line_px = std::clamp(options.path_width_mm * f.scale, 0.4, 3.0);
     if (paths) {
-        std::array<double, 6> length_mm{};
+        std::array<double, 8> length_mm{};
         for (const Extrusion& e : paths->extrusions)
             length_mm[size_t(e.feature)] += length(Paths{e.points}, e.closed) / 1000.0;
         auto add_line = [&](Feature feat, const std::string& colour, const char* name) {
@@ -177,6 +182,8 @@ std::string layer_svg(const LayerPartition& layer, const LayerToolpaths* paths,
         add_line(Feature::Cover, kCoverLine, "cover lines");
         add_line(Feature::Bridge, kBridge, "bridge lines");
         add_line(Feature::Rib, kBridge, "ribs");
+        add_line(Feature::Support, kSupport, "support lines");
+        add_line(Feature::SupportInterface, kSupportInterface, "support interface");
     }
     const double legend_w = options.legend ? 230 : 0;
     const double legend_h = options.legend ? 22.0 * double(legend.size()) + 50 : 0;
@@ -216,6 +223,7 @@ std::string layer_svg(const LayerPartition& layer, const LayerToolpaths* paths,
              fmt::format(R"~( data-cavity="{}")~", j));
     for (const Bridge& b : layer.bridges)
         fill(svg, "bridge-region", b.region, kBridge, f, R"~( fill-opacity="0.3")~");
+    fill(svg, "support", layer.support, kSupport, f, R"~( fill-opacity="0.25")~");
     svg += "</g>\n";
 
     if (paths) {
@@ -249,6 +257,8 @@ std::string layer_svg(const LayerPartition& layer, const LayerToolpaths* paths,
         stroke(Feature::OuterWall, 0, "outer-wall", kOuterWall, 1.2);
         stroke(Feature::Bridge, 0, "bridge-lines", kBridge, 1.5);
         stroke(Feature::Rib, 0, "ribs", kBridge, 1.2);
+        stroke(Feature::Support, 0, "support-lines", kSupport, 1);
+        stroke(Feature::SupportInterface, 0, "support-interface", kSupportInterface, 1);
         svg += "</g>\n";
     }
 

@@ -38,6 +38,7 @@
 #include "supports/bridges.hpp"
 #include "supports/overhang.hpp"
 #include "supports/ribs.hpp"
+#include "supports/support_volume.hpp"
 #include "toolpath/toolpath.hpp"
 
 namespace carve {
@@ -262,7 +263,12 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
     span.serial.assign(filter_count, true);
     span.serial[kErode] = span.serial[kCovers] = span.serial[kWork] = span.serial[kPaths] = false;
 
-    int next_seq = 0, ends_left = c + 1;
+    // Supports are decided from above too; a layer's support needs the outlines of the z gap's
+    // layers below it, so the support filter holds that many layers back (and as many more end
+    // tokens flush it). Without supports the filter is not in the chain at all.
+    const bool supporting = settings.support != SupportMode::None;
+    const int support_lag = supporting ? std::max(0, settings.support_gap_layers()) : 0;
+    int next_seq = 0, ends_left = c + 1 + support_lag;
     TokenPool pool;  // before the filters and their state: freed after them
     auto source = tbb::make_filter<void, TokenPtr>(tbb::filter_mode::serial_in_order,
                                                    [&](tbb::flow_control& fc) -> TokenPtr {
@@ -346,8 +352,38 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
                 out->below->cavities = t->layer.cavities;
                 out->below->outline = t->layer.outline;
             }
+            // The end tokens after the first flush the support filter's hold-back (there are
+            // none more without supports).
+            if (t->end && !out) return t;
             held = t->end ? pool.drop(t) : t;
             return out;  // null for the top slice's token: nothing to release yet
+        });
+    std::unique_ptr<ModelShadow> shadow;
+    if (settings.support == SupportMode::Buildplate)
+        shadow = std::make_unique<ModelShadow>(mesh.vertices, mesh.triangles, 0.5);
+    SupportPlanner planner(support_options(settings, box.min.z), shadow.get());
+    std::deque<TokenPtr> support_held;  // top down, waiting for the outlines below them
+    auto support = tbb::make_filter<TokenPtr, TokenPtr>(
+        tbb::filter_mode::serial_in_order, [&](TokenPtr t) -> TokenPtr {
+            if (!t) return t;
+            const bool finished = t->end;
+            if (finished) {
+                pool.drop(t);
+            } else {
+                planner.add_outline(t->layer.index, t->layer.outline);
+                support_held.push_back(t);
+            }
+            if (support_held.empty() ||
+                planner.ready(finished) != support_held.front()->layer.index)
+                return nullptr;
+            TokenPtr out = support_held.front();
+            support_held.pop_front();
+            SupportLayer s = planner.plan(out->layer.index);
+            out->layer.support = std::move(s.region);
+            out->layer.support_interface = std::move(s.interface);
+            out->layer.support_walls = std::move(s.walls);
+            out->support_new_mm2 = s.new_mm2;
+            return out;
         });
     const BridgeOptions bridging = bridge_options(settings);
     const Coord overhang_reach = settings.support_reach();
@@ -413,6 +449,9 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
             result.cover_volume_mm3 += area_mm2(layer.covers) * h;
             result.layer_material_mm3[layer.index] = t->material;
             overhangs.add(layer.index, (layer.index + 1) * h, t->overhang);  // z as the G-code says
+            result.supported_area_mm2 += t->support_new_mm2;
+            if (!layer.support.empty())
+                result.support_region_volume_mm3 += area_mm2(layer.support) * h;
             result.minima_found += layer.minima_found;
             result.minima_unsupported += layer.minima_unsupported;
             result.minima_held_by_wall += layer.minima_held_by_wall;
@@ -464,7 +503,7 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
     // Tokens bound the layers in flight, so memory stays flat in the model's height whatever
     // the thread count: room for one layer in each serial filter plus two per thread for the
     // parallel one, whose layers vary tenfold in cost (fandisk's face tops).
-    const size_t tokens = size_t(filter_count) + 2 * size_t(threads);
+    const size_t tokens = size_t(filter_count) + 2 * size_t(threads) + size_t(support_lag);
     {
         tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(threads));
         tbb::task_arena arena(threads);
@@ -472,14 +511,17 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
         // filters still running and rethrows it here, with its type and message, before
         // this frame's stages and writers are destroyed.
         arena.execute([&] {
-            tbb::parallel_pipeline(tokens, chain & hold & work & rib_filter & paths & sink);
+            if (supporting)
+                tbb::parallel_pipeline(tokens, chain & hold & support & work & rib_filter & paths & sink);
+            else
+                tbb::parallel_pipeline(tokens, chain & hold & work & rib_filter & paths & sink);
         });
     }
     for (double v : result.cavity_volume_mm3)
         if (v > 0) ++result.cavities;
     result.external_overhang_mm2 = overhangs.area_mm2();
     result.far_external_overhang_mm2 = overhangs.far_area_mm2();
-    if (const std::string w = overhangs.warning(); !w.empty()) note(w);
+    if (const std::string w = overhangs.warning(); !w.empty() && !supporting) note(w);
     // An open mesh has no inside of its own: its signed volume depends on where the hole is
     // (a cube missing its top gives 2/3 of the cube), while the slicer closes each slice with
     // non-zero fill. What is printed, and what "% of the model" means, is the sliced volume.

@@ -28,6 +28,7 @@ struct Token {
     std::optional<LayerPartition> below;  // the cavities of slice i - 1 as the sweep left them,
                                           // and its outline
     LayerOverhang overhang;               // of O_i beyond O_{i-1}
+    double support_new_mm2 = 0;           // overhang area a support starts under here
     LayerToolpaths paths;
     std::vector<double> volumes;  // of each extrusion of `paths`, mm^3
     double material = 0;          // their sum

@@ -111,6 +111,52 @@ std::vector<Extrusion> order_bridges(const std::vector<Bridge>& bridges, double 
     return out;
 }
 
+// Supports (supports/support_volume.hpp): the interface as dense lines across the body's walls,
+// the body as its outline and walls along x every kSupportSpacing, at the same places on every
+// layer so that they stack. The interface's lowest layer bridges between those walls.
+constexpr double kSupportSpacingMm = 2.5;
+
+std::vector<Extrusion> support_paths(const LayerPartition& layer, const Settings& settings) {
+    std::vector<Extrusion> out;
+    for (const Path& l : layer.support_walls) {
+        if (l.size() < 2) continue;
+        Extrusion e;
+        e.feature = Feature::Support;
+        e.points = l;
+        e.closed = l.size() > 2 && l.front() == l.back();
+        if (e.closed) e.points.pop_back();
+        out.push_back(std::move(e));
+    }
+    if (layer.support.empty()) return out;
+    const Coord s = settings.nozzle_radius(), w = settings.line_width();
+    const Paths body = layer.support_interface.empty()
+                           ? layer.support
+                           : subtract(layer.support, layer.support_interface);
+    const Paths inner = erode(body, s);
+    add_loops(inner, Feature::Support, 0, 2.0 * double(w), out);
+    if (!inner.empty()) {
+        const BBox2 b = bounds(inner);
+        const Coord pitch = to_units(kSupportSpacingMm);
+        Paths lines;
+        const Coord first = (b.min_y / pitch) * pitch;
+        for (Coord y = first; y <= b.max_y; y += pitch)
+            if (y > b.min_y) lines.push_back(Path{Point(b.min_x - w, y), Point(b.max_x + w, y)});
+        for (Path& l : clip_lines(lines, inner)) {
+            if (l.size() < 2 || length(Paths{l}, false) < double(w)) continue;
+            Extrusion e;
+            e.feature = Feature::Support;
+            e.points = std::move(l);
+            out.push_back(std::move(e));
+        }
+    }
+    if (!layer.support_interface.empty()) {
+        std::vector<Extrusion> dense =
+            fill_solid(erode(layer.support_interface, s), 90.0, 2 * w, Feature::SupportInterface);
+        for (Extrusion& e : dense) out.push_back(std::move(e));
+    }
+    return out;
+}
+
 }  // namespace
 
 std::string_view feature_name(Feature f) {
@@ -127,7 +173,13 @@ std::string_view feature_name(Feature f) {
         case Feature::Bridge:
             return "Bridge infill";
         case Feature::Rib:
+            // Not "Support material": checkers (carve check too) let support stand across a z
+            // gap, and ribs stand on the walls inside, so they are measured as the interior is.
+            return "Internal infill";
+        case Feature::Support:
             return "Support material";
+        case Feature::SupportInterface:
+            return "Support material interface";
     }
     return "Custom";
 }
@@ -381,6 +433,10 @@ LayerToolpaths plan_layer(const LayerPartition& layer, const Settings& settings)
             result.extrusions.push_back(std::move(e));
     }
 
+    // Supports last: nothing of the model rests on them within the layer.
+    std::vector<Extrusion> supports = support_paths(layer, settings);
+    if (!supports.empty()) append(supports);
+
     // 6. Travel between the paths (issue #18): inside the island without retraction where it
     // can, retracted and through the islands where it must leave. Planned here, on the worker
     // threads; only the travel into the layer is left to the G-code stage.
@@ -395,11 +451,42 @@ LayerToolpaths plan_layer(const LayerPartition& layer, const Settings& settings)
         auto exit_of = [](const Extrusion& e) {
             return e.closed ? e.points.front() : e.points.back();
         };
+        // Between two support paths the nozzle travels through the air beside the model, round
+        // it, without retracting: a string on a support is cut off with it (CuraEngine does
+        // the same), and a support layer is many short paths.
+        std::optional<Comber> air;
+        auto is_support = [](const Extrusion& e) {
+            return e.feature == Feature::Support || e.feature == Feature::SupportInterface;
+        };
         result.travels.resize(result.extrusions.size());
         Point at = exit_of(result.extrusions.front());
         for (size_t i = 1; i < result.extrusions.size(); ++i) {
             const Extrusion& e = result.extrusions[i];
             if (e.points.size() < 2) continue;  // the G-code stage skips it too
+            if (is_support(e) && is_support(result.extrusions[i - 1])) {
+                if (!air) {
+                    Paths all;
+                    for (size_t k = i - 1; k < result.extrusions.size(); ++k)
+                        all.push_back(result.extrusions[k].points);
+                    const BBox2 b = bounds(all);
+                    const Coord m = 2 * w;
+                    const Paths box{
+                        Path{Point(b.min_x - m, b.min_y - m), Point(b.max_x + m, b.min_y - m),
+                             Point(b.max_x + m, b.max_y + m), Point(b.min_x - m, b.max_y + m)}};
+                    air.emplace(subtract(box, dilate(layer.outline, s)));
+                }
+                const Point to = e.points.front();
+                std::optional<Path> via;
+                if (air->island_of(at) >= 0 && air->island_of(at) == air->island_of(to))
+                    via = air->visible(at, to) ? std::optional<Path>(Path{}) : air->route(at, to);
+                if (via) {
+                    if (!via->empty()) via->pop_back();  // the route ends at the path's start
+                    result.travels[i].via = std::move(*via);
+                    result.travels[i].kind = TravelKind::Inside;
+                    at = exit_of(e);
+                    continue;
+                }
+            }
             TravelPlan t = plan_travel(comber, at, e.points.front(), options);
             if (t.leaves && use_thin) {
                 if (!thin) thin.emplace(layer.wall_region);

@@ -11,7 +11,9 @@
 
 namespace carve {
 
-enum class Feature { OuterWall, Shell, Cover, CavityWall, Bridge, Rib };
+// Rib: ribs under what would hang inside the model (supports/ribs.hpp). Support and
+// SupportInterface: supports under the model's own overhangs, outside the model.
+enum class Feature { OuterWall, Shell, Cover, CavityWall, Bridge, Rib, Support, SupportInterface };
 // How the travel to a path was planned: not at all (the first path of a layer: the G-code stage
 // plans it, knowing where the layer below ended), inside the part (no retraction), or leaving it.
 enum class TravelKind : unsigned char { Unplanned, Inside, Leaves };

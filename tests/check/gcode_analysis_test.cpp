@@ -212,6 +212,34 @@ TEST(GcodeAnalysis, FarRadiusIsAnOption) {
     EXPECT_NEAR(a.unsupported_area_mm2, near, 0.01 * near);
 }
 
+// A support's top holds what lies over it across the usual one-layer gap: a 20 mm line over a
+// support line two layers down is held with the default gap and hangs without it. The
+// support's own extrusion is reported apart.
+TEST(GcodeAnalysis, SupportTopAcrossTheGapHoldsTheLayerAbove) {
+    const double w = 0.45, h = 0.2;
+    auto program = [&] {
+        Program prog;
+        prog.loop(square(0, 0, 4), 0.2, w, h);  // the model's first layer, apart
+        prog.raw(";TYPE:Support material interface");
+        prog.travel({10, 10}, 0.2);
+        prog.extrude_to({30, 10}, w, h);
+        prog.raw(";TYPE:External perimeter");
+        prog.loop(square(0, 0, 4), 0.4, w, h);  // the gap layer: nothing over the support
+        prog.travel({10, 10}, 0.6);
+        prog.extrude_to({30, 10}, w, h);  // the overhang, over the support
+        prog.loop(square(0, 0, 4), 0.6, w, h);
+        return prog.str();
+    };
+    TempGcode file(program());
+    GcodeAnalysis held = analyse_gcode(file.path());
+    EXPECT_NEAR(held.per_layer[2].far_unsupported_area_mm2, 0, 1e-6);
+    EXPECT_GT(held.support_volume_mm3, 0);
+    GcodeAnalysisOptions no_gap;
+    no_gap.support_gap_mm = 0;
+    GcodeAnalysis hangs = analyse_gcode(file.path(), no_gap);
+    EXPECT_GT(hangs.per_layer[2].far_unsupported_area_mm2, 15 * w);
+}
+
 TEST(GcodeAnalysis, StackedLayersAreFullySupported) {
     const double w = 0.45, h = 0.2;
     Program prog;

@@ -297,6 +297,9 @@ TEST(Toolpath, PrintOrderFollowsTheReport) {
                 return 500;
             case Feature::Bridge:
                 return 1000;
+            case Feature::Support:
+            case Feature::SupportInterface:
+                return 2000;  // after the model's own paths
         }
         return -1;
     };
@@ -316,7 +319,7 @@ TEST(Toolpath, PrintOrderFollowsTheReport) {
 TEST(Toolpath, FeatureNamesArePrusaSlicerWords) {
     EXPECT_EQ(feature_name(Feature::OuterWall), "External perimeter");
     EXPECT_EQ(feature_name(Feature::Shell), "Perimeter");
-    EXPECT_EQ(feature_name(Feature::Rib), "Support material");
+    EXPECT_EQ(feature_name(Feature::Rib), "Internal infill");
     EXPECT_EQ(feature_name(Feature::Cover), "Solid infill");
     EXPECT_EQ(feature_name(Feature::CavityWall), "Internal infill");
     EXPECT_EQ(feature_name(Feature::Bridge), "Bridge infill");
