@@ -283,7 +283,8 @@ IterationPrep CarvingSweep::prepare(LayerPartition& layer, const Paths* carvable
     prep.seed = !settings_.cavities_auto || !erode(prep.remainder, p.w).empty();
     if (!prep.seed) return prep;
     prep.comps = components(prep.remainder);
-    if (p.tear > 0) return prep;
+    if (p.tear > 0 || covered_.load(std::memory_order_relaxed) == 2 * int64_t(layer.index) + 3)
+        return prep;
     // What seeds() does when the cavity above leaves every component open.
     prep.guessed = true;
     Paths open;
@@ -330,6 +331,7 @@ void CarvingSweep::carve(LayerPartition& layer, IterationPrep prep, size_t j) {
         // V \ G: what the propagated cavity leaves; it is also V^j when no seed is added,
         // and where G covers all of V the cavity is V itself: each saves a Clipper pass.
         Paths uncovered = subtract_positive(remainder, grown);
+        covered_.store(2 * int64_t(layer.index) + uncovered.empty(), std::memory_order_relaxed);
         if (uncovered.empty()) {
             cavity = std::move(remainder);
             remainder.clear();

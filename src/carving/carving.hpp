@@ -9,6 +9,8 @@
 // the slice above.
 #pragma once
 
+#include <atomic>
+#include <cstdint>
 #include <optional>
 #include <vector>
 
@@ -72,6 +74,12 @@ class CarvingSweep : public LayerSource {
     std::vector<Paths> previous_;       // C^j_{i+1}, j = first+1 .. first+count
     std::vector<Paths> left_previous_;  // V^j_{i+1}, with a whole width only
     Paths carvable_above_;              // O'_{i+1}, with a whole width only (next() alone)
+    // 2 i + 1 when carve() found V^{j-1}_i all under the propagated cavity (no seed needed),
+    // 2 i when not. Then likely none is needed in slice i - 1 either, and prepare() does not
+    // guess for it; not for slices further down, whose guess may run long before carve()
+    // reaches them (on one thread, carve() is always one slice ahead). A hint only: carve()
+    // works out whatever the guess does not give.
+    std::atomic<int64_t> covered_ = 0;
 };
 
 }  // namespace carve
