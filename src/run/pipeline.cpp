@@ -245,23 +245,30 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
 
     // The layers flow top down through a oneTBB pipeline. Serial in-order filters for what
     // carries state from one slice to the next: the slicer's active set; the covers' window
-    // of 2c+1 slices; one filter per carving iteration, so that the k iterations run as a
-    // wavefront (C^j at slice i needs C^j at slice i+1 and V^{j-1} at slice i only: iteration
-    // j of one slice overlaps iteration j+1 of the slice above); holding a slice back until
-    // the one below is carved (the bridges need it); the writers and sums at the end, in layer
-    // order so that every figure and byte is the same whatever the thread count. Between them
-    // parallel filters do what depends on its own slice or window only: the erosions of each
-    // slice, the covers of each layer, then bridges (against a copy of the slice below as the
-    // sweep left it), toolpaths, their G-code spill encoding, material, SVG and resin images.
+    // of 2c+1 slices; handing each layer the carvable region of the one above; one filter per
+    // carving iteration, so that the k iterations run as a wavefront (C^j at slice i needs C^j
+    // at slice i+1 and V^{j-1} at slice i only: iteration j of one slice overlaps iteration
+    // j+1 of the slice above); holding a slice back until the one below is carved (the
+    // bridges need it); the writers and sums at the end, in layer order so that every figure
+    // and byte is the same whatever the thread count. Between them parallel filters do what
+    // depends on its own slice or window only: the erosions of each slice, the covers of each
+    // layer, before each carving iteration what it can do from V^{j-1} alone (its medial
+    // axis, its whole-width test: most of its work), then bridges (against a copy of the slice
+    // below as the sweep left it), toolpaths, their G-code spill encoding, material, SVG and
+    // resin images.
     const int k = sweep_iterations(settings);
     const int c = std::max(0, settings.covers);
-    const int kSlice = 0, kErode = 1, kWindow = 2, kCovers = 3, kSweep = 4;
-    const int kHold = kSweep + k, kWork = kHold + 1, kRibs = kWork + 1, kPaths = kRibs + 1;
-    const int kSink = kPaths + 1, filter_count = kSink + 1;
+    const int kSlice = 0, kErode = 1, kWindow = 2, kCovers = 3, kLink = 4;
+    auto k_seed = [](int j) { return kLink + 1 + 2 * j; };  // iteration j + 1, parallel half
+    auto k_sweep = [](int j) { return kLink + 2 + 2 * j; };
+    const int kHold = kLink + 1 + 2 * k, kSupport = kHold + 1, kWork = kSupport + 1;
+    const int kRibs = kWork + 1, kPaths = kRibs + 1, kSink = kPaths + 1;
+    const int filter_count = kSink + 1;
     // The slicer's tokens, then c + 1 that flush the window (c layers) and the hold-back.
     SpanLog span(profiling_enabled() ? layer_count + c + 1 : 0, filter_count);
     span.serial.assign(filter_count, true);
     span.serial[kErode] = span.serial[kCovers] = span.serial[kWork] = span.serial[kPaths] = false;
+    for (int j = 0; j < k; ++j) span.serial[k_seed(j)] = false;
 
     // Supports are decided from above too; a layer's support needs the outlines of the z gap's
     // layers below it, so the support filter holds that many layers back (and as many more end
@@ -320,24 +327,43 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
             for (const auto& e : t->window) slices.push_back(e.get());
             t->layer = carvable_layer(t->layer.index, slices, settings);
             t->window.clear();
+            if (k > 0) t->carvable = std::make_shared<const Paths>(t->layer.carvable);
             return t;
         });
-    tbb::filter<void, TokenPtr> chain = source & erode & gather & covers;
-    // CarvingSweep pulls its layers from a source; each iteration's filter hands it the one
-    // layer it is to carve.
-    std::vector<std::unique_ptr<HandOver>> feeds(k);
+    // The whole-width test of a carving iteration reads O'_{i+1} (what of a part lies under
+    // the model's surface in the slice above).
+    std::shared_ptr<const Paths> carvable_above;
+    auto link = tbb::make_filter<TokenPtr, TokenPtr>(
+        tbb::filter_mode::serial_in_order, [&](TokenPtr t) -> TokenPtr {
+            if (!t || t->end) return t;
+            SpanTimer timer(span, t->seq, kLink);
+            t->carvable_above = std::exchange(carvable_above, std::move(t->carvable));
+            return t;
+        });
+    tbb::filter<void, TokenPtr> chain = source & erode & gather & covers & link;
+    // Each iteration in two filters: the half that reads only V^{j-1}_i, on any thread, then
+    // the half that needs C^j_{i+1}, in order.
     std::vector<std::unique_ptr<CarvingSweep>> sweeps(k);
     for (int j = 0; j < k; ++j) {
-        feeds[j] = std::make_unique<HandOver>();
-        sweeps[j] = std::make_unique<CarvingSweep>(*feeds[j], settings, j, 1);
-        chain = chain & tbb::make_filter<TokenPtr, TokenPtr>(
-                            tbb::filter_mode::serial_in_order, [&, j](TokenPtr t) -> TokenPtr {
-                                if (!t || t->end) return t;
-                                SpanTimer timer(span, t->seq, kSweep + j);
-                                feeds[j]->put(std::move(t->layer));
-                                t->layer = std::move(*sweeps[j]->next());
-                                return t;
-                            });
+        sweeps[j] = std::make_unique<CarvingSweep>(settings, j, 1);
+        chain = chain &
+                tbb::make_filter<TokenPtr, TokenPtr>(tbb::filter_mode::parallel,
+                                                     [&, j](TokenPtr t) -> TokenPtr {
+                                                         if (!t || t->end) return t;
+                                                         SpanTimer timer(span, t->seq, k_seed(j));
+                                                         t->prep = sweeps[j]->prepare(
+                                                             t->layer, t->carvable_above.get());
+                                                         return t;
+                                                     }) &
+                tbb::make_filter<TokenPtr, TokenPtr>(
+                    tbb::filter_mode::serial_in_order, [&, j](TokenPtr t) -> TokenPtr {
+                        if (!t || t->end) return t;
+                        SpanTimer timer(span, t->seq, k_sweep(j));
+                        sweeps[j]->carve(t->layer, std::move(*t->prep));
+                        t->prep.reset();
+                        if (j == k - 1) t->carvable_above.reset();
+                        return t;
+                    });
     }
     TokenPtr held = nullptr;  // slice i + 1, waiting for slice i
     auto hold = tbb::make_filter<TokenPtr, TokenPtr>(
@@ -366,6 +392,7 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
     auto support = tbb::make_filter<TokenPtr, TokenPtr>(
         tbb::filter_mode::serial_in_order, [&](TokenPtr t) -> TokenPtr {
             if (!t) return t;
+            SpanTimer timer(span, t->seq, kSupport);
             const bool finished = t->end;
             if (finished) {
                 pool.drop(t);
@@ -512,7 +539,8 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
         // this frame's stages and writers are destroyed.
         arena.execute([&] {
             if (supporting)
-                tbb::parallel_pipeline(tokens, chain & hold & support & work & rib_filter & paths & sink);
+                tbb::parallel_pipeline(tokens,
+                                       chain & hold & support & work & rib_filter & paths & sink);
             else
                 tbb::parallel_pipeline(tokens, chain & hold & work & rib_filter & paths & sink);
         });
@@ -567,9 +595,12 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
     group.commit_all();
     finish_s += double(thread_cpu_ns() - writers_start_ns) * 1e-9;
     if (profiling_enabled()) {
-        std::vector<std::string> names{"slice", "erode", "window", "covers"};
-        for (int j = 1; j <= k; ++j) names.push_back(fmt::format("sweep C{}", j));
-        names.insert(names.end(), {"hold back", "bridges", "ribs", "paths", "writers"});
+        std::vector<std::string> names{"slice", "erode", "window", "covers", "link"};
+        for (int j = 1; j <= k; ++j) {
+            names.push_back(fmt::format("seed C{}", j));
+            names.push_back(fmt::format("sweep C{}", j));
+        }
+        names.insert(names.end(), {"hold back", "supports", "bridges", "ribs", "paths", "writers"});
         std::fputs(profile_table().c_str(), stderr);
         std::fputs(span_table(span, names, load_s, finish_s, threads).c_str(), stderr);
     }

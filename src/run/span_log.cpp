@@ -16,7 +16,13 @@ std::string span_table(const SpanLog& span, const std::vector<std::string>& filt
         out += fmt::format("  {:<12} {:8.3f}{}\n", filter_names[f], span.filter_s(f),
                            span.serial[f] ? "  serial" : "  parallel");
     }
-    const double path_s = span.critical_path_s();
+    const auto [path_s, on_path] = span.critical_path_by_filter_s();
+    std::string parts;
+    for (int f = 0; f < span.filters; ++f)
+        if (on_path[size_t(f)] >= 0.0005)
+            parts += fmt::format("{}{} {:.3f}", parts.empty() ? "" : ", ", filter_names[f],
+                                 on_path[size_t(f)]);
+    out += fmt::format("critical path: {}\n", parts.empty() ? "-" : parts);
     const double work_s = load_s + pipeline_s + finish_s;
     const double serial_s = load_s + path_s + finish_s;
     const double f = work_s > 0 ? serial_s / work_s : 1;

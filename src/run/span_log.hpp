@@ -7,6 +7,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "base/stage_timer.hpp"
@@ -33,18 +34,27 @@ struct SpanLog {
         for (int n = 0; n < rows(); ++n) sum += ns[size_t(n) * filters + f];
         return double(sum) * 1e-9;
     }
-    double critical_path_s() const {
-        std::vector<int64_t> done(ns.size(), 0);  // when each cell finishes at the earliest
-        int64_t longest = 0;
+    double critical_path_s() const { return critical_path_by_filter_s().first; }
+    // The critical path and what each filter's layers add to it: where to look next.
+    std::pair<double, std::vector<double>> critical_path_by_filter_s() const {
+        std::vector<int64_t> done(ns.size(), 0);        // when each cell finishes at the earliest
+        std::vector<size_t> from(ns.size(), SIZE_MAX);  // the cell it waited for
+        size_t last = SIZE_MAX;
         for (int n = 0; n < rows(); ++n)
             for (int f = 0; f < filters; ++f) {
                 const size_t at = size_t(n) * filters + f;
-                int64_t ready = f > 0 ? done[at - 1] : 0;
-                if (serial[f] && n > 0) ready = std::max(ready, done[at - filters]);
+                int64_t ready = 0;
+                if (f > 0) ready = done[at - 1], from[at] = at - 1;
+                if (serial[f] && n > 0 && done[at - filters] > ready)
+                    ready = done[at - filters], from[at] = at - filters;
                 done[at] = ready + ns[at];
-                longest = std::max(longest, done[at]);
+                if (last == SIZE_MAX || done[at] > done[last]) last = at;
             }
-        return double(longest) * 1e-9;
+        std::vector<double> by_filter(size_t(filters), 0.0);
+        if (last == SIZE_MAX) return {0.0, by_filter};
+        for (size_t at = last; at != SIZE_MAX; at = from[at])
+            by_filter[at % size_t(filters)] += double(ns[at]) * 1e-9;
+        return {double(done[last]) * 1e-9, by_filter};
     }
 };
 

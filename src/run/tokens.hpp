@@ -1,6 +1,6 @@
 // The layers' carriers through the run's oneTBB pipeline (private to run/pipeline.cpp): what
-// one layer holds between the filters, the pool that owns every token, and the hand-over
-// through which a filter gives a carving sweep its layer.
+// one layer holds between the filters (a carving iteration's prepared half among them, on its
+// way to the serial half) and the pool that owns every token.
 #pragma once
 
 #include <memory>
@@ -25,6 +25,9 @@ struct Token {
     std::shared_ptr<const CoverSlice> cover;  // ... and eroded, until the window takes it
     std::vector<std::shared_ptr<const CoverSlice>> window;  // layer i's 2c+1 slices, top down
     LayerPartition layer;
+    std::shared_ptr<const Paths> carvable;        // O'_i, until handed to the layer below
+    std::shared_ptr<const Paths> carvable_above;  // O'_{i+1}, while the layer is carved
+    std::optional<IterationPrep> prep;            // of the next carving iteration
     std::optional<LayerPartition> below;  // the cavities of slice i - 1 as the sweep left them,
                                           // and its outline
     LayerOverhang overhang;               // of O_i beyond O_{i-1}
@@ -67,21 +70,6 @@ class TokenPool {
   private:
     std::mutex mutex_;
     std::unordered_set<Token*> live_;
-};
-
-// CarvingSweep pulls layers from a source; this one holds the single layer that a filter
-// hands it.
-class HandOver : public LayerSource {
-  public:
-    void put(LayerPartition layer) { held_ = std::move(layer); }
-    std::optional<LayerPartition> next() override {
-        std::optional<LayerPartition> out = std::move(held_);
-        held_.reset();
-        return out;
-    }
-
-  private:
-    std::optional<LayerPartition> held_;
 };
 
 }  // namespace carve

@@ -132,40 +132,62 @@ void axis_of_component(const Paths& comp, const SkeletonOptions& options, const 
 
 }  // namespace
 
-Paths medial_axis(const Paths& region, const SkeletonOptions& options, const AxisTrace& trace) {
+namespace {
+
+// The axis of each component, in component order, with what building it went through; a
+// component equal to one of `known` takes that one's axis and statistics.
+Paths axes_of(const Paths& region, const SkeletonOptions& options, const AxisTrace& trace,
+              const AxisMemo* known, AxisMemo* record) {
     StageTimer timer(Stage::kSkeleton);
     Workspace& ws = workspace();
     ws.stats = SkeletonStats{};
     Paths out;
     if (region.empty()) return out;
     // The contours may move by max_arc_error, the error already allowed on the arcs.
-    const std::vector<Paths> comps =
+    std::vector<Paths> comps =
         prepare_components(region, std::max(1.0, double(options.max_arc_error)), &ws.stats.mended);
     ws.stats.components = int(comps.size());
-    if (comps.size() < 2) {
-        for (const Paths& comp : comps) axis_of_component(comp, options, trace, ws, out);
-        return out;
-    }
-    // The axis of a component depends on its own contours only (the boundary nearest to a
-    // point inside it is its own), so the components are done as parallel tasks, each in the
-    // workspace of the thread that runs it, and joined in component order: the same axis
-    // whatever the scheduling. Late carving iterations see dozens of components in a slice,
-    // and the sweep that waits for them is the run's critical path. Isolated, so that a thread
-    // waiting here only takes these tasks, not another layer's (which would hold up this one).
     std::vector<Paths> axes(comps.size());
     std::vector<SkeletonStats> stats(comps.size());
-    tbb::this_task_arena::isolate([&] {
-        tbb::parallel_for(size_t(0), comps.size(), [&](size_t i) {
-            Workspace& own = workspace();  // the caller's too when it runs a task itself
-            SkeletonStats outer = std::move(own.stats);
-            own.stats = SkeletonStats{};
-            axis_of_component(comps[i], options, trace, own, axes[i]);
-            stats[i] = std::move(own.stats);
-            own.stats = std::move(outer);
-        });
-    });
+    std::vector<size_t> todo;
+    static const std::vector<Paths> kNone;
+    const std::vector<Paths>& from = known ? known->components : kNone;
     for (size_t i = 0; i < comps.size(); ++i) {
-        std::move(axes[i].begin(), axes[i].end(), std::back_inserter(out));
+        const auto same = std::find(from.begin(), from.end(), comps[i]);
+        if (same == from.end()) {
+            todo.push_back(i);
+            continue;
+        }
+        const size_t at = size_t(same - from.begin());
+        axes[i] = known->axes[at];
+        stats[i] = known->stats[at];
+    }
+    auto build = [&](size_t i) {
+        Workspace& own = workspace();  // the caller's too when it runs a task itself
+        SkeletonStats outer = std::move(own.stats);
+        own.stats = SkeletonStats{};
+        axis_of_component(comps[i], options, trace, own, axes[i]);
+        stats[i] = std::move(own.stats);
+        own.stats = std::move(outer);
+    };
+    if (todo.size() < 2) {
+        for (size_t i : todo) build(i);
+    } else {
+        // The axis of a component depends on its own contours only (the boundary nearest to a
+        // point inside it is its own), so the components are done as parallel tasks, each in
+        // the workspace of the thread that runs it, and joined in component order: the same
+        // axis whatever the scheduling. Late carving iterations see dozens of components in a
+        // slice, and the sweep that waits for them is the run's critical path. Isolated, so
+        // that a thread waiting here only takes these tasks, not another layer's (which would
+        // hold up this one).
+        tbb::this_task_arena::isolate(
+            [&] { tbb::parallel_for(size_t(0), todo.size(), [&](size_t k) { build(todo[k]); }); });
+    }
+    for (size_t i = 0; i < comps.size(); ++i) {
+        if (record)
+            out.insert(out.end(), axes[i].begin(), axes[i].end());
+        else
+            std::move(axes[i].begin(), axes[i].end(), std::back_inserter(out));
         SkeletonStats& t = ws.stats;
         t.retries += stats[i].retries;
         t.abandoned += stats[i].abandoned;
@@ -174,7 +196,19 @@ Paths medial_axis(const Paths& region, const SkeletonOptions& options, const Axi
         t.rejections.insert(t.rejections.end(), stats[i].rejections.begin(),
                             stats[i].rejections.end());
     }
+    if (record) *record = AxisMemo{std::move(comps), std::move(axes), std::move(stats)};
     return out;
+}
+
+}  // namespace
+
+Paths medial_axis(const Paths& region, const SkeletonOptions& options, const AxisTrace& trace) {
+    return axes_of(region, options, trace, nullptr, nullptr);
+}
+
+Paths medial_axis(const Paths& region, const SkeletonOptions& options, const AxisMemo* known,
+                  AxisMemo* record) {
+    return axes_of(region, options, AxisTrace{}, known, record);
 }
 
 const SkeletonStats& last_stats() {

@@ -31,6 +31,23 @@ struct SkeletonStats {
 
 Paths medial_axis(const Paths& region, const SkeletonOptions& options, const AxisTrace& trace);
 
+// The axes of a region's components as medial_axis() cleaned and built them, kept so that a
+// later call on a region made of some of the same components need not build them again: the
+// carving sweep works them out for a slice before the slice above is carved (in parallel),
+// then asks for the components the cavity above left open.
+struct AxisMemo {
+    std::vector<Paths> components;  // after prepare_components()
+    std::vector<Paths> axes;        // of each
+    std::vector<SkeletonStats> stats;
+};
+
+// medial_axis(region, options), built in the given frames as usual, but a component equal
+// (vertex for vertex) to one of `known` takes its axis from there: the result and
+// last_stats() are the same as without `known`. With `record`, the components and their axes
+// are kept there.
+Paths medial_axis(const Paths& region, const SkeletonOptions& options, const AxisMemo* known,
+                  AxisMemo* record = nullptr);
+
 const SkeletonStats& last_stats();
 
 // The number of frames medial_axis() tries before it gives up on a component.

@@ -12,6 +12,7 @@
 #include <thread>
 
 #include "base/error.hpp"
+#include "run/span_log.hpp"
 
 namespace fs = std::filesystem;
 
@@ -111,3 +112,25 @@ TEST(Pipeline, ThreadCountDefaultsToTheCoresAvailable) {
 
 }  // namespace
 }  // namespace carve
+
+// The profile's critical path: a serial filter's layer waits for its own previous layer and
+// for the filter before it on the same layer; what each filter adds along that chain says
+// which one to split next.
+TEST(Pipeline, CriticalPathNamesTheFiltersOnIt) {
+    carve::SpanLog span(3, 3);  // layers 0..2, filters: parallel, serial, parallel
+    span.serial = {false, true, false};
+    const int64_t ms = 1000000;
+    const int64_t cells[3][3] = {{5 * ms, 1 * ms, 1 * ms},  // layer 0
+                                 {1 * ms, 4 * ms, 1 * ms},
+                                 {1 * ms, 4 * ms, 2 * ms}};
+    for (int n = 0; n < 3; ++n)
+        for (int f = 0; f < 3; ++f) span.ns[size_t(n) * 3 + size_t(f)] = cells[n][f];
+    // 5 (layer 0's first filter) + 1 + 4 + 4 (the serial filter, layers 0..2) + 2.
+    const auto [path_s, by_filter] = span.critical_path_by_filter_s();
+    EXPECT_NEAR(path_s, 0.016, 1e-12);
+    EXPECT_NEAR(span.critical_path_s(), 0.016, 1e-12);
+    ASSERT_EQ(by_filter.size(), 3u);
+    EXPECT_NEAR(by_filter[0], 0.005, 1e-12);
+    EXPECT_NEAR(by_filter[1], 0.009, 1e-12);
+    EXPECT_NEAR(by_filter[2], 0.002, 1e-12);
+}

@@ -394,6 +394,45 @@ TEST(MedialAxis, ComponentsAndHolesEachGetTheirAxis) {
     expect_inside(axis, region, 300);
 }
 
+// The carving sweep builds the axes of a slice's components ahead and asks later for the
+// components its cavity left open: a component equal to one kept in the memo takes the axis
+// kept there, the others are built, and the result is what medial_axis() gives alone.
+TEST(MedialAxis, MemoLendsTheAxesOfEqualComponents) {
+    Rng rng(11);
+    const Path disk = circle(0, 0, 3000, 200, 1, rng);
+    const Path bar = rect(10000, 0, 30000, 4000);
+    const Path ring = circle(50000, 0, 8000, 300, 1, rng);
+    const Path ring_hole = reversed(circle(50000, 0, 3000, 100, 1, rng));
+    skel::AxisMemo memo;
+    const Paths all =
+        skel::medial_axis(Paths{disk, bar, ring, ring_hole}, defaults(), nullptr, &memo);
+    ASSERT_EQ(memo.components.size(), 3u);
+    ASSERT_EQ(memo.axes.size(), 3u);
+    Paths joined;
+    for (const Paths& axis : memo.axes) joined.insert(joined.end(), axis.begin(), axis.end());
+    EXPECT_EQ(joined, all);
+    EXPECT_EQ(all, medial_axis(Paths{disk, bar, ring, ring_hole}, defaults()));
+
+    const Paths some{bar, ring, ring_hole};
+    const Paths alone = medial_axis(some, defaults());
+    const skel::SkeletonStats stats = skel::last_stats();
+    EXPECT_EQ(skel::medial_axis(some, defaults(), &memo), alone);
+    EXPECT_EQ(skel::last_stats().components, stats.components);
+    EXPECT_EQ(skel::last_stats().nodes, stats.nodes);
+    EXPECT_EQ(skel::last_stats().edges, stats.edges);
+
+    // What the memo holds is taken as it is: a marked axis shows that it was not rebuilt.
+    for (size_t i = 0; i < memo.components.size(); ++i)
+        if (const BBox2 b = bounds(memo.components[i]); b.min_x > 9000 && b.max_x < 31000)
+            memo.axes[i] = Paths{Path{Point(7, 7)}};
+    const Paths lent = skel::medial_axis(some, defaults(), &memo);
+    EXPECT_EQ(std::count(lent.begin(), lent.end(), Path{Point(7, 7)}), 1);
+    // A component the memo does not hold is built.
+    const Path other = rect(10000, 20000, 30000, 24000);
+    EXPECT_EQ(skel::medial_axis(Paths{other}, defaults(), &memo),
+              medial_axis(Paths{other}, defaults()));
+}
+
 TEST(MedialAxis, TinyComponentStillGetsASeed) {
     const Paths region{rect(0, 0, 300, 200)};
     const Paths axis = medial_axis(region, defaults());

@@ -220,7 +220,10 @@ TEST(SupportCli, MushroomKeepsBothGapsAndHoldsTheCap) {
             if (w[0] == 'Z') nz = v;
             if (w[0] == 'E') ne = v;
         }
-        if (ne > e && type.rfind("Support", 0) == 0) {
+        // A move that extrudes (not an unretract in place, which keeps the last ;TYPE: until
+        // the next path names its own).
+        const bool moves = nx != x || ny != y;
+        if (ne > e && moves && type.rfind("Support", 0) == 0) {
             ++support_points;
             top = std::max(top, nz);
             const double dx = std::max({120 - nx, nx - 130, 0.0});
