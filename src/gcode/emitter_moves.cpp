@@ -197,20 +197,16 @@ double Emitter::speed_of(Feature f) const {
             v = st_.perimeter_speed;
             break;
         case Feature::Cover:
+        case Feature::SupportInterface:  // dense lines under the overhang, as a cover's
             v = st_.cover_speed;
             break;
         case Feature::CavityWall:
         case Feature::Rib:
+        case Feature::Support:  // single walls, as the cavities'
             v = st_.cavity_speed;
             break;
         case Feature::Bridge:
             v = st_.bridge_speed;
-            break;
-        case Feature::Support:
-            v = st_.cavity_speed;
-            break;
-        case Feature::SupportInterface:
-            v = st_.cover_speed;
             break;
     }
     if (st_.max_print_speed > 0) v = std::min(v, st_.max_print_speed);

@@ -41,6 +41,20 @@ void add_loops(const Paths& region, Feature feature, int cavity, double min_leng
     }
 }
 
+// Polylines as they come from a stage (ribs, support walls): a line that ends where it starts is
+// a closed loop.
+void add_lines(const Paths& lines, Feature feature, std::vector<Extrusion>& out) {
+    for (const Path& l : lines) {
+        if (l.size() < 2) continue;
+        Extrusion e;
+        e.feature = feature;
+        e.points = l;
+        e.closed = l.size() > 2 && l.front() == l.back();
+        if (e.closed) e.points.pop_back();
+        out.push_back(std::move(e));
+    }
+}
+
 // The single wall of a cavity (report 4.1): the boundary of the cavity opened by s', where it
 // lies at least t inside V^{j-1} (`uncarved`).
 void add_cavity_walls(const Paths& cavity, const Paths& uncarved, const Settings& settings,
@@ -118,15 +132,7 @@ constexpr double kSupportSpacingMm = 2.5;
 
 std::vector<Extrusion> support_paths(const LayerPartition& layer, const Settings& settings) {
     std::vector<Extrusion> out;
-    for (const Path& l : layer.support_walls) {
-        if (l.size() < 2) continue;
-        Extrusion e;
-        e.feature = Feature::Support;
-        e.points = l;
-        e.closed = l.size() > 2 && l.front() == l.back();
-        if (e.closed) e.points.pop_back();
-        out.push_back(std::move(e));
-    }
+    add_lines(layer.support_walls, Feature::Support, out);
     if (layer.support.empty()) return out;
     const Coord s = settings.nozzle_radius(), w = settings.line_width();
     const Paths body = layer.support_interface.empty()
@@ -367,13 +373,7 @@ LayerToolpaths plan_layer(const LayerPartition& layer, const Settings& settings)
                 islands[island_at(e.points.front())].cavities[j].push_back(std::move(e));
     distribute(solid_lines, &Island::solid);
     std::vector<Extrusion> ribs;
-    for (const Path& l : layer.ribs) {
-        if (l.size() < 2) continue;
-        Extrusion e;
-        e.feature = Feature::Rib;
-        e.points = l;
-        ribs.push_back(std::move(e));
-    }
+    add_lines(layer.ribs, Feature::Rib, ribs);
     distribute(ribs, &Island::ribs);
     for (const Bridge& b : layer.bridges) {
         const auto first =

@@ -1,6 +1,7 @@
 // Shapes the unit tests build their slices from.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -26,6 +27,22 @@ inline Path circle(double cx, double cy, double r, int n = 64) {
                        Coord(std::llround(cy + r * std::sin(t))));
     }
     return p;
+}
+
+// Distance from p to the nearest edge of region's contours (in units), inside or out.
+inline double distance_to_boundary(const Point& p, const Paths& region) {
+    double best = 1e18;
+    for (const Path& c : region)
+        for (size_t i = 0; i < c.size(); ++i) {
+            const Point& a = c[i];
+            const Point& b = c[(i + 1) % c.size()];
+            const double dx = double(b.X - a.X), dy = double(b.Y - a.Y);
+            const double len2 = dx * dx + dy * dy;
+            double t = len2 > 0 ? ((p.X - a.X) * dx + (p.Y - a.Y) * dy) / len2 : 0;
+            t = std::clamp(t, 0.0, 1.0);
+            best = std::min(best, std::hypot(p.X - (a.X + t * dx), p.Y - (a.Y + t * dy)));
+        }
+    return best;
 }
 
 }  // namespace carve::test

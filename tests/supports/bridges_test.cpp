@@ -15,24 +15,10 @@
 #include "support/shapes.hpp"
 
 using namespace carve;
+using carve::test::distance_to_boundary;
 using carve::test::rect;
 
 namespace {
-
-double distance_to_boundary(const Point& p, const Paths& region) {
-    double best = 1e18;
-    for (const Path& c : region)
-        for (size_t i = 0; i < c.size(); ++i) {
-            const Point& a = c[i];
-            const Point& b = c[(i + 1) % c.size()];
-            const double dx = double(b.X - a.X), dy = double(b.Y - a.Y);
-            const double len2 = dx * dx + dy * dy;
-            double t = len2 > 0 ? ((p.X - a.X) * dx + (p.Y - a.Y) * dy) / len2 : 0;
-            t = std::clamp(t, 0.0, 1.0);
-            best = std::min(best, std::hypot(p.X - (a.X + t * dx), p.Y - (a.Y + t * dy)));
-        }
-    return best;
-}
 
 BridgeOptions options() {
     BridgeOptions o;
