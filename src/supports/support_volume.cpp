@@ -191,6 +191,33 @@ SupportLayer SupportPlanner::plan(int j) {
         }
         region = without_specks(region, min_area / 4);
     }
+    // On the bottom layer, also the overhangs of layers 1 .. g, whose support would have to
+    // start below the bed to keep the z gap: they are held from the bed, touching the model, as
+    // PrusaSlicer does on its first layer. Left alone, such an overhang is a line laid in the air
+    // a layer or two above the bed (on cat, nearly all of what hangs with supports); a support
+    // touching it costs only a rougher underside over one layer. It keeps the xy gap from the
+    // model's first layer, the one beside it. No shadow for --support buildplate: nothing of the
+    // model lies under these overhangs, only the bed.
+    if (j == 0 && g > 0) {
+        Paths grounded, lower;
+        for (int k = 1; k <= g; ++k) {
+            const Paths& below = outline(k - 1);
+            lower.insert(lower.end(), below.begin(), below.end());
+            const Paths& above = outline(k);
+            if (above.empty()) continue;
+            // What of layer k has nothing of the model under it, down to the bed.
+            Paths f = lower.empty() ? above : subtract(above, dilate(unite(lower), o.reach));
+            if (!f.empty()) f = without_specks(open(f, w / 4), min_area);
+            grounded.insert(grounded.end(), f.begin(), f.end());
+        }
+        if (!grounded.empty() && !outline(0).empty())
+            grounded = subtract(grounded, dilate(outline(0), o.xy_gap));
+        if (!grounded.empty()) grounded = without_specks(unite(grounded), min_area / 4);
+        if (!grounded.empty()) {
+            region = region.empty() ? grounded : unite(region, grounded);
+            fresh = fresh.empty() ? grounded : unite(fresh, grounded);
+        }
+    }
     out.region = region;
     if (o.interface_layers > 0) {
         Paths top = fresh.empty() || region.empty() ? Paths{} : intersect(fresh, region);

@@ -116,6 +116,36 @@ TEST(SupportPlanner, FloatingPartIsHeldFromTheBed) {
     EXPECT_GT(b.min_x, 3000);  // under the floating part, not the post
 }
 
+// A 20 mm plate from the second layer on a 10 mm foot: the plate's overhang starts 0.2 mm above
+// the bed, where a support keeping the z gap would have to stand below the bed. It is held from
+// the bed, on layer 0, touching the plate (dense, as an interface), clear of the foot by the xy
+// gap. With a z gap of two layers (and a second layer a little wider than the foot), the third
+// layer's overhang beyond the second is held there too.
+TEST(SupportPlanner, SecondLayerOverhangIsHeldFromTheBed) {
+    for (int gap : {1, 2}) {
+        std::vector<Paths> outlines;
+        outlines.push_back(rect_region(5000, 5000, 15000, 15000));
+        if (gap == 2) outlines.push_back(rect_region(4000, 4000, 16000, 16000));
+        while (outlines.size() < 12) outlines.push_back(rect_region(0, 0, 20000, 20000));
+        SupportOptions o = options();
+        o.gap_layers = gap;
+        const auto s = plan_all(outlines, o);
+        ASSERT_EQ(s.size(), outlines.size());
+        const SupportLayer& bed = s.at(0);
+        // The plate's ring beyond the foot (400 - 100 mm²), less the xy gap round the foot (and
+        // with two layers, the band of the third layer within reach of the second).
+        EXPECT_GT(area_mm2(bed.region), 275) << "gap " << gap;
+        EXPECT_GT(area_mm2(bed.interface), 275) << "gap " << gap;
+        EXPECT_GT(bed.new_mm2, 275) << "gap " << gap;
+        // Nothing of it within the xy gap of the foot, the model beside it.
+        EXPECT_NEAR(area_mm2(intersect(bed.region, dilate(outlines[0], o.xy_gap - 5))), 0, 1e-6)
+            << "gap " << gap;
+        for (int j = 1; j < int(outlines.size()); ++j)
+            EXPECT_TRUE(s.at(j).region.empty() && s.at(j).walls.empty())
+                << "gap " << gap << ", layer " << j;
+    }
+}
+
 // The 12 triangles of a box, for ModelShadow.
 void add_box(std::vector<Vec3>& v, std::vector<std::array<uint32_t, 3>>& t, double x0, double y0,
              double z0, double x1, double y1, double z1) {
@@ -245,6 +275,65 @@ TEST(SupportCli, MushroomKeepsBothGapsAndHoldsTheCap) {
     EXPECT_LT(b["hanging_overhang_mm2"].get<double>(),
               0.1 * a["hanging_overhang_mm2"].get<double>());
     EXPECT_GT(b["outside_support_mm2"].get<double>(), 0);
+    EXPECT_LT(b["outside_other_mm2"].get<double>(), 1.0);
+}
+
+// The same on a whole run: a 20 x 20 mm plate from z 0.2 on a 10 x 10 mm foot one layer high.
+// Its overhang hangs unless the first layer holds it; carve check counts support printed on the
+// bed under it as held.
+TEST(SupportCli, PlateOnAOneLayerFootIsHeldByTheFirstLayer) {
+    const auto dir = test::scratch();
+    std::vector<test::StlTriangle> t;
+    test::add_box(t, 5, 5, 0, 15, 15, 0.2f);
+    test::add_box(t, 0, 0, 0.2f, 20, 20, 2);
+    const std::string plate = test::write_stl("support_plate_on_foot.stl", t).string();
+    const std::string none = (dir / "plate_none.gcode").string();
+    const std::string with = (dir / "plate_auto.gcode").string();
+    auto r = test::run_carve("slice " + plate + " -o " + none + " -q");
+    ASSERT_EQ(r.status, 0) << r.err;
+    r = test::run_carve("slice " + plate + " -o " + with + " --support auto -q");
+    ASSERT_EQ(r.status, 0) << r.err;
+    // The first layer's support keeps the xy gap from the foot (x 120..130, y 100..110 once
+    // centred on the 250 x 210 bed), and stands there only: the plate is above it.
+    std::istringstream in(test::read(with));
+    std::string line, type;
+    double z = 0, x = 0, y = 0, e = 0;
+    int first_layer_points = 0;
+    const double keep = 0.25 + 0.2 - 0.02;  // xy gap + half a line, less rounding
+    while (std::getline(in, line)) {
+        if (line.rfind(";TYPE:", 0) == 0) type = line.substr(6);
+        if (line.rfind("G1", 0) != 0) continue;
+        double nx = x, ny = y, nz = z, ne = e;
+        std::istringstream words(line.substr(2, line.find(';') - 2));
+        std::string w;
+        while (words >> w) {
+            const double v = std::stod(w.substr(1));
+            if (w[0] == 'X') nx = v;
+            if (w[0] == 'Y') ny = v;
+            if (w[0] == 'Z') nz = v;
+            if (w[0] == 'E') ne = v;
+        }
+        if (ne > e && (nx != x || ny != y) && type.rfind("Support", 0) == 0) {
+            EXPECT_NEAR(nz, 0.2, 1e-6) << line;
+            ++first_layer_points;
+            const double dx = std::max({120 - nx, nx - 130, 0.0});
+            const double dy = std::max({100 - ny, ny - 110, 0.0});
+            EXPECT_GE(std::hypot(dx, dy), keep) << line;
+        }
+        x = nx, y = ny, z = nz, e = ne;
+    }
+    EXPECT_GT(first_layer_points, 50);
+
+    r = test::run_carve("check " + none + " --mesh " + plate + " --json --support-gap 0.4");
+    ASSERT_EQ(r.status, 0) << r.err;
+    const auto a = nlohmann::json::parse(r.out);
+    r = test::run_carve("check " + with + " --mesh " + plate + " --json --support-gap 0.4");
+    ASSERT_EQ(r.status, 0) << r.err;
+    const auto b = nlohmann::json::parse(r.out);
+    EXPECT_GT(a["hanging_overhang_mm2"].get<double>(), 100);
+    EXPECT_LT(b["hanging_overhang_mm2"].get<double>(),
+              0.1 * a["hanging_overhang_mm2"].get<double>());
+    EXPECT_GT(b["support_volume_mm3"].get<double>(), 0);
     EXPECT_LT(b["outside_other_mm2"].get<double>(), 1.0);
 }
 
