@@ -47,21 +47,23 @@ def seconds(text):
 
 
 def total_from_screen(shot, work):
-    """Reads the viewer's "Total:" from a screenshot: finds "First layer:" in tesseract's word
-    boxes, then reads the line below it alone (whole-screen OCR misreads the short value)."""
+    """Reads the viewer's "Total:" from a screenshot: finds the window's "File" menu in
+    tesseract's word boxes, then reads the legend below it as one block (whole-screen OCR loses
+    the legend where the model shows through it)."""
     gray = work / "gray.png"
     subprocess.run(["convert", str(shot), "-colorspace", "Gray", "-negate", str(gray)], check=True)
     tsv = subprocess.run(["tesseract", str(gray), "-", "tsv"], capture_output=True,
                          text=True).stdout
     for row in tsv.splitlines():
         cols = row.split("\t")
-        if len(cols) == 12 and cols[11] == "First":
-            left, top, height = int(cols[6]), int(cols[7]), int(cols[9])
-            line = work / "line.png"
+        if len(cols) == 12 and cols[11] == "File":
+            left, top = int(cols[6]), int(cols[7])
+            legend = work / "legend.png"
+            # The legend at GDK_SCALE=2: about 700 x 500 pixels under the menu bar.
             subprocess.run(["convert", str(gray), "+repage", "-crop",
-                            f"{12 * height}x{2 * height + 6}+{left - 10}+{top + height}",
-                            "+repage", "-resize", "200%", str(line)], check=True)
-            text = subprocess.run(["tesseract", str(line), "-", "--psm", "7"],
+                            f"720x520+{max(0, left - 15)}+{top + 43}", "+repage", str(legend)],
+                           check=True)
+            text = subprocess.run(["tesseract", str(legend), "-", "--psm", "6"],
                                   capture_output=True, text=True).stdout
             m = re.search(r"Total:[^0-9]*([0-9dhms ]+)", text)
             return seconds(m.group(1)) if m else None
