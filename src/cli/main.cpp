@@ -9,7 +9,9 @@
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <cerrno>
+#include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <cstring>
@@ -17,7 +19,10 @@
 #include <iostream>
 #include <limits>
 #include <map>
+#include <optional>
+#include <string_view>
 #include <system_error>
+#include <vector>
 
 #include "base/atomic_file.hpp"
 #include "base/error.hpp"
@@ -327,12 +332,27 @@ int run(int argc, char** argv) {
             std::optional<carve::Vec3> offset;
             if (!check_offset.empty()) {
                 carve::Vec3 o{0, 0, std::numeric_limits<double>::quiet_NaN()};  // z: on the bed
-                char extra = 0;
-                int n =
-                    std::sscanf(check_offset.c_str(), "%lf,%lf,%lf%c", &o.x, &o.y, &o.z, &extra);
-                if (n != 2 && n != 3)
-                    return fail(fmt::format("--mesh-offset: expected X,Y or X,Y,Z in mm, got '{}'",
-                                            check_offset));
+                // Each part a plain decimal within the bed's reach (sscanf took "nan", "inf"
+                // and hexadecimal).
+                std::vector<std::optional<double>> parts;
+                for (size_t at = 0;;) {
+                    const size_t comma = check_offset.find(',', at);
+                    const auto v =
+                        carve::parse_decimal(std::string_view(check_offset).substr(at, comma - at));
+                    parts.push_back(v && std::abs(*v) <= 1e5 ? v : std::nullopt);
+                    if (comma == std::string::npos) break;
+                    at = comma + 1;
+                }
+                const bool good = (parts.size() == 2 || parts.size() == 3) &&
+                                  std::all_of(parts.begin(), parts.end(),
+                                              [](const auto& v) { return v.has_value(); });
+                if (!good)
+                    return fail(fmt::format(
+                        "--mesh-offset: expected X,Y or X,Y,Z in mm (decimal, at most 100000), "
+                        "got '{}'",
+                        check_offset));
+                o.x = *parts[0], o.y = *parts[1];
+                if (parts.size() == 3) o.z = *parts[2];
                 offset = o;
             }
             carve::GcodeAnalysis a;

@@ -281,12 +281,19 @@ std::vector<std::string> load_prusa_profile(const std::string& path, Settings& s
     if (!in) throw InputError(fmt::format("{}: cannot open the profile", path));
     // A real profile is tens of kilobytes (a bundle of every vendor printer a few MB); more is
     // not a profile, and every key is held in memory for the placeholders.
-    constexpr std::streamoff kMaxProfileBytes = 16 << 20;
-    in.seekg(0, std::ios::end);
-    if (in.tellg() > kMaxProfileBytes)
-        throw InputError(fmt::format("{}: larger than 16 MB, not a printer profile", path));
-    in.seekg(0, std::ios::beg);
-    return read_prusa_profile(in, path, s, options);
+    // Read by blocks rather than measured by seeking: a pipe (--load /dev/stdin) cannot seek,
+    // and a failed seek left the stream failed, so its profile was silently empty.
+    constexpr size_t kMaxProfileBytes = 16 << 20;
+    std::string text;
+    char block[1 << 16];
+    while (in.read(block, sizeof block) || in.gcount() > 0) {
+        text.append(block, size_t(in.gcount()));
+        if (text.size() > kMaxProfileBytes)
+            throw InputError(fmt::format("{}: larger than 16 MB, not a printer profile", path));
+    }
+    if (in.bad()) throw InputError(fmt::format("{}: cannot read the profile", path));
+    std::istringstream whole(std::move(text));
+    return read_prusa_profile(whole, path, s, options);
 }
 
 std::vector<std::string> read_prusa_profile(std::istream& in, const std::string& path, Settings& s,
@@ -327,8 +334,10 @@ std::vector<std::string> read_prusa_profile(std::istream& in, const std::string&
     // The setters name the key; the message gains the file, line and section.
     auto relabel = [&](const std::string& key, const IniValue& v, const InputError& e) {
         const std::string what = e.what();
+        const std::string here = where(key, v);
+        if (what.rfind(here, 0) == 0) return InputError(what);  // the setter named it already
         const std::string prefix = fmt::format("profile key '{}': ", key);
-        return InputError(where(key, v) + ": " +
+        return InputError(here + ": " +
                           (what.rfind(prefix, 0) == 0 ? what.substr(prefix.size()) : what));
     };
 

@@ -196,6 +196,11 @@ TEST(Cli, StatsCheckMeasuresTheOutputOnTheLoadedMesh) {
     EXPECT_NEAR(gj["hanging_inside_mm2"].get<double>(), c["hanging_inside_mm2"].get<double>(),
                 1e-3);
     EXPECT_EQ(run_carve("check " + gcode.string() + " --mesh-offset 1,2").status, 1);
+    for (const char* bad : {"nan,1", "1,inf", "0x10,1", "1e9,1", "1,2,3,4", "1,,2"})
+        EXPECT_EQ(run_carve("check " + gcode.string() + " --mesh " + mesh + " --mesh-offset " + bad)
+                      .status,
+                  1)
+            << bad;
     EXPECT_EQ(run_carve("check " + gcode.string() + " --mesh " + mesh + " --mesh-offset 1").status,
               1);
 }

@@ -238,6 +238,10 @@ TEST(HostileNumbers, ProfileValuesAreBoundedAndNamed) {
         EXPECT_NE(r.err.find(key == "bed_shape" ? "bed" : key), std::string::npos)
             << line << ": " << r.err;
         EXPECT_EQ(lines(r.err), 1) << line << ": " << r.err;
+        const size_t named = r.err.find("profile key");
+        EXPECT_TRUE(named == std::string::npos ||
+                    r.err.find("profile key", named + 1) == std::string::npos)
+            << "the key is named once: " << r.err;
         EXPECT_FALSE(fs::exists(g)) << line;
     }
 }
@@ -501,6 +505,24 @@ TEST(HostileLoaders, CheckReadsAPipe) {
     const int raw = std::system(cmd.c_str());
     EXPECT_EQ(WEXITSTATUS(raw), 0) << read(scratch() / "pipe.err");
     EXPECT_NE(read(scratch() / "pipe.json").find("extruded_volume_mm3"), std::string::npos);
+}
+
+// A profile that cannot seek (a pipe) is read as a file is: its values are applied and bounded
+// (it used to be dropped without a word, the size check's seek having failed the stream).
+TEST(HostileLoaders, ProfileFromAPipeIsRead) {
+    const fs::path g = scratch() / "pipe_profile.gcode", err = scratch() / "pipe_profile.err";
+    auto run = [&](const std::string& line) {
+        const std::string cmd = "printf '" + line + "\\n' | " + CARVE_BINARY + " slice " + kSmall +
+                                " -q --cavities 1 -o " + g.string() +
+                                " --load /dev/stdin >/dev/null 2>" + err.string();
+        const int raw = std::system(cmd.c_str());
+        return WIFEXITED(raw) ? WEXITSTATUS(raw) : 128;
+    };
+    EXPECT_EQ(run("temperature = 99999"), kExitBadInput);
+    EXPECT_NE(read(err).find("temperature"), std::string::npos) << read(err);
+    EXPECT_FALSE(fs::exists(g));
+    ASSERT_EQ(run("temperature = 231"), 0) << read(err);
+    EXPECT_NE(read(g).find("\nM104 S231"), std::string::npos);  // after the first layer
 }
 
 // --- interruption, leftovers and concurrent runs
