@@ -195,6 +195,37 @@ TEST(SupportPlanner, BuildplateKeepsOffWhatTheModelHasBelow) {
     EXPECT_FALSE(plate.at(0).region.empty() && plate.at(0).walls.empty());
 }
 
+// Where the G-code extrudes support: the end of every move that extrudes and moves under a
+// ;TYPE: naming support (an unretract in place keeps the last ;TYPE: until the next path
+// names its own, so it is not a support point).
+struct GcodePoint {
+    double x, y, z;
+};
+std::vector<GcodePoint> support_points(const std::string& gcode) {
+    std::vector<GcodePoint> out;
+    std::istringstream in(gcode);
+    std::string line, type;
+    double z = 0, x = 0, y = 0, e = 0;
+    while (std::getline(in, line)) {
+        if (line.rfind(";TYPE:", 0) == 0) type = line.substr(6);
+        if (line.rfind("G1", 0) != 0) continue;
+        double nx = x, ny = y, nz = z, ne = e;
+        std::istringstream words(line.substr(2, line.find(';') - 2));
+        std::string w;
+        while (words >> w) {
+            const double v = std::stod(w.substr(1));
+            if (w[0] == 'X') nx = v;
+            if (w[0] == 'Y') ny = v;
+            if (w[0] == 'Z') nz = v;
+            if (w[0] == 'E') ne = v;
+        }
+        if (ne > e && (nx != x || ny != y) && type.rfind("Support", 0) == 0)
+            out.push_back({nx, ny, nz});
+        x = nx, y = ny, z = nz, e = ne;
+    }
+    return out;
+}
+
 nlohmann::json json_of(const std::string& path) {
     std::ifstream in(path);
     return nlohmann::json::parse(in);
@@ -232,37 +263,16 @@ TEST(SupportCli, MushroomKeepsBothGapsAndHoldsTheCap) {
 
     // The G-code: the mesh is centred on the 250 x 210 bed, so the stem is x 120..130,
     // y 100..110; the cap's first layer is the one at z 10.2.
-    std::istringstream in(g);
-    std::string line, type;
-    double z = 0, x = 0, y = 0, e = 0, top = 0;
-    int support_points = 0;
+    double top = 0;
     const double keep = 0.25 + 0.2 - 0.02;  // xy gap + half a line, less rounding
-    while (std::getline(in, line)) {
-        if (line.rfind(";TYPE:", 0) == 0) type = line.substr(6);
-        if (line.rfind("G1", 0) != 0) continue;
-        double nx = x, ny = y, nz = z, ne = e;
-        std::istringstream words(line.substr(2, line.find(';') - 2));
-        std::string w;
-        while (words >> w) {
-            const double v = std::stod(w.substr(1));
-            if (w[0] == 'X') nx = v;
-            if (w[0] == 'Y') ny = v;
-            if (w[0] == 'Z') nz = v;
-            if (w[0] == 'E') ne = v;
-        }
-        // A move that extrudes (not an unretract in place, which keeps the last ;TYPE: until
-        // the next path names its own).
-        const bool moves = nx != x || ny != y;
-        if (ne > e && moves && type.rfind("Support", 0) == 0) {
-            ++support_points;
-            top = std::max(top, nz);
-            const double dx = std::max({120 - nx, nx - 130, 0.0});
-            const double dy = std::max({100 - ny, ny - 110, 0.0});
-            EXPECT_GE(std::hypot(dx, dy), keep) << line << " at z " << nz;
-        }
-        x = nx, y = ny, z = nz, e = ne;
+    const std::vector<GcodePoint> points = support_points(g);
+    for (const GcodePoint& p : points) {
+        top = std::max(top, p.z);
+        const double dx = std::max({120 - p.x, p.x - 130, 0.0});
+        const double dy = std::max({100 - p.y, p.y - 110, 0.0});
+        EXPECT_GE(std::hypot(dx, dy), keep) << p.x << ", " << p.y << " at z " << p.z;
     }
-    EXPECT_GT(support_points, 100);
+    EXPECT_GT(points.size(), 100u);
     EXPECT_NEAR(top, 9.8, 1e-6) << "the support's top leaves one layer under the cap at 10.2";
 
     r = test::run_carve("check " + none + " --mesh " + mushroom + " --json");
@@ -295,34 +305,15 @@ TEST(SupportCli, PlateOnAOneLayerFootIsHeldByTheFirstLayer) {
     ASSERT_EQ(r.status, 0) << r.err;
     // The first layer's support keeps the xy gap from the foot (x 120..130, y 100..110 once
     // centred on the 250 x 210 bed), and stands there only: the plate is above it.
-    std::istringstream in(test::read(with));
-    std::string line, type;
-    double z = 0, x = 0, y = 0, e = 0;
-    int first_layer_points = 0;
     const double keep = 0.25 + 0.2 - 0.02;  // xy gap + half a line, less rounding
-    while (std::getline(in, line)) {
-        if (line.rfind(";TYPE:", 0) == 0) type = line.substr(6);
-        if (line.rfind("G1", 0) != 0) continue;
-        double nx = x, ny = y, nz = z, ne = e;
-        std::istringstream words(line.substr(2, line.find(';') - 2));
-        std::string w;
-        while (words >> w) {
-            const double v = std::stod(w.substr(1));
-            if (w[0] == 'X') nx = v;
-            if (w[0] == 'Y') ny = v;
-            if (w[0] == 'Z') nz = v;
-            if (w[0] == 'E') ne = v;
-        }
-        if (ne > e && (nx != x || ny != y) && type.rfind("Support", 0) == 0) {
-            EXPECT_NEAR(nz, 0.2, 1e-6) << line;
-            ++first_layer_points;
-            const double dx = std::max({120 - nx, nx - 130, 0.0});
-            const double dy = std::max({100 - ny, ny - 110, 0.0});
-            EXPECT_GE(std::hypot(dx, dy), keep) << line;
-        }
-        x = nx, y = ny, z = nz, e = ne;
+    const std::vector<GcodePoint> points = support_points(test::read(with));
+    for (const GcodePoint& p : points) {
+        EXPECT_NEAR(p.z, 0.2, 1e-6) << p.x << ", " << p.y;
+        const double dx = std::max({120 - p.x, p.x - 130, 0.0});
+        const double dy = std::max({100 - p.y, p.y - 110, 0.0});
+        EXPECT_GE(std::hypot(dx, dy), keep) << p.x << ", " << p.y;
     }
-    EXPECT_GT(first_layer_points, 50);
+    EXPECT_GT(points.size(), 50u);
 
     r = test::run_carve("check " + none + " --mesh " + plate + " --json --support-gap 0.4");
     ASSERT_EQ(r.status, 0) << r.err;
