@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <optional>
+#include <type_traits>
 
 #include "base/error.hpp"
 #include "base/numbers.hpp"
@@ -187,6 +188,26 @@ std::vector<SettingSpec> make_table() {
 
 double SettingSpec::get(const Settings& s) const {
     return std::visit([&](auto member) { return static_cast<double>(s.*member); }, field);
+}
+
+std::variant<double, long long, bool> SettingSpec::value(const Settings& s) const {
+    if (flag()) return get(s) != 0;
+    return std::visit(
+        [&](auto member) -> std::variant<double, long long, bool> {
+            using T = std::remove_reference_t<decltype(s.*member)>;
+            if constexpr (std::is_floating_point_v<T>)
+                return static_cast<double>(s.*member);
+            else
+                return static_cast<long long>(s.*member);
+        },
+        field);
+}
+
+std::string SettingSpec::name() const {
+    std::string out = *option ? option : ini_key;
+    for (char& c : out)
+        if (c == '-') c = '_';
+    return out;
 }
 
 void SettingSpec::set(Settings& s, const std::string& text, const std::string& source) const {

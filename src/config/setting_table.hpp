@@ -7,6 +7,7 @@
 #pragma once
 
 #include <string>
+#include <string_view>
 #include <utility>
 #include <variant>
 #include <vector>
@@ -26,7 +27,14 @@ struct SettingSpec {
     bool profile_skips_percent = false;
 
     bool integer() const { return !std::holds_alternative<double Settings::*>(field); }
+    bool flag() const { return std::string_view(unit) == "0/1"; }
     double get(const Settings& s) const;
+    // The value with its field's type, a 0/1 setting as a flag: for writers that keep types
+    // (the stats JSON), where 2 and 2.0 or 1 and true are not the same.
+    std::variant<double, long long, bool> value(const Settings& s) const;
+    // An identifier for writers that have no options: the option, or the profile key of a
+    // profile-only setting, with '_' for '-' ("layer_height", "machine_max_jerk_x").
+    std::string name() const;
     // Parses `text` strictly (decimal, finite, whole for integers) and checks the range; throws
     // InputError "<source>: 'text' is out of range; expected from A to B unit".
     void set(Settings& s, const std::string& text, const std::string& source) const;

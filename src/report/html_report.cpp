@@ -12,10 +12,13 @@
 #include <fstream>
 #include <map>
 #include <numbers>
+#include <string_view>
 #include <utility>
 
 #include "base/atomic_file.hpp"
 #include "base/error.hpp"
+#include "base/numbers.hpp"
+#include "config/setting_table.hpp"
 #include "gcode/gcode.hpp"
 #include "geometry/polygon.hpp"
 #include "report/html_assets.hpp"
@@ -33,6 +36,19 @@ using namespace html;
 constexpr Coord kGrid = 10;  // drawing grid, micrometres (0.01 mm)
 // Simplification tolerances tried in turn until a layer's drawing fits its share of the budget.
 constexpr std::array<double, 4> kTolerances = {50, 100, 200, 400};
+
+// A table setting's value with its unit as a person reads it ("0.2 mm", "45°", "on").
+std::string setting_text(const SettingSpec& spec, const Settings& st) {
+    const double v = spec.get(st);
+    if (spec.flag()) return v != 0 ? "on" : "off";
+    static const std::map<std::string_view, std::string_view> shown = {
+        {"degrees", "°"},     {"C", " °C"},      {"g/cm^3", " g/cm³"},
+        {"mm/s^2", " mm/s²"}, {"seconds", " s"}, {"ratio", "×"},
+    };
+    const auto it = shown.find(spec.unit);
+    return plain_number(v) +
+           (it != shown.end() ? std::string(it->second) : std::string(" ") + spec.unit);
+}
 
 // The CSS class number (1..) of cavity C^j's colour.
 int cavity_class(int j) {
@@ -522,19 +538,26 @@ void HtmlReportWriter::Impl::write_details(std::ostream& out, const PageFigures&
         out << "</ul>\n";
     }
     out << "</div><div>\n<h2>Settings</h2><table class=\"settings\">";
-    auto setting = [&](const std::string& k, const std::string& v) {
-        out << "<tr><td>" << k << "</td><td>" << xml_escape(v) << "</td></tr>";
+    auto setting = [&](const std::string& k, const std::string& v, const std::string& help) {
+        out << "<tr><td";
+        if (!help.empty()) out << " title=\"" << xml_escape(help) << "\"";
+        out << ">" << xml_escape(k) << "</td><td>" << xml_escape(v) << "</td></tr>";
     };
-    setting("printer", st.printer_name);
-    setting("layer height", fmt::format("{} mm", st.layer_height));
-    setting("nozzle / line width", fmt::format("{} mm", st.nozzle));
-    setting("max overhang", fmt::format("{}°", st.max_overhang));
-    setting("cavities k", st.cavities_auto ? "auto" : std::to_string(st.cavities));
-    setting("covers / shells", fmt::format("{} / {}", st.covers, st.shells));
-    setting("cavity walls", st.walls == WallMode::Single ? "single filament" : "double");
-    setting("filament", fmt::format("{} mm, {} g/cm³", st.filament_diameter, st.filament_density));
-    setting("temperatures",
-            fmt::format("{} °C nozzle, {} °C bed", st.nozzle_temperature, st.bed_temperature));
+    // What the table of settings cannot hold: words and "auto".
+    setting("printer", st.printer_name, "");
+    setting("cavities k", st.cavities_auto ? "auto" : std::to_string(st.cavities), "");
+    setting("cavity walls", st.walls == WallMode::Single ? "single filament" : "double", "");
+    setting("supports",
+            st.support == SupportMode::Auto         ? "auto"
+            : st.support == SupportMode::Buildplate ? "buildplate"
+                                                    : "none",
+            "");
+    // The line width is the nozzle's unless --extrusion-width sets it: its row below says 0.
+    setting("line width", fmt::format("{} mm", plain_number(st.width_mm())), "");
+    // Every setting of the table under the name it is given by (option, else profile key).
+    for (const SettingSpec& spec : setting_table())
+        setting(*spec.option ? std::string("--") + spec.option : std::string(spec.ini_key),
+                setting_text(spec, st), spec.help);
     out << "</table>\n<details><summary>Stats JSON</summary><pre>" << xml_escape(stats.dump(2))
         << "</pre></details>\n</div></div></section>\n</main>\n"
         << "<footer>Made by carve &middot; self-contained page, nothing is loaded from the "

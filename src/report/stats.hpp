@@ -6,11 +6,15 @@
 #include <string>
 
 #include "check/gcode_analysis.hpp"
+#include "config/setting_table.hpp"
 #include "config/settings.hpp"
 #include "report/run_result.hpp"
 
 namespace carve {
 
+// The key of a table setting in the stats JSON's "settings" block: its name and unit
+// ("layer_height_mm", "max_overhang_deg", "covers").
+std::string stats_key(const SettingSpec& spec);
 nlohmann::json stats_json(const RunResult& run, const Settings& settings);
 std::string summary_text(const RunResult& run, const Settings& settings);
 // The figures of `carve check` for people.

@@ -10,12 +10,18 @@
 #include <filesystem>
 #include <fstream>
 #include <numbers>
+#include <set>
 #include <sstream>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "base/error.hpp"
+#include "base/numbers.hpp"
+#include "config/setting_table.hpp"
 #include "geometry/morphology.hpp"
 #include "geometry/polygon.hpp"
+#include "report/stats.hpp"
 #include "support/shapes.hpp"
 
 using namespace carve;
@@ -115,9 +121,8 @@ std::filesystem::path temp_file(const std::string& name) {
 }
 
 std::string write_report(const std::filesystem::path& path, size_t budget = 0,
-                         std::vector<ReportLayer>* layers_out = nullptr) {
-    Settings st;
-    st.layer_height = 0.2;
+                         std::vector<ReportLayer>* layers_out = nullptr,
+                         const Settings& st = Settings{}) {
     HtmlReportWriter writer(path.string(), st);
     if (budget) writer.set_budget(budget);
     for (int i = 2; i >= 0; --i) {  // top down, like the sweep
@@ -128,6 +133,18 @@ std::string write_report(const std::filesystem::path& path, size_t budget = 0,
     nlohmann::json stats = {{"model", "/some/where/cube.stl"}, {"layers", 3}};
     writer.finish(fake_run(), stats);
     return read_all(path);
+}
+
+// Every table setting moved off its default (to an end of its range), so that a writer showing
+// defaults, or a value of the wrong setting, is caught.
+Settings off_default_settings() {
+    Settings st;
+    const Settings defaults;
+    for (const SettingSpec& spec : setting_table()) {
+        const double v = spec.get(defaults) == spec.max ? spec.min : spec.max;
+        spec.set(st, plain_number(v), "test");
+    }
+    return st;
 }
 
 }  // namespace
@@ -238,4 +255,97 @@ TEST(HtmlReport, UnwritablePathIsAnOutputError) {
     const HandLayer h = make_layer(st, 0, true);
     writer.add_layer(h.part, h.paths);
     EXPECT_THROW(writer.finish(fake_run(), nlohmann::json::object()), OutputError);
+}
+
+// The settings block of the stats JSON and the report's settings table are made from the table;
+// a setting declared there and left out of either fails here.
+TEST(StatsJson, SettingsBlockHoldsEveryTableSetting) {
+    const Settings st = off_default_settings();
+    const nlohmann::json s = stats_json(fake_run(), st)["settings"];
+    std::set<std::string> keys;
+    for (const SettingSpec& spec : setting_table()) {
+        const std::string key = stats_key(spec);
+        SCOPED_TRACE(key);
+        EXPECT_TRUE(keys.insert(key).second) << "two settings share the key";
+        EXPECT_EQ(key.rfind(spec.name(), 0), 0u) << "the key starts with the setting's name";
+        ASSERT_TRUE(s.contains(key));
+        const nlohmann::json& v = s[key];
+        if (spec.flag()) {
+            ASSERT_TRUE(v.is_boolean());
+            EXPECT_EQ(v.get<bool>(), spec.get(st) != 0);
+        } else if (spec.integer()) {
+            ASSERT_TRUE(v.is_number_integer());
+            EXPECT_EQ(v.get<long long>(), static_cast<long long>(spec.get(st)));
+        } else {
+            ASSERT_TRUE(v.is_number_float());
+            // At the ends of the ranges the derived values (support_angle_deg, support_z_gap_mm,
+            // max_bridge_length_mm) equal the given ones.
+            EXPECT_DOUBLE_EQ(v.get<double>(), spec.get(st));
+        }
+    }
+}
+
+// The keys the stats JSON had before it was made from the table: other tools read them
+// (DESIGN.md, "stats JSON"), so they keep their names and types.
+TEST(StatsJson, SettingsBlockKeepsItsOlderKeys) {
+    const nlohmann::json s = stats_json(fake_run(), Settings{})["settings"];
+    using T = nlohmann::json::value_t;
+    const std::vector<std::pair<std::string, T>> older = {
+        {"layer_height_mm", T::number_float},
+        {"nozzle_mm", T::number_float},
+        {"max_overhang_deg", T::number_float},
+        {"support_angle_deg", T::number_float},
+        {"cavities", T::number_integer},
+        {"covers", T::number_integer},
+        {"shells", T::number_integer},
+        {"walls", T::string},
+        {"filament_diameter_mm", T::number_float},
+        {"tear_limit_mm", T::number_float},
+        {"whole_width_mm", T::number_float},
+        {"whole_width_max_mm", T::number_float},
+        {"max_bridge_length_mm", T::number_float},
+        {"rib_reach_mm", T::number_float},
+        {"rib_spacing_mm", T::number_float},
+        {"prune_bridges", T::boolean},
+        {"printer", T::string},
+        {"copies", T::number_integer},
+        {"support", T::string},
+        {"support_z_gap_mm", T::number_float},
+        {"support_xy_gap_mm", T::number_float},
+        {"support_interface_layers", T::number_integer},
+    };
+    for (const auto& [key, type] : older) {
+        SCOPED_TRACE(key);
+        ASSERT_TRUE(s.contains(key));
+        // nlohmann keeps non-negative integers as unsigned or signed depending on the source.
+        const T got = s[key].type() == T::number_unsigned ? T::number_integer : s[key].type();
+        EXPECT_EQ(got, type);
+    }
+    EXPECT_DOUBLE_EQ(s["support_angle_deg"].get<double>(), 45.0);  // 0 given: --max-overhang
+}
+
+TEST(HtmlReport, SettingsTableListsEveryTableSetting) {
+    const auto path = temp_file("settings.html");
+    const Settings st = off_default_settings();
+    const std::string page = write_report(path, 0, nullptr, st);
+    const size_t from = page.find("<table class=\"settings\">");
+    ASSERT_NE(from, std::string::npos);
+    const std::string table = page.substr(from, page.find("</table>", from) - from);
+    for (const SettingSpec& spec : setting_table()) {
+        const std::string label =
+            *spec.option ? std::string("--") + spec.option : std::string(spec.ini_key);
+        SCOPED_TRACE(label);
+        const size_t row = table.find(">" + label + "</td><td>");
+        ASSERT_NE(row, std::string::npos);
+        const size_t value = table.find("</td><td>", row) + 9;
+        const std::string shown = table.substr(value, table.find("</td>", value) - value);
+        if (spec.flag()) {
+            EXPECT_EQ(shown, spec.get(st) != 0 ? "on" : "off");
+        } else {
+            const std::string number = plain_number(spec.get(st));
+            EXPECT_EQ(shown.rfind(number, 0), 0u) << shown;
+            EXPECT_GT(shown.size(), number.size()) << "the unit is shown: " << shown;
+        }
+    }
+    std::filesystem::remove(path);
 }
