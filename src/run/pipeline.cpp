@@ -413,6 +413,7 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
             return out;
         });
     const BridgeOptions bridging = bridge_options(settings);
+    const RibOptions ribbing = rib_options(settings);
     const Coord overhang_reach = settings.support_reach();
     OverhangTally overhangs;
     auto work = tbb::make_filter<TokenPtr, TokenPtr>(
@@ -427,19 +428,22 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
                 StageTimer bridges_timer(Stage::kBridges);
                 add_bridges(t->layer, t->below ? &*t->below : nullptr, bridging);
             }
+            // The ribs' per-slice regions here, in parallel: the serial rib filter then only
+            // carries the ribs down.
+            t->rib_slice = rib_slice(t->layer, ribbing);
             t->below.reset();
             return t;
         });
     // Ribs grow down from what would hang: serial top down, each slice's only after the slices
     // above it (nothing is held back: a rib on slice i depends on slices i and above).
-    RibPlanner ribs(rib_options(settings));
-    auto rib_filter = tbb::make_filter<TokenPtr, TokenPtr>(tbb::filter_mode::serial_in_order,
-                                                           [&](TokenPtr t) -> TokenPtr {
-                                                               if (!t) return t;
-                                                               SpanTimer timer(span, t->seq, kRibs);
-                                                               ribs.add(t->layer);
-                                                               return t;
-                                                           });
+    RibPlanner ribs(ribbing);
+    auto rib_filter = tbb::make_filter<TokenPtr, TokenPtr>(
+        tbb::filter_mode::serial_in_order, [&](TokenPtr t) -> TokenPtr {
+            if (!t) return t;
+            SpanTimer timer(span, t->seq, kRibs);
+            ribs.add(t->layer, std::move(t->rib_slice));
+            return t;
+        });
     auto paths = tbb::make_filter<TokenPtr, TokenPtr>(
         tbb::filter_mode::parallel, [&](TokenPtr t) -> TokenPtr {
             if (!t) return t;

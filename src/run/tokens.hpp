@@ -13,6 +13,7 @@
 #include "carving/carving.hpp"
 #include "slice/slicer.hpp"
 #include "supports/overhang.hpp"
+#include "supports/ribs.hpp"
 #include "toolpath/toolpath.hpp"
 
 namespace carve {
@@ -32,6 +33,7 @@ struct Token {
                                           // and its outline
     LayerOverhang overhang;               // of O_i beyond O_{i-1}
     double support_new_mm2 = 0;           // overhang area a support starts under here
+    RibSlice rib_slice;                   // what the ribs need of this slice alone
     LayerToolpaths paths;
     std::vector<double> volumes;  // of each extrusion of `paths`, mm^3
     double material = 0;          // their sum

@@ -118,13 +118,12 @@ RibOptions rib_options(const Settings& settings) {
 
 RibPlanner::RibPlanner(const RibOptions& options) : options_(options) {}
 
-void RibPlanner::add(LayerPartition& layer) {
-    if (!options_.enabled) return;
-    StageTimer timer(Stage::kBridges);
-    const Coord w = options_.line_width, r = options_.lean;
-    // What nothing is printed in on this slice: each cavity less half a line width (its wall's
-    // half inside it; cavities touch along the walls between them, so each is eroded alone)
-    // and less its bridge lines.
+RibSlice rib_slice(const LayerPartition& layer, const RibOptions& options) {
+    RibSlice out;
+    if (!options.enabled) return out;
+    const Coord w = options.line_width;
+    // Each cavity less half a line width (its wall's half inside it; cavities touch along the
+    // walls between them, so each is eroded alone) and less its bridge lines.
     Paths empty;
     for (const Paths& c : layer.cavities) {
         if (c.empty()) continue;
@@ -139,21 +138,27 @@ void RibPlanner::add(LayerPartition& layer) {
         empty = subtract(unite(empty), dilate_lines(bridge_lines, w / 2));
     else if (!empty.empty())
         empty = unite(empty);
+    if (!empty.empty()) out.deep = erode(empty, options.reach);
+    out.printed = empty.empty() ? layer.outline : subtract(layer.outline, empty);
+    out.empty = std::move(empty);
+    return out;
+}
+
+void RibPlanner::add(LayerPartition& layer, RibSlice slice) {
+    if (!options_.enabled) return;
+    StageTimer timer(Stage::kBridges);
+    const Coord w = options_.line_width, r = options_.lean;
+    const Paths& empty = slice.empty;
+    const Paths& deep = slice.deep;
 
     if (!has_above_) nodes_.clear();
     const Coord rho = static_cast<Coord>(std::llround(double(options_.spacing) / std::sqrt(2.0)));
-    Paths deep;  // deeper than `reach` inside this slice's empty region
-    auto deep_region = [&]() -> const Paths& {
-        if (deep.empty() && !empty.empty()) deep = erode(empty, options_.reach);
-        return deep;
-    };
     const Boundary boundary(empty);
 
     // New ribs under what the slice above prints deep inside this slice's empty region.
-    if (has_above_ && !empty.empty() && !outline_above_.empty()) {
-        const Paths printed_above = subtract(outline_above_, empty_above_);
-        Paths over = intersect(printed_above, empty);
-        if (!over.empty() && !deep_region().empty()) {
+    if (has_above_ && !empty.empty() && !printed_above_.empty()) {
+        Paths over = intersect(printed_above_, empty);
+        if (!over.empty() && !deep.empty()) {
             Paths hang = intersect(over, deep);
             std::vector<Point> old;
             for (const Node& n : nodes_) old.push_back(n.at);
@@ -260,7 +265,7 @@ void RibPlanner::add(LayerPartition& layer) {
         for (const Node& n : nodes_) at.push_back(n.at);
         const Paths covered = disks(at, rho + r);
         for (const UnheldMinimum& u : unheld_above_) {
-            Paths left = empty.empty() ? Paths{} : intersect(u.region, deep_region());
+            Paths left = empty.empty() ? Paths{} : intersect(u.region, deep);
             if (!left.empty() && !covered.empty()) left = subtract(left, covered);
             if (std::abs(area(left)) < 0.5 * double(w) * double(w)) {
                 ++layer.minima_held_by_ribs;
@@ -269,8 +274,7 @@ void RibPlanner::add(LayerPartition& layer) {
         }
     }
 
-    empty_above_ = std::move(empty);
-    outline_above_ = layer.outline;
+    printed_above_ = std::move(slice.printed);
     unheld_above_ = layer.unheld;
     has_above_ = layer.index > 0;
 }

@@ -29,12 +29,22 @@ struct RibOptions {
 
 RibOptions rib_options(const Settings& settings);
 
+// What the planner needs of one slice that depends on that slice alone, worked out ahead of the
+// serial add() (in the pipeline's parallel filter: it was most of the ribs' serial time).
+struct RibSlice {
+    Paths empty;    // nothing is printed in it: the cavities less half a line, less bridge lines
+    Paths deep;     // deeper than `reach` inside `empty`
+    Paths printed;  // the outline less `empty`: what the slice below's new ribs hold
+};
+RibSlice rib_slice(const LayerPartition& layer, const RibOptions& options);
+
 class RibPlanner {
   public:
     explicit RibPlanner(const RibOptions& options);
     // The next slice going down (index one less than the previous call's), its bridges already
     // placed: fills layer.ribs and counts the minima of the slice above that its ribs hold.
-    void add(LayerPartition& layer);
+    void add(LayerPartition& layer, RibSlice slice);
+    void add(LayerPartition& layer) { add(layer, rib_slice(layer, options_)); }
     size_t active() const { return nodes_.size(); }  // ribs still to stand on something
 
   private:
@@ -44,8 +54,7 @@ class RibPlanner {
     };
     RibOptions options_;
     std::vector<Node> nodes_;  // where each rib is on the slice last added
-    Paths empty_above_;        // the slice above: what nothing is printed in
-    Paths outline_above_;
+    Paths printed_above_;      // the slice above: what it prints
     std::vector<UnheldMinimum> unheld_above_;
     bool has_above_ = false;
 };
