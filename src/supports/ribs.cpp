@@ -157,9 +157,10 @@ void RibPlanner::add(LayerPartition& layer, RibSlice slice) {
 
     // New ribs under what the slice above prints deep inside this slice's empty region.
     if (has_above_ && !empty.empty() && !printed_above_.empty()) {
-        Paths over = intersect(printed_above_, empty);
-        if (!over.empty() && !deep.empty()) {
-            Paths hang = intersect(over, deep);
+        // What the slice above prints deep in this one's empty region (deep lies inside
+        // empty: one boolean, not two).
+        Paths hang = deep.empty() ? Paths{} : intersect(printed_above_, deep);
+        if (!hang.empty()) {
             std::vector<Point> old;
             for (const Node& n : nodes_) old.push_back(n.at);
             if (!hang.empty() && !old.empty()) hang = subtract(hang, disks(old, rho - r));
