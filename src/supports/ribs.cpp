@@ -202,18 +202,51 @@ void RibPlanner::add(LayerPartition& layer, RibSlice slice) {
     std::vector<Node> moved;
     moved.reserve(nodes_.size());
     const double attract = double(options_.attract);
+    std::vector<Boundary::Hit> hits;
+    hits.reserve(nodes_.size());
+    for (const Node& n : nodes_) hits.push_back(boundary.nearest(n.at));
+    // Ribs are paired, nearest pairs first, and each pair leans together: leaning each towards
+    // its nearest other, a lattice's ties make ribs chase one another in a row at one speed and
+    // never meet (the flat box kept some 480 ribs down to its floor, 22,000 pieces).
+    std::vector<size_t> partner(nodes_.size(), nodes_.size());
+    {
+        struct Pair {
+            double d;
+            size_t i, k;
+        };
+        std::vector<Pair> pairs;
+        for (size_t i = 0; i < nodes_.size(); ++i) {
+            if (!hits[i].inside || hits[i].distance <= double(r)) continue;
+            for (size_t k = i + 1; k < nodes_.size(); ++k) {
+                if (!hits[k].inside || hits[k].distance <= double(r)) continue;
+                const double d = distance(nodes_[k].at, nodes_[i].at);
+                if (d > 0 && d < attract && d < hits[i].distance && d < hits[k].distance)
+                    pairs.push_back({d, i, k});
+            }
+        }
+        std::sort(pairs.begin(), pairs.end(), [](const Pair& a, const Pair& b) {
+            return a.d != b.d ? a.d < b.d : (a.i != b.i ? a.i < b.i : a.k < b.k);
+        });
+        for (const Pair& p : pairs)
+            if (partner[p.i] == nodes_.size() && partner[p.k] == nodes_.size())
+                partner[p.i] = p.k, partner[p.k] = p.i;
+    }
     for (size_t i = 0; i < nodes_.size(); ++i) {
         const Node& n = nodes_[i];
         if (empty.empty()) continue;
-        const Boundary::Hit h = boundary.nearest(n.at);
+        const Boundary::Hit& h = hits[i];
         if (!h.inside || h.distance <= double(r)) continue;  // it stands on this slice
         Node m = n;
         bool leaned = false;
         double best = std::min(attract, h.distance);
-        size_t other = nodes_.size();
-        for (size_t k = 0; k < nodes_.size(); ++k) {
-            const double d = distance(nodes_[k].at, n.at);
-            if (k != i && d > 0 && d < best) best = d, other = k;
+        size_t other = partner[i];
+        if (other < nodes_.size()) {
+            best = distance(nodes_[other].at, n.at);
+        } else {
+            for (size_t k = 0; k < nodes_.size(); ++k) {
+                const double d = distance(nodes_[k].at, n.at);
+                if (k != i && d > 0 && d < best) best = d, other = k;
+            }
         }
         if (other < nodes_.size()) {
             const Point& to = nodes_[other].at;

@@ -24,7 +24,7 @@ struct RibOptions {
     Coord reach = 1600;      // what lies deeper than this inside the cavity below gets a rib
     Coord spacing = 2600;    // the lattice ribs are seeded on
     Coord piece = 800;       // length of the short line a rib prints on each layer
-    Coord attract = 7800;    // a rib nearer another than this and than any wall leans to it
+    Coord attract = 7800;    // ribs nearer each other than this and than any wall pair up
 };
 
 RibOptions rib_options(const Settings& settings);

@@ -127,6 +127,21 @@ TEST(Ribs, EachPieceStandsWithinTheLeanOfTheLayerBelow) {
     EXPECT_TRUE(layers[0].ribs.empty());
 }
 
+// Issue #23: the ribs under a wide flat ceiling merge in pairs going down, as lightning
+// infill's trees do. Each leaning towards its nearest other, the lattice's ties made them chase
+// one another in rows and never meet: the flat box printed some 22,000 pieces.
+TEST(Ribs, LatticeUnderAFlatCeilingMergesGoingDown) {
+    const int top = 60;
+    const std::vector<LayerPartition> layers = planned_box(top, options());
+    const size_t first = layers[top - 1].ribs.size();
+    ASSERT_GT(first, 50u);
+    // Two ribs 2.6 mm apart meet in some 6 layers: after 20, two halvings at least.
+    EXPECT_LE(layers[top - 21].ribs.size() * 4, first)
+        << first << " -> " << layers[top - 21].ribs.size();
+    for (int i = top - 2; i >= 0; --i)
+        EXPECT_LE(layers[size_t(i)].ribs.size(), layers[size_t(i + 1)].ribs.size()) << i;
+}
+
 TEST(Ribs, UnheldCeilingIsCountedHeldByRibs) {
     const int top = 30;
     std::vector<LayerPartition> layers;
