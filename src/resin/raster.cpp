@@ -177,6 +177,18 @@ RasterWriter::RasterWriter(std::string dir, const Settings& settings, BBox2 boun
                            double min_wall_mm)
     : impl_(std::make_unique<Impl>()) {
     if (!(pixel_mm > 0)) throw InputError("the raster pixel size must be positive");
+    // One image per layer is held by each thread: 100 million pixels (a 0.025 mm pixel over
+    // 250 mm) is past any resin printer's screen and already 100 MB a thread.
+    constexpr double kMaxPixels = 100e6;
+    if (!bounds.empty) {
+        const double w = double(bounds.max_x - bounds.min_x) / kUnitsPerMm / pixel_mm;
+        const double h = double(bounds.max_y - bounds.min_y) / kUnitsPerMm / pixel_mm;
+        if (w * h > kMaxPixels)
+            throw InputError(fmt::format(
+                "the raster images would be {:.0f} x {:.0f} pixels, more than {:.0f} million; "
+                "choose a larger --raster-pixel",
+                std::ceil(w), std::ceil(h), kMaxPixels / 1e6));
+    }
     impl_->dir = std::filesystem::path(dir);
     std::error_code ec;
     std::filesystem::create_directories(impl_->dir, ec);

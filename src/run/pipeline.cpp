@@ -143,12 +143,14 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
     // before slicing starts (with --no-bed-check and --scale 100 nothing else stops it).
     const double size_z = box.max.z - box.min.z;
     constexpr double kMaxLinesAcross = 100000, kMaxLayers = 200000;
-    if (std::max(size_x, size_y) / settings.nozzle > kMaxLinesAcross ||
+    // The line width, not the nozzle: --extrusion-width may be far thinner than the nozzle.
+    const double line_mm = std::min(settings.nozzle, settings.width_mm());
+    if (std::max(size_x, size_y) / line_mm > kMaxLinesAcross ||
         size_z / settings.layer_height > kMaxLayers)
         throw InputError(fmt::format(
-            "{}: the model ({:.1f} x {:.1f} x {:.1f} mm) is too large for the {} mm nozzle and "
+            "{}: the model ({:.1f} x {:.1f} x {:.1f} mm) is too large for {} mm lines and "
             "{} mm layers (limits: {:.0f} line widths across, {:.0f} layers); scale it down",
-            options.model_path, size_x, size_y, size_z, settings.nozzle, settings.layer_height,
+            options.model_path, size_x, size_y, size_z, line_mm, settings.layer_height,
             kMaxLinesAcross, kMaxLayers));
     TopDownSlicer slicer(mesh, settings.layer_height);
     const int layer_count = slicer.layer_count();

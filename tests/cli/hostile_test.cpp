@@ -30,6 +30,7 @@
 #include "mesh/mesh.hpp"
 #include "support/carve_run.hpp"
 #include "support/models.hpp"
+#include "support/stl_boxes.hpp"
 
 namespace fs = std::filesystem;
 using namespace carve;
@@ -743,6 +744,27 @@ TEST(HostileWork, AnAddressSpaceLimitIsReportedNotACrash) {
         }
         fs::remove(d / "o.gcode");
     }
+}
+
+// The scale-times-size guard counts lines of the width printed (--extrusion-width may be far
+// under the nozzle), and a resin stack refuses images no screen has before drawing any.
+TEST(HostileWork, SizeGuardsCountTheLinesAndPixelsPrinted) {
+    const fs::path d = folder("size_guards");
+    std::vector<test::StlTriangle> t;
+    test::add_box(t, 0, 0, 0, 100, 100, 2);
+    const std::string plate = test::write_stl("size_guard_plate.stl", t).string();
+    const fs::path g = d / "out.gcode";
+    // 10 m across at 0.05 mm lines: 200,000 of them (by the 3 mm nozzle only 3,333).
+    CarveRun r = run_carve("slice " + plate + " -q --no-bed-check --scale 100 --nozzle 3 " +
+                           "--extrusion-width 0.05 --layer-height 0.05 -o " + g.string());
+    expect_one_line(r, kExitBadInput, "line widths across", "thin lines");
+    EXPECT_FALSE(fs::exists(g));
+    // 60 mm at 0.005 mm pixels: 12,000 x 12,000.
+    r = run_carve("slice " + kSmall + " -q --scale 3 --raster " + (d / "stack").string() +
+                  " --raster-pixel 0.005 -o " + g.string());
+    expect_one_line(r, kExitBadInput, "--raster-pixel", "raster pixels");
+    EXPECT_FALSE(fs::exists(g));
+    EXPECT_FALSE(fs::exists(d / "stack"));
 }
 
 TEST(HostileWork, AModelFileOverTheSizeLimitIsRefusedBeforeItIsRead) {
