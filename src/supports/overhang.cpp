@@ -64,7 +64,7 @@ std::string OverhangTally::warning() const {
     if (runs.size() > shown) where += fmt::format(" and {} more places", runs.size() - shown);
     return fmt::format(
         "{:.0f} mm2 of the model's own overhang lies more than 2 mm beyond the layer below and "
-        "will hang (carve prints no supports yet): {}",
+        "will hang without supports (--support auto holds it): {}",
         far_area_mm2_, where);
 }
 

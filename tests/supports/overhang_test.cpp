@@ -69,6 +69,7 @@ TEST(OverhangTally, WarnsOnlyAboveTheThresholdAndNamesTheLayers) {
     EXPECT_DOUBLE_EQ(tally.far_area_mm2(), 9.5);
     const std::string w = tally.warning();
     EXPECT_NE(w.find("will hang"), std::string::npos) << w;
+    EXPECT_NE(w.find("--support auto"), std::string::npos) << w;  // and what holds it
     EXPECT_NE(w.find("9.0 mm2 at layers 11-13 (z 2.20-2.60 mm)"), std::string::npos) << w;
     EXPECT_NE(w.find("0.5 mm2 at layer 3 (z 0.60 mm)"), std::string::npos) << w;
 }
