@@ -136,8 +136,8 @@ def main():
         "",
         f"Made by `bench/viewer_estimate.py` on {datetime.datetime.utcnow():%Y-%m-%d %H:%M} UTC, "
         f"carve from the tree at {head}, prusa-slicer {viewer_version}. The viewer's \"Total\" "
-        "is read from a screenshot of its window (tesseract); it shows whole minutes above an "
-        "hour's tenth, so ratios carry about 1 % of rounding.",
+        "is read from a screenshot of the display (tesseract); it shows whole minutes, so ratios "
+        "carry up to 2 % of rounding on the shortest files.",
         "",
         "| model | printer | carve min | viewer min | viewer / carve |",
         "|---|---|---:|---:|---:|",
