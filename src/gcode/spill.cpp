@@ -123,7 +123,7 @@ LayerToolpaths decode_layer(const std::string& blob) {
     layer.extrusions.resize(count);
     for (Extrusion& e : layer.extrusions) {
         const int feature = static_cast<unsigned char>(r.next());
-        if (feature > static_cast<int>(Feature::SupportInterface))
+        if (feature >= static_cast<int>(kFeatureCount))
             throw std::runtime_error("carve: malformed layer spill (feature)");
         e.feature = static_cast<Feature>(feature);
         e.closed = (r.next() & 1) != 0;

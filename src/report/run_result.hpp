@@ -9,6 +9,7 @@
 #include "check/gcode_analysis.hpp"
 #include "gcode/gcode.hpp"
 #include "mesh/mesh.hpp"
+#include "toolpath/toolpath.hpp"
 
 namespace carve {
 
@@ -38,7 +39,7 @@ struct RunResult {
     double support_region_volume_mm3 = 0;
     // Extruded volume by feature (index: Feature), the remainder's solid fill apart, and the
     // walls of each cavity (index j; 0 unused).
-    double feature_mm3[8] = {0, 0, 0, 0, 0, 0, 0, 0};
+    double feature_mm3[kFeatureCount] = {};
     double remainder_fill_mm3 = 0;
     std::vector<double> cavity_wall_mm3;
     double bridge_length_mm = 0;

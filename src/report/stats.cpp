@@ -40,6 +40,13 @@ std::string stats_key(const SettingSpec& spec) {
     return key;
 }
 
+// What the supports under the model's own overhangs extruded, interface included (not the ribs
+// inside the model).
+static double support_mm3(const RunResult& run) {
+    return run.feature_mm3[size_t(Feature::Support)] +
+           run.feature_mm3[size_t(Feature::SupportInterface)];
+}
+
 nlohmann::json stats_json(const RunResult& run, const Settings& settings) {
     nlohmann::json j;
     j["model_volume_mm3"] = run.mesh.volume_mm3;
@@ -80,18 +87,18 @@ nlohmann::json stats_json(const RunResult& run, const Settings& settings) {
     j["far_external_overhang_mm2"] = run.far_external_overhang_mm2;
     // Supports: what they print (body and interface), the overhang they start under, and the
     // volume their regions span.
-    j["support_volume_mm3"] = run.feature_mm3[6] + run.feature_mm3[7];
+    j["support_volume_mm3"] = support_mm3(run);
     j["supported_area_mm2"] = run.supported_area_mm2;
     j["support_region_volume_mm3"] = run.support_region_volume_mm3;
     nlohmann::json m;
-    m["outer_wall_mm3"] = run.feature_mm3[0];
-    m["shells_mm3"] = run.feature_mm3[1];
-    m["covers_mm3"] = run.feature_mm3[2];
-    m["cavity_walls_mm3"] = run.feature_mm3[3];
-    m["bridges_mm3"] = run.feature_mm3[4];
-    m["ribs_mm3"] = run.feature_mm3[5];
-    m["support_mm3"] = run.feature_mm3[6];
-    m["support_interface_mm3"] = run.feature_mm3[7];
+    m["outer_wall_mm3"] = run.feature_mm3[size_t(Feature::OuterWall)];
+    m["shells_mm3"] = run.feature_mm3[size_t(Feature::Shell)];
+    m["covers_mm3"] = run.feature_mm3[size_t(Feature::Cover)];
+    m["cavity_walls_mm3"] = run.feature_mm3[size_t(Feature::CavityWall)];
+    m["bridges_mm3"] = run.feature_mm3[size_t(Feature::Bridge)];
+    m["ribs_mm3"] = run.feature_mm3[size_t(Feature::Rib)];
+    m["support_mm3"] = run.feature_mm3[size_t(Feature::Support)];
+    m["support_interface_mm3"] = run.feature_mm3[size_t(Feature::SupportInterface)];
     m["remainder_mm3"] = run.remainder_fill_mm3;
     std::vector<double> walls(run.cavity_wall_mm3.begin() + (run.cavity_wall_mm3.empty() ? 0 : 1),
                               run.cavity_wall_mm3.end());
@@ -144,7 +151,7 @@ std::string summary_text(const RunResult& run, const Settings& settings) {
         "material   {:.2f} cm3 = {:.1f} % of the model, {:.2f} m of filament, {:.1f} g\n",
         run.print.extruded_volume_mm3 / 1000, run.material_percent(),
         run.print.filament_length_mm / 1000, run.print.filament_weight_g);
-    if (const double v = run.feature_mm3[6] + run.feature_mm3[7]; v > 0)
+    if (const double v = support_mm3(run); v > 0)
         out += fmt::format("supports   {:.2f} cm3 under {:.0f} mm2 of overhang\n", v / 1000,
                            run.supported_area_mm2);
     out += fmt::format("print time {} (estimate)\n",

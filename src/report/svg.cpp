@@ -168,7 +168,7 @@ std::string layer_svg(const LayerPartition& layer, const LayerToolpaths* paths,
 
     const double line_px = std::clamp(options.path_width_mm * f.scale, 0.4, 3.0);
     if (paths) {
-        std::array<double, 8> length_mm{};
+        std::array<double, kFeatureCount> length_mm{};
         for (const Extrusion& e : paths->extrusions)
             length_mm[size_t(e.feature)] += length(Paths{e.points}, e.closed) / 1000.0;
         auto add_line = [&](Feature feat, const std::string& colour, const char* name) {

@@ -3,6 +3,7 @@
 // (4.2), bridges, ordered to keep travel short.
 #pragma once
 
+#include <cstddef>
 #include <string_view>
 #include <vector>
 
@@ -14,6 +15,8 @@ namespace carve {
 // Rib: ribs under what would hang inside the model (supports/ribs.hpp). Support and
 // SupportInterface: supports under the model's own overhangs, outside the model.
 enum class Feature { OuterWall, Shell, Cover, CavityWall, Bridge, Rib, Support, SupportInterface };
+// How many features there are: the size of the tables indexed by one.
+inline constexpr size_t kFeatureCount = size_t(Feature::SupportInterface) + 1;
 // How the travel to a path was planned: not at all (the first path of a layer: the G-code stage
 // plans it, knowing where the layer below ended), inside the part (no retraction), or leaving it.
 enum class TravelKind : unsigned char { Unplanned, Inside, Leaves };

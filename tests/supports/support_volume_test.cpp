@@ -226,6 +226,22 @@ std::vector<GcodePoint> support_points(const std::string& gcode) {
     return out;
 }
 
+// Distance from p to the 10 x 10 mm foot both end-to-end shapes stand on, once carve has
+// centred them on the 250 x 210 bed: x 120..130, y 100..110.
+double distance_to_foot(const GcodePoint& p) {
+    const double dx = std::max({120 - p.x, p.x - 130, 0.0});
+    const double dy = std::max({100 - p.y, p.y - 110, 0.0});
+    return std::hypot(dx, dy);
+}
+
+// `carve check GCODE --mesh MESH --json EXTRA`, parsed.
+nlohmann::json check_json(const std::string& gcode, const std::string& mesh,
+                          const std::string& extra = "") {
+    const auto r = test::run_carve("check " + gcode + " --mesh " + mesh + " --json" + extra);
+    EXPECT_EQ(r.status, 0) << r.err;
+    return nlohmann::json::parse(r.out);
+}
+
 nlohmann::json json_of(const std::string& path) {
     std::ifstream in(path);
     return nlohmann::json::parse(in);
@@ -268,19 +284,13 @@ TEST(SupportCli, MushroomKeepsBothGapsAndHoldsTheCap) {
     const std::vector<GcodePoint> points = support_points(g);
     for (const GcodePoint& p : points) {
         top = std::max(top, p.z);
-        const double dx = std::max({120 - p.x, p.x - 130, 0.0});
-        const double dy = std::max({100 - p.y, p.y - 110, 0.0});
-        EXPECT_GE(std::hypot(dx, dy), keep) << p.x << ", " << p.y << " at z " << p.z;
+        EXPECT_GE(distance_to_foot(p), keep) << p.x << ", " << p.y << " at z " << p.z;
     }
     EXPECT_GT(points.size(), 100u);
     EXPECT_NEAR(top, 9.8, 1e-6) << "the support's top leaves one layer under the cap at 10.2";
 
-    r = test::run_carve("check " + none + " --mesh " + mushroom + " --json");
-    ASSERT_EQ(r.status, 0) << r.err;
-    const auto a = nlohmann::json::parse(r.out);
-    r = test::run_carve("check " + with + " --mesh " + mushroom + " --json");
-    ASSERT_EQ(r.status, 0) << r.err;
-    const auto b = nlohmann::json::parse(r.out);
+    const auto a = check_json(none, mushroom);
+    const auto b = check_json(with, mushroom);
     EXPECT_GT(a["hanging_overhang_mm2"].get<double>(), 500);
     EXPECT_LT(b["hanging_overhang_mm2"].get<double>(),
               0.1 * a["hanging_overhang_mm2"].get<double>());
@@ -309,18 +319,12 @@ TEST(SupportCli, PlateOnAOneLayerFootIsHeldByTheFirstLayer) {
     const std::vector<GcodePoint> points = support_points(test::read(with));
     for (const GcodePoint& p : points) {
         EXPECT_NEAR(p.z, 0.2, 1e-6) << p.x << ", " << p.y;
-        const double dx = std::max({120 - p.x, p.x - 130, 0.0});
-        const double dy = std::max({100 - p.y, p.y - 110, 0.0});
-        EXPECT_GE(std::hypot(dx, dy), keep) << p.x << ", " << p.y;
+        EXPECT_GE(distance_to_foot(p), keep) << p.x << ", " << p.y;
     }
     EXPECT_GT(points.size(), 50u);
 
-    r = test::run_carve("check " + none + " --mesh " + plate + " --json --support-gap 0.4");
-    ASSERT_EQ(r.status, 0) << r.err;
-    const auto a = nlohmann::json::parse(r.out);
-    r = test::run_carve("check " + with + " --mesh " + plate + " --json --support-gap 0.4");
-    ASSERT_EQ(r.status, 0) << r.err;
-    const auto b = nlohmann::json::parse(r.out);
+    const auto a = check_json(none, plate, " --support-gap 0.4");
+    const auto b = check_json(with, plate, " --support-gap 0.4");
     EXPECT_GT(a["hanging_overhang_mm2"].get<double>(), 100);
     EXPECT_LT(b["hanging_overhang_mm2"].get<double>(),
               0.1 * a["hanging_overhang_mm2"].get<double>());
