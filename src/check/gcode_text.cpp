@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "base/error.hpp"
+#include "base/numbers.hpp"
 
 namespace carve {
 
@@ -88,6 +89,12 @@ GcodeFile open_gcode(const std::string& path, const GcodeAnalysisOptions& option
     if (options.filament_diameter_from_header) {
         double from_header = 0;
         if (header_filament_diameter(file.get(), from_header)) {
+            // The same range as --filament-diameter: a header is as hostile as an option can be.
+            if (!(from_header >= 0.5 && from_header <= 5))
+                throw InputError(
+                    "'" + path + "': the header's filament diameter " +
+                    plain_number(from_header) +
+                    " mm is outside 0.5 to 5 mm; give --filament-diameter to measure it anyway");
             diameter = from_header;
             source = "header";
         }
@@ -95,6 +102,8 @@ GcodeFile open_gcode(const std::string& path, const GcodeAnalysisOptions& option
     if (!(diameter > 0)) throw InputError("filament diameter must be positive");
     return file;
 }
+
+constexpr size_t kMaxLineBytes = 1 << 20;
 
 void feed_lines(std::FILE* file, const std::string& path,
                 const std::function<void(std::string_view)>& line) {
@@ -116,6 +125,10 @@ void feed_lines(std::FILE* file, const std::string& path,
             start = nl + 1;
         }
         carry.append(chunk.substr(start));
+        // A file without line ends would otherwise be held whole; PrusaSlicer's longest lines
+        // (its configuration, a thumbnail's base64) are a few kB.
+        if (carry.size() > kMaxLineBytes)
+            throw InputError("'" + path + "' has a line longer than 1 MB: not G-code");
     }
     if (!carry.empty()) line(carry);
     if (std::ferror(file)) throw InputError("cannot read G-code file '" + path + "'");

@@ -284,9 +284,15 @@ int run(int argc, char** argv) {
         ->check(strict(0, 10, "mm"));
     check
         ->add_option("--filament-diameter", check_options.filament_diameter_mm,
-                     "Filament diameter, mm [1.75]")
+                     "Filament diameter, mm; given, it wins over the G-code header's "
+                     "[the header's, else 1.75]")
         ->check(strict(0.5, 5, "mm"));
     check->add_flag("--json", check_json, "Machine-readable output (JSON) [off: text]");
+    double check_timeout_s = 0;
+    check
+        ->add_option("--timeout", check_timeout_s,
+                     "Give up after this much time; 0 = no limit, seconds [0]")
+        ->check(strict(0, 1e7, "seconds"));
     bool check_layers = false;
     check->add_flag("--layers", check_layers,
                     "The figures of every layer too (z, footprint, far-unsupported, with --mesh "
@@ -329,6 +335,9 @@ int run(int argc, char** argv) {
             return 0;
         }
         if (*check) {
+            if (check->count("--filament-diameter"))
+                check_options.filament_diameter_from_header = false;
+            if (check_timeout_s > 0) carve::exit_after(check_timeout_s);
             std::optional<carve::Vec3> offset;
             if (!check_offset.empty()) {
                 carve::Vec3 o{0, 0, std::numeric_limits<double>::quiet_NaN()};  // z: on the bed
@@ -358,7 +367,10 @@ int run(int argc, char** argv) {
             carve::GcodeAnalysis a;
             if (!check_mesh.empty()) {
                 carve::MeshReport report;
-                const carve::Mesh mesh = carve::load_mesh(check_mesh, report);
+                // The same refusals as carve slice: a soup would be sliced at every layer.
+                carve::LoadOptions load_options;
+                load_options.refuse_soup = true;
+                const carve::Mesh mesh = carve::load_mesh(check_mesh, report, load_options);
                 a = carve::analyse_gcode_on_mesh(check_gcode, mesh, check_options, offset);
                 // The outer wall's centre lies half a line width inside: a few tenths of a mm.
                 if (a.mesh_extent_mismatch_mm > 2)
@@ -412,9 +424,13 @@ int run(int argc, char** argv) {
               std::pair{"end_filament_gcode", &settings.end_filament_gcode},
               std::pair{"before_layer_gcode", &settings.before_layer_gcode},
               std::pair{"layer_gcode", &settings.layer_gcode}})
-            for (const std::string& u :
-                 carve::expand_custom_gcode(*text, settings, at_end).unresolved)
-                if (!quiet) std::fprintf(stderr, "carve: note: %s: %s\n", name, u.c_str());
+            try {
+                for (const std::string& u :
+                     carve::expand_custom_gcode(*text, settings, at_end).unresolved)
+                    if (!quiet) std::fprintf(stderr, "carve: note: %s: %s\n", name, u.c_str());
+            } catch (const carve::InputError& e) {
+                throw carve::InputError(fmt::format("{}: {}", name, e.what()));
+            }
 
         if (cavities_text == "auto") {
             settings.cavities_auto = true;
@@ -446,7 +462,8 @@ int run(int argc, char** argv) {
                             : seam_text == "random" ? carve::SeamMode::Random
                                                     : carve::SeamMode::Aligned;
         if (!bed_text.empty() && !parse_bed(bed_text, settings.bed_x, settings.bed_y))
-            return fail(fmt::format("--bed: expected WIDTHxDEPTH in mm such as 250x210, got '{}'",
+            return fail(fmt::format("--bed: expected WIDTHxDEPTH in mm, each above 0 and at most "
+                        "10000, such as 250x210, got '{}'",
                                     bed_text));
         if (no_bed_check) settings.bed_check = false;
         carve::validate_settings(settings);

@@ -9,8 +9,8 @@
 #include <cstring>
 #include <iterator>
 #include <numbers>
-#include <regex>
 #include <stdexcept>
+#include <string_view>
 
 #include "base/error.hpp"
 #include "gcode/cooling.hpp"
@@ -165,6 +165,38 @@ void Emitter::raw(const std::string& text) {
     if (text.back() != '\n') buf_.push_back('\n');
 }
 
+namespace {
+
+// Whether a line of `g` is "G92 E0" (E0, E0.0, E00 ...), alone or followed by other words or a
+// comment. Scanned by hand: std::regex recurses once per character and overflows the stack on a
+// long run of blanks.
+bool resets_e(std::string_view g) {
+    auto blank = [](char c) { return c == ' ' || c == '\t' || c == '\r'; };
+    for (size_t start = 0; start < g.size();) {
+        size_t end = g.find('\n', start);
+        if (end == std::string_view::npos) end = g.size();
+        std::string_view line = g.substr(start, end - start);
+        start = end + 1;
+        size_t i = 0;
+        while (i < line.size() && blank(line[i])) ++i;
+        if (line.substr(i, 3) != "G92") continue;
+        i += 3;
+        const size_t gap = i;
+        while (i < line.size() && blank(line[i])) ++i;
+        if (i == gap || i >= line.size() || line[i] != 'E') continue;
+        ++i;
+        while (i < line.size() && line[i] == '0') ++i;
+        if (i < line.size() && line[i] == '.') {
+            ++i;
+            while (i < line.size() && line[i] == '0') ++i;
+        }
+        if (i == line.size() || blank(line[i]) || line[i] == ';') return true;
+    }
+    return false;
+}
+
+}  // namespace
+
 // A profile's filament or layer-change G-code, expanded for the layer being written. A
 // "G92 E0" in it resets the firmware's E, as PrusaSlicer assumes.
 void Emitter::custom(const std::string& text) {
@@ -174,9 +206,15 @@ void Emitter::custom(const std::string& text) {
                                                {"layer_z", to_mm(layer_z_)},
                                                {"max_layer_z", to_mm(layer_z_)}})
                               .text;
+    // Bounded in total too: layer_gcode is expanded on every layer.
+    custom_bytes_ += g.size();
+    if (custom_bytes_ > kMaxCustomBytes)
+        throw InputError(fmt::format(
+            "the profile's custom G-code adds more than {} MB to the file (it is expanded on "
+            "every layer); shorten it",
+            kMaxCustomBytes >> 20));
     raw(g);
-    static const std::regex kResetE(R"((^|\n)\s*G92\s+E0*(\.0*)?(\s|;|$))");
-    if (std::regex_search(g, kResetE)) {
+    if (resets_e(g)) {
         e_mm_ -= double(e_units_) / kEScale;
         e_units_ = 0;
     }

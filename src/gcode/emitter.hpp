@@ -186,6 +186,10 @@ class Emitter {
     Coord z_ = -1;     // unknown until the first Z move
     Coord layer_z_ = 0;
     int layer_ = 0;
+    // The expanded custom G-code written so far: 64 MB is some 60x what a 4 MB layer_gcode
+    // could sensibly add, far beyond any real profile's few kB per layer.
+    static constexpr size_t kMaxCustomBytes = size_t(64) << 20;
+    size_t custom_bytes_ = 0;
     double e_mm_ = 0;        // filament fed for extrusion so far (retractions excluded)
     long long e_units_ = 0;  // the firmware's E position, in 10^-5 mm
     bool retracted_ = false;

@@ -17,6 +17,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "base/error.hpp"
 #include "base/linear_regex.hpp"
 #include "base/numbers.hpp"
 #include "config/setting_table.hpp"
@@ -29,6 +30,15 @@ constexpr int kMaxDepth = 100;
 constexpr size_t kMaxTag = 1 << 16;
 constexpr size_t kMaxString = 1 << 20;
 constexpr size_t kMaxText = 4 << 20;
+
+// A placeholder may stand for a profile value of up to the profile's 16 MB, and the text may hold
+// a million of them: the expansion is bounded as it grows, not only the text going in.
+void check_expanded_size(const std::string& out) {
+    if (out.size() > kMaxText)
+        throw InputError(
+            "the profile's custom G-code expands to more than 4 MB (a placeholder stands for a "
+            "very long value?); shorten it");
+}
 
 struct Value {
     bool is_number = true;
@@ -351,6 +361,7 @@ std::string expand_brackets(const std::string& in, const Context& ctx,
             v = ctx.lookup(name.substr(0, us), std::stoul(name.substr(us + 1)));
         if (v) {
             out += v->str();
+            check_expanded_size(out);
         } else if (in_comment) {
             out += whole;  // "; home [all]": harmless text for the firmware
         } else {
@@ -396,6 +407,7 @@ ExpandedGcode expand_custom_gcode(const std::string& text, const Settings& setti
         const std::string literal =
             text.substr(i, open == std::string::npos ? std::string::npos : open - i);
         if (active()) out += expand_brackets(literal, ctx, result.unresolved);
+        check_expanded_size(out);
         if (open == std::string::npos) break;
         const size_t close = text.find('}', open);
         if (close == std::string::npos) {
@@ -452,6 +464,7 @@ ExpandedGcode expand_custom_gcode(const std::string& text, const Settings& setti
                     fmt::format("{{{}}}: {} (line written as a comment)", shorten(tag), e.what()));
                 out += kBad + text.substr(open, close - open + 1);
             }
+            check_expanded_size(out);
         }
     }
     if (!branches.empty()) result.unresolved.push_back("{if} without {endif}");

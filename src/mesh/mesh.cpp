@@ -414,6 +414,12 @@ Mesh arrange_copies(const Mesh& mesh, int copies, double gap, std::vector<CopyBo
     boxes.clear();
     const BBox3 b = bounding_box(mesh);
     const int n = std::max(1, copies);
+    if (mesh.triangles.size() * size_t(n) > kMaxPlacedTriangles)
+        throw InputError("--copies " + std::to_string(n) + " of a model of " +
+                         std::to_string(mesh.triangles.size()) + " triangles make " +
+                         std::to_string(mesh.triangles.size() * size_t(n)) +
+                         " triangles, over the limit of " + std::to_string(kMaxPlacedTriangles) +
+                         "; print fewer copies");
     const int columns = static_cast<int>(std::ceil(std::sqrt(double(n))));
     const int rows = (n + columns - 1) / columns;
     const double pitch_x = b.max.x - b.min.x + gap, pitch_y = b.max.y - b.min.y + gap;

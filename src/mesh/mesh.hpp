@@ -78,9 +78,14 @@ void analyse_and_repair(Mesh& mesh, MeshReport& report,
 double signed_volume(const Mesh& mesh);
 BBox3 bounding_box(const Mesh& mesh);
 
+// Triangles a model may have once every copy is placed (3MF components and items, --copies):
+// some 2 GB of mesh and slicing work, ten times the largest scans the shared models hold.
+constexpr size_t kMaxPlacedTriangles = 20'000'000;
+
 // `copies` of the mesh side by side, `gap` mm apart, in a grid as square as their count allows
 // (rows of ceil(sqrt(n))), centred where the one mesh was. `boxes` gets each copy's extent in
-// the plane, in the order their labels number them.
+// the plane, in the order their labels number them. More than kMaxPlacedTriangles in all is
+// refused (InputError) before anything is allocated.
 struct CopyBox {
     double min_x = 0, min_y = 0, max_x = 0, max_y = 0;
 };

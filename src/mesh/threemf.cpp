@@ -188,7 +188,6 @@ struct Object {
 constexpr zip_uint64_t kMaxEntryBytes = 256u << 20;  // decompressed model part
 constexpr zip_uint64_t kMaxRatio = 100;              // decompressed / compressed
 constexpr size_t kMaxInstances = 100000;             // object placements (components, items)
-constexpr size_t kMaxPlacedTriangles = 20'000'000;   // triangles after placing every copy
 
 struct ZipCloser {
     void operator()(zip_t* z) const { zip_discard(z); }

@@ -775,3 +775,78 @@ TEST(HostileWork, AModelFileOverTheSizeLimitIsRefusedBeforeItIsRead) {
     const CarveRun r = run_carve("info " + (d / "huge.stl").string(), "ulimit -v 200000;");
     expect_one_line(r, kExitBadInput, "512 MB", "huge model");
 }
+
+// --- carve check, copies and custom G-code: the bounds docs/limits.md once listed as missing
+
+// carve check reads lines as they come, so a file without line ends is refused instead of held
+// whole; its --mesh gets the soup refusal of carve slice; a header's filament diameter has the
+// option's range, and the option wins over it; --timeout ends a check that waits on a pipe.
+TEST(HostileCheck, LongLinesSoupsHeadersAndTimeoutsAreBounded) {
+    const fs::path d = folder("check_bounds");
+    write(d / "one_line.gcode", std::string(3 << 20, 'G'));
+    CarveRun r = run_carve("check " + (d / "one_line.gcode").string());
+    expect_one_line(r, kExitBadInput, "line longer than 1 MB", "one line");
+
+    const fs::path g = d / "box.gcode";
+    ASSERT_EQ(run_carve("slice " + kSmall + " -q --cavities 1 -o " + g.string()).status, 0);
+    write(d / "soup.stl", soup_stl(5000, 7, 50));
+    r = run_carve("check " + g.string() + " --mesh " + (d / "soup.stl").string());
+    expect_one_line(r, kExitBadInput, "triangle soup", "check --mesh soup");
+
+    write(d / "odd.gcode", "; filament_diameter = 0.001\nG1 X1 Y1 E1\n");
+    r = run_carve("check " + (d / "odd.gcode").string());
+    expect_one_line(r, kExitBadInput, "filament diameter 0.001 mm is outside 0.5 to 5", "header");
+    r = run_carve("check " + (d / "odd.gcode").string() + " --json --filament-diameter 2.85");
+    EXPECT_EQ(r.status, 0) << r.err;
+    EXPECT_NE(r.out.find("\"filament_diameter_source\": \"option\""), std::string::npos) << r.out;
+
+    // A FIFO nobody writes to: opening it waits for ever.
+    const fs::path fifo = d / "never.gcode";
+    ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
+    const auto t0 = std::chrono::steady_clock::now();
+    r = run_carve("check " + fifo.string() + " --timeout 0.5");
+    EXPECT_EQ(r.status, kExitBadInput) << r.err;
+    EXPECT_NE(r.err.find("--timeout"), std::string::npos) << r.err;
+    // Not a timing assertion: only that the run ended at all (it would wait for ever).
+    EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::seconds(60));
+}
+
+// --copies multiplies the mesh: without the bed check (which used to be the only stop) the
+// placed triangles are capped as a 3MF's are, before room for the copies is reserved.
+TEST(HostileWork, CopiesAreCappedWithoutTheBedCheck) {
+    const fs::path d = folder("copies_cap");
+    std::vector<test::StlTriangle> t;
+    for (int i = 0; i < 80; ++i)  // 80 x 80 small boxes: 76,800 triangles
+        for (int j = 0; j < 80; ++j) test::add_box(t, i, j, 0, i + 0.5f, j + 0.5f, 1);
+    const std::string many = test::write_stl("copies_cap_boxes.stl", t).string();
+    const CarveRun r = run_carve("slice " + many + " -q --no-bed-check --copies 400 -o " +
+                                 (d / "o.gcode").string());
+    expect_one_line(r, kExitBadInput, "over the limit of 20000000", "copies");
+    EXPECT_EQ(extra_files(d, {}), std::vector<std::string>{});
+}
+
+// A placeholder may stand for a value of megabytes: the expansion is bounded as it grows, and
+// layer G-code, expanded on every layer, is bounded in total. A long run of blanks in it is not
+// a problem for the G92 E0 scan either.
+TEST(HostilePlaceholders, ExpansionIsBoundedAsItGrows) {
+    Settings s;
+    s.profile_values["notes"] = std::string(1 << 20, 'x');
+    EXPECT_NO_THROW(expand_custom_gcode("; [notes]\n", s));
+    EXPECT_THROW(expand_custom_gcode("; [notes][notes][notes][notes][notes]\n", s), InputError);
+    EXPECT_THROW(expand_custom_gcode("{notes}{notes}{notes}{notes}{notes}\n", s), InputError);
+
+    const fs::path d = folder("layer_gcode_cap");
+    const fs::path g = d / "o.gcode";
+    // 1 MB of comment on each of the box's 30 layers, then 2 MB on each of 40.
+    auto run = [&](size_t bytes, const std::string& layer) {
+        write(d / "p.ini", "layer_gcode = ;" + std::string(bytes, ' ') + "G92 E0\n");
+        return run_carve("slice " + kSmall + " -q --cavities 1 --layer-height " + layer +
+                         " --load " + (d / "p.ini").string() + " -o " + g.string());
+    };
+    CarveRun r = run(1 << 20, "0.2");
+    EXPECT_EQ(r.status, 0) << r.err;
+    fs::remove(g);
+    r = run(2 << 20, "0.15");
+    expect_one_line(r, kExitBadInput, "more than 64 MB", "layer gcode");
+    EXPECT_EQ(extra_files(d, {"p.ini"}), std::vector<std::string>{});
+}
