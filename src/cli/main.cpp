@@ -462,9 +462,10 @@ int run(int argc, char** argv) {
                             : seam_text == "random" ? carve::SeamMode::Random
                                                     : carve::SeamMode::Aligned;
         if (!bed_text.empty() && !parse_bed(bed_text, settings.bed_x, settings.bed_y))
-            return fail(fmt::format("--bed: expected WIDTHxDEPTH in mm, each above 0 and at most "
-                        "10000, such as 250x210, got '{}'",
-                                    bed_text));
+            return fail(
+                fmt::format("--bed: expected WIDTHxDEPTH in mm, each above 0 and at most "
+                            "10000, such as 250x210, got '{}'",
+                            bed_text));
         if (no_bed_check) settings.bed_check = false;
         carve::validate_settings(settings);
         // Nothing the run writes may be one of its inputs, another of its outputs, or a device.
