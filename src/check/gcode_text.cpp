@@ -92,8 +92,7 @@ GcodeFile open_gcode(const std::string& path, const GcodeAnalysisOptions& option
             // The same range as --filament-diameter: a header is as hostile as an option can be.
             if (!(from_header >= 0.5 && from_header <= 5))
                 throw InputError(
-                    "'" + path + "': the header's filament diameter " +
-                    plain_number(from_header) +
+                    "'" + path + "': the header's filament diameter " + plain_number(from_header) +
                     " mm is outside 0.5 to 5 mm; give --filament-diameter to measure it anyway");
             diameter = from_header;
             source = "header";
