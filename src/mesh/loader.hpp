@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -57,6 +58,18 @@ void read_binary_stl(std::string_view data, const std::string& path, Mesh& mesh,
                      MeshReport& report);
 // The same from an open file at its start, read in blocks (the caller checked its size).
 void read_binary_stl(std::FILE* file, const std::string& path, Mesh& mesh, MeshReport& report);
+// Binary STLs of this many facets or more are checked for a soup before they are welded
+// (binary_stl_soup_corners); smaller ones are refused within 500 MB by the welded count.
+constexpr uint32_t kSoupPrepassFacets = 2'000'000;
+// For an open binary STL file at its start: its triangles and the distinct points found once
+// they prove it a triangle soup (more than 2.25 per triangle), else nothing. Leaves the file
+// anywhere; the caller rewinds it.
+struct SoupProof {
+    uint32_t triangles = 0;
+    uint64_t corners = 0;
+};
+std::optional<SoupProof> binary_stl_soup_corners(std::FILE* file, const std::string& path,
+                                                 uint32_t min_facets = kSoupPrepassFacets);
 void read_ascii_stl(std::string_view data, const std::string& path, Mesh& mesh, MeshReport& report);
 void read_obj(std::string_view data, const std::string& path, Mesh& mesh, MeshReport& report);
 // The same from an open file of the given size, at its start, read in blocks.

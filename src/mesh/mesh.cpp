@@ -346,6 +346,15 @@ Mesh load_mesh(const std::string& path, MeshReport& report, const LoadOptions& o
         long size = -1;
         File file = open_model(path, size);
         if (streams_as_binary_stl(file.get(), size)) {
+            if (options.refuse_soup) {
+                if (const auto soup = detail::binary_stl_soup_corners(file.get(), path))
+                    fail(path, "not a solid: its " + std::to_string(soup->triangles) +
+                                   " triangles have " + std::to_string(soup->corners) +
+                                   " or more distinct corners, more than 2.25 a triangle, so "
+                                   "more than half of their edges are shared with no other "
+                                   "triangle (a triangle soup); repair the mesh first");
+                std::rewind(file.get());
+            }
             detail::read_binary_stl(file.get(), path, mesh, report);
         } else if (streams_as_obj(file.get(), size, lower_extension(path))) {
             detail::read_obj(file.get(), static_cast<size_t>(size), path, mesh, report);

@@ -3,10 +3,12 @@
 // tokenizer over "solid / facet / outer loop / vertex / endloop / endfacet / endsolid".
 // Stored facet normals are ignored: orientation comes from the vertex order and is checked later.
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cctype>
 #include <cerrno>
 #include <cstring>
+#include <optional>
 #include <string>
 
 #include "mesh/loader.hpp"
@@ -212,6 +214,102 @@ void read_binary_stl(std::FILE* file, const std::string& path, Mesh& mesh, MeshR
         done += n;
     }
     mesh.vertices = std::move(welder.vertices);
+}
+
+namespace {
+
+// A set of float32 points by their welder keys: what binary_stl_soup_corners counts with.
+class PointSet {
+  public:
+    explicit PointSet(size_t expected) : slots_(std::bit_ceil(2 * expected + 16), kEmpty) {}
+    size_t size() const { return points_.size(); }
+    void insert(const std::array<uint32_t, 3>& p, uint64_t h) {
+        for (uint64_t i = h & mask();; i = (i + 1) & mask()) {
+            if (slots_[i] == kEmpty) {
+                slots_[i] = static_cast<uint32_t>(points_.size());
+                points_.push_back(p);
+                break;
+            }
+            if (points_[slots_[i]] == p) return;
+        }
+        if (2 * points_.size() > slots_.size()) grow();
+    }
+
+  private:
+    static constexpr uint32_t kEmpty = ~0u;
+    uint64_t mask() const { return slots_.size() - 1; }
+    void grow() {
+        const size_t size = 2 * slots_.size();
+        std::vector<uint32_t>().swap(slots_);  // freed before the new table is made
+        slots_.assign(size, kEmpty);
+        for (uint32_t id = 0; id < points_.size(); ++id) {
+            const auto& q = points_[id];
+            uint64_t j = FloatWelder::hash(q[0], q[1], q[2]) & mask();
+            while (slots_[j] != kEmpty) j = (j + 1) & mask();
+            slots_[j] = id;
+        }
+    }
+    std::vector<std::array<uint32_t, 3>> points_;
+    std::vector<uint32_t> slots_;
+};
+
+// Calls f(point, hash) for each corner of the first `facets` facets after the header; false
+// when the file ends early.
+template <class F>
+bool for_each_corner(std::FILE* file, uint32_t facets, std::vector<char>& block, F&& f) {
+    if (std::fseek(file, 84, SEEK_SET) != 0) return false;
+    const uint32_t per_block = static_cast<uint32_t>(block.size() / 50);
+    uint32_t k[9];
+    for (uint32_t done = 0; done < facets;) {
+        const uint32_t n = std::min(facets - done, per_block);
+        if (std::fread(block.data(), 50, n, file) != n) return false;
+        for (uint32_t i = 0; i < n; ++i) {
+            facet_keys(block.data() + 50 * size_t(i), k);
+            for (int c = 0; c < 3; ++c)
+                f(std::array<uint32_t, 3>{k[3 * c], k[3 * c + 1], k[3 * c + 2]},
+                  FloatWelder::hash(k[3 * c], k[3 * c + 1], k[3 * c + 2]));
+        }
+        done += n;
+    }
+    return true;
+}
+
+}  // namespace
+
+// Corners of a soup: every vertex used by one triangle alone opens the triangle's two edges at
+// it, so a mesh of T triangles with V distinct points has at least 2V - 3T such vertices and as
+// many open edges; past V = 2.25 T that is more than half of its 3T edges, is_triangle_soup's
+// test. The points are counted exactly, one eighth of the hash range per pass over the file,
+// so that a table of all of them (a 10-million-triangle soup has 30 million) is never held.
+// The passes run only when the file's first 256k facets look like a soup (over 2 points a
+// facet; a solid's patch has about 0.5): on a solid the check costs one read of 13 MB.
+std::optional<SoupProof> binary_stl_soup_corners(std::FILE* file, const std::string& path,
+                                                 uint32_t min_facets) {
+    char header[84];
+    if (std::fread(header, 1, sizeof header, file) != sizeof header) return std::nullopt;
+    const uint32_t count = facet_count(header, path);
+    if (count < min_facets) return std::nullopt;
+    std::vector<char> block(50 * size_t(1u << 16));
+    {
+        const uint32_t prefix = std::min(count, 1u << 18);
+        PointSet first(prefix);
+        if (!for_each_corner(file, prefix, block,
+                             [&](const auto& p, uint64_t h) { first.insert(p, h); }) ||
+            first.size() <= 2 * size_t(prefix))
+            return std::nullopt;
+    }
+    constexpr int kParts = 8;
+    uint64_t total = 0;
+    for (int part = 0; part < kParts; ++part) {
+        PointSet points(3 * size_t(count) / kParts / 2);
+        if (!for_each_corner(file, count, block, [&](const auto& p, uint64_t h) {
+                if (int(h >> 61) == part) points.insert(p, h);
+            }))
+            return std::nullopt;
+        total += points.size();
+        if (double(total) > 2.25 * count) return SoupProof{count, total};
+    }
+    return std::nullopt;
 }
 
 namespace {

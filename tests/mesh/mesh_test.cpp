@@ -21,6 +21,7 @@
 #include <thread>
 
 #include "base/error.hpp"
+#include "mesh/loader.hpp"
 #include "report/mesh_info.hpp"
 #include "support/models.hpp"
 
@@ -517,6 +518,44 @@ TEST(MeshRepair, ASoupIsRefusedOnlyWhenAsked) {
     EXPECT_FALSE(is_triangle_soup(r));
     write_file(path, binary_stl(soup_mesh(1000), "small soup"));
     EXPECT_NO_THROW(load_mesh(path, r, refuse));
+}
+
+// A large binary STL soup is proved one before it is welded: more than 2.25 distinct corners a
+// triangle imply more than half of the edges open (see binary_stl_soup_corners). The proof is
+// exact or nothing: a mesh the bound cannot prove is left to the edge count.
+TEST(MeshRepair, ASoupIsProvedFromItsCornersBeforeItIsWelded) {
+    auto proof = [](const Mesh& m, const std::string& name) {
+        const std::string path = temp().file(name);
+        write_file(path, binary_stl(m, name));
+        std::FILE* f = std::fopen(path.c_str(), "rb");
+        auto p = detail::binary_stl_soup_corners(f, path, 0);
+        std::fclose(f);
+        return p;
+    };
+    const auto soup = proof(soup_mesh(30000), "proof_soup.stl");
+    ASSERT_TRUE(soup.has_value());
+    EXPECT_EQ(soup->triangles, 30000u);
+    EXPECT_GT(double(soup->corners), 2.25 * 30000);
+    EXPECT_LE(soup->corners, 90000u);
+
+    auto append = [](Mesh& to, const Mesh& m) {
+        const auto first = static_cast<uint32_t>(to.vertices.size());
+        to.vertices.insert(to.vertices.end(), m.vertices.begin(), m.vertices.end());
+        for (auto t : m.triangles) to.triangles.push_back({t[0] + first, t[1] + first, t[2] + first});
+    };
+    Mesh boxes;
+    for (int i = 0; i < 1000; ++i) append(boxes, cube_mesh(1, {2.0 * i, 50, 0}));
+    EXPECT_FALSE(proof(boxes, "proof_boxes.stl").has_value());
+    // 20,000 soup triangles and 1000 boxes: 68,000 corners for 32,000 triangles, more than 2 a
+    // triangle (the passes run) but not 2.25 (no proof). Still a soup by its edges.
+    Mesh mixed = soup_mesh(20000);
+    append(mixed, boxes);
+    EXPECT_FALSE(proof(mixed, "proof_mixed.stl").has_value());
+    LoadOptions refuse;
+    refuse.refuse_soup = true;
+    MeshReport r;
+    const std::string path = temp().file("proof_mixed.stl");
+    EXPECT_THROW(load_mesh(path, r, refuse), InputError);
 }
 
 TEST(MeshRepair, Measures) {
