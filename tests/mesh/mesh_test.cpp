@@ -541,7 +541,8 @@ TEST(MeshRepair, ASoupIsProvedFromItsCornersBeforeItIsWelded) {
     auto append = [](Mesh& to, const Mesh& m) {
         const auto first = static_cast<uint32_t>(to.vertices.size());
         to.vertices.insert(to.vertices.end(), m.vertices.begin(), m.vertices.end());
-        for (auto t : m.triangles) to.triangles.push_back({t[0] + first, t[1] + first, t[2] + first});
+        for (auto t : m.triangles)
+            to.triangles.push_back({t[0] + first, t[1] + first, t[2] + first});
     };
     Mesh boxes;
     for (int i = 0; i < 1000; ++i) append(boxes, cube_mesh(1, {2.0 * i, 50, 0}));
