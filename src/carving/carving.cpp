@@ -268,6 +268,13 @@ std::optional<LayerPartition> CarvingSweep::next() {
     return layer;
 }
 
+std::vector<Paths> uncarved_levels(const LayerPartition& layer) {
+    std::vector<Paths> levels{layer.carvable};
+    for (const Paths& cavity : layer.cavities)
+        levels.push_back(cavity.empty() ? levels.back() : subtract(levels.back(), cavity));
+    return levels;
+}
+
 IterationPrep CarvingSweep::prepare(LayerPartition& layer, const Paths* carvable_above,
                                     size_t j) const {
     StageTimer timer(first_ == 0 ? Stage::kSweep : Stage::kSweepLater);

@@ -19,6 +19,11 @@
 
 namespace carve {
 
+// V^0_i .. V^k_i of a layer the sweep did not make (one made by hand, in tests and tools):
+// V^0 = O', V^j = V^{j-1} \ C^j. A swept layer carries V^0 .. V^{k-1} in `uncarved` and V^k in
+// `remainder` (with its specks, which this does not know).
+std::vector<Paths> uncarved_levels(const LayerPartition& layer);
+
 // k, the number of carving iterations the settings ask for (--cavities auto: an upper bound).
 int sweep_iterations(const Settings& settings);
 

@@ -13,6 +13,7 @@
 #include <optional>
 
 #include "base/stage_timer.hpp"
+#include "carving/carving.hpp"
 #include "geometry/morphology.hpp"
 #include "geometry/polygon.hpp"
 #include "toolpath/comb.hpp"
@@ -272,11 +273,16 @@ LayerToolpaths plan_layer(const LayerPartition& layer, const Settings& settings)
         cover_lines = fill_solid(fill, angle, w, Feature::Cover);
     }
 
-    // 3. Cavity walls, C^1 .. C^k in the order they were modelled (4.2).
+    // 3. Cavity walls, C^1 .. C^k in the order they were modelled (4.2). Each is restricted to
+    // V^{j-1}, what was left before its iteration, and opened only near V^j, what it left.
     std::vector<std::vector<Extrusion>> cavity_walls(layer.cavities.size());
-    Paths remaining = layer.carvable;  // V^{j-1} when the layer does not hold them
-    Paths next;                        // and then V^j
-    const bool swept = layer.uncarved.size() == layer.cavities.size();
+    const std::vector<Paths> made_here = layer.uncarved.size() == layer.cavities.size()
+                                             ? std::vector<Paths>{}
+                                             : uncarved_levels(layer);
+    auto level = [&](size_t j) -> const Paths& {  // V^j
+        if (!made_here.empty()) return made_here[j];
+        return j < layer.uncarved.size() ? layer.uncarved[j] : layer.remainder;
+    };
     for (size_t j = 0; j < layer.cavities.size(); ++j) {
         const Paths& cavity = layer.cavities[j];
         if (cavity.empty()) continue;
@@ -286,36 +292,31 @@ LayerToolpaths plan_layer(const LayerPartition& layer, const Settings& settings)
                       min_length, cavity_walls[j]);
             continue;
         }
-        const Paths& uncarved = swept ? layer.uncarved[j] : remaining;  // V^{j-1}
-        if (!swept) next = subtract(remaining, cavity);
+        const Paths& uncarved = level(j);  // V^{j-1}
         const Coord opening = settings.opening();
         if (opening >= settings.restriction()) {
             add_cavity_walls(cavity, uncarved, settings, index, min_length, cavity_walls[j]);
-        } else {
-            // Every wall point lies within s' of V^j, what the cavity leaves of V^{j-1}: a
-            // point of the opened cavity's boundary is within s' of the cavity's boundary (a
-            // point further in is inside a disk of radius s' in the cavity), and where that
-            // boundary is V^{j-1}'s, within s' < t of it, which the restriction drops. So
-            // only the cavity's clusters near V^j are opened, and only V^{j-1}'s clusters
-            // holding them are eroded; a cavity that took all of V^{j-1} has no wall. On
-            // fandisk that spares most of the openings.
-            const Paths& left = !swept                          ? next
-                                : j + 1 < layer.cavities.size() ? layer.uncarved[j + 1]
-                                                                : layer.remainder;  // V^j
-            std::vector<BBox2> reach;
-            for (const Path& p : left) {
-                if (area(p) <= 0) continue;  // a hole's box lies in its outer's
-                BBox2 b = bounds(p);
-                const Coord m = opening + 2;  // and Clipper's rounding
-                reach.push_back({b.min_x - m, b.min_y - m, b.max_x + m, b.max_y + m, false});
-            }
-            std::vector<BBox2> near_boxes;
-            const Paths near = clusters_meeting(cavity, reach, &near_boxes);
-            if (!near.empty())
-                add_cavity_walls(near, clusters_meeting(uncarved, near_boxes), settings, index,
-                                 min_length, cavity_walls[j]);
+            continue;
         }
-        if (!swept) remaining = std::move(next);
+        // Every wall point lies within s' of V^j, what the cavity leaves of V^{j-1}: a point
+        // of the opened cavity's boundary is within s' of the cavity's boundary (a point
+        // further in is inside a disk of radius s' in the cavity), and where that boundary is
+        // V^{j-1}'s, within s' < t of it, which the restriction drops. So only the cavity's
+        // clusters near V^j are opened, and only V^{j-1}'s clusters holding them are eroded; a
+        // cavity that took all of V^{j-1} has no wall. On fandisk that spares most of the
+        // openings.
+        std::vector<BBox2> reach;
+        for (const Path& p : level(j + 1)) {
+            if (area(p) <= 0) continue;  // a hole's box lies in its outer's
+            BBox2 b = bounds(p);
+            const Coord m = opening + 2;  // and Clipper's rounding
+            reach.push_back({b.min_x - m, b.min_y - m, b.max_x + m, b.max_y + m, false});
+        }
+        std::vector<BBox2> near_boxes;
+        const Paths near = clusters_meeting(cavity, reach, &near_boxes);
+        if (!near.empty())
+            add_cavity_walls(near, clusters_meeting(uncarved, near_boxes), settings, index,
+                             min_length, cavity_walls[j]);
     }
 
     // What the k iterations left uncarved (V^k) is solid model: its boundary is the last

@@ -9,6 +9,7 @@
 #include <limits>
 #include <numbers>
 
+#include "carving/carving.hpp"
 #include "geometry/morphology.hpp"
 #include "geometry/polygon.hpp"
 #include "support/shapes.hpp"
@@ -235,6 +236,37 @@ TEST(Toolpath, SingleFilamentWallsKeepClearOfPrintedWallsExceptExtensions) {
         if (e->cavity == 1) {
             EXPECT_NEAR(path_length(*e) / kMm, 19.6 - 2 * 0.28 + 2 * st.wall_extension, 0.1);
         }
+    }
+}
+
+// A hand-made layer (no V^{j-1} recorded) is planned exactly as the same layer carrying the
+// levels the sweep would record: one way through the cavity walls, whichever made the layer.
+TEST(Toolpath, AHandMadeLayerIsPlannedAsOneCarryingItsLevels) {
+    Settings st;
+    const LayerPartition bare = two_cavities(st);
+    const std::vector<Paths> levels = uncarved_levels(bare);
+    ASSERT_EQ(levels.size(), 3u);  // V^0, V^1, V^2
+    // The levels partition: V^{j-1} = C^j + V^j, area for area.
+    for (size_t j = 1; j < levels.size(); ++j)
+        EXPECT_NEAR(std::abs(area(levels[j - 1])),
+                    std::abs(area(intersect(levels[j - 1], bare.cavities[j - 1]))) +
+                        std::abs(area(levels[j])),
+                    1e3);
+    LayerPartition carried = bare;
+    carried.uncarved.assign(levels.begin(), levels.end() - 1);
+    carried.remainder = levels.back();
+    // s' under the restriction t (the default: only clusters near V^j are opened) and over it.
+    for (const double opening : {st.opening_factor, st.restriction_factor + 0.5}) {
+        st.opening_factor = opening;
+        const auto walls_of = [&](const LayerPartition& l) {
+            std::vector<Path> out;
+            const LayerToolpaths t = plan_layer(l, st);
+            for (const Extrusion* e : of_feature(t, Feature::CavityWall)) out.push_back(e->points);
+            return out;
+        };
+        const auto a = walls_of(bare), b = walls_of(carried);
+        EXPECT_FALSE(a.empty()) << opening;
+        EXPECT_EQ(a, b) << opening;
     }
 }
 
