@@ -329,7 +329,7 @@ void read_from_memory(std::string& data, const std::string& path, Mesh& mesh, Me
 }  // namespace
 
 bool is_triangle_soup(const MeshReport& m) {
-    return m.triangles_read > 1000 && m.open_edges * 2 > 3 * m.triangles_read;
+    return m.triangles_read > kSoupMinTriangles && m.open_edges * 2 > 3 * m.triangles_read;
 }
 
 std::string triangle_soup_message(const std::string& path, const MeshReport& m) {
@@ -338,6 +338,17 @@ std::string triangle_soup_message(const std::string& path, const MeshReport& m) 
            " triangles' edges are shared with no other triangle (a triangle soup); repair the "
            "mesh first";
 }
+
+namespace {
+
+std::string soup_corners_message(uint64_t triangles, uint64_t corners) {
+    return "not a solid: its " + std::to_string(triangles) + " triangles have " +
+           std::to_string(corners) +
+           " distinct corners or more, over 2.25 a triangle, so more than half of their edges "
+           "are shared with no other triangle (a triangle soup); repair the mesh first";
+}
+
+}  // namespace
 
 Mesh load_mesh(const std::string& path, MeshReport& report, const LoadOptions& options) {
     report = MeshReport{};
@@ -348,11 +359,7 @@ Mesh load_mesh(const std::string& path, MeshReport& report, const LoadOptions& o
         if (streams_as_binary_stl(file.get(), size)) {
             if (options.refuse_soup) {
                 if (const auto soup = detail::binary_stl_soup_corners(file.get(), path))
-                    fail(path, "not a solid: its " + std::to_string(soup->triangles) +
-                                   " triangles have " + std::to_string(soup->corners) +
-                                   " or more distinct corners, more than 2.25 a triangle, so "
-                                   "more than half of their edges are shared with no other "
-                                   "triangle (a triangle soup); repair the mesh first");
+                    fail(path, soup_corners_message(soup->triangles, soup->corners));
                 std::rewind(file.get());
             }
             detail::read_binary_stl(file.get(), path, mesh, report);
@@ -365,6 +372,17 @@ Mesh load_mesh(const std::string& path, MeshReport& report, const LoadOptions& o
         }
     }  // the file's bytes are freed here, before the repair needs memory of its own
 
+    // The corners prove a soup before the edges are counted (see binary_stl_soup_corners),
+    // without the half-edge array of 36 bytes a triangle: what a soup of any format peaks at.
+    if (options.refuse_soup && mesh.triangles.size() > kSoupMinTriangles) {
+        std::vector<bool> used(mesh.vertices.size());
+        uint64_t corners = 0;
+        for (const auto& t : mesh.triangles)
+            for (uint32_t v : t)
+                if (!used[v]) used[v] = true, ++corners;
+        if (double(corners) > 2.25 * double(mesh.triangles.size()))
+            fail(path, soup_corners_message(mesh.triangles.size(), corners));
+    }
     const size_t read = report.triangles_read;
     // A soup is refused as soon as its edges are counted: the walk over shells that follows
     // costs some 120 bytes per shell, and every triangle of a soup is a shell of its own.

@@ -62,6 +62,8 @@ struct LoadOptions {
 // format, unreadable file) or that options refuse.
 Mesh load_mesh(const std::string& path, MeshReport& report, const LoadOptions& options = {});
 
+// Fewer triangles than this are never called a soup: small test pieces and fragments.
+constexpr size_t kSoupMinTriangles = 1000;
 // Most edges belong to one triangle only: no solid. Its slices are thousands of crossing
 // segments whose union costs the square of their number (5,000 random triangles ran for
 // minutes); an open mesh with a hole has a few open edges.

@@ -508,8 +508,9 @@ TEST(MeshRepair, ASoupIsRefusedOnlyWhenAsked) {
     } catch (const InputError& e) {
         EXPECT_EQ(std::string(e.what()),
                   path +
-                      ": not a solid: 6000 of the 6000 triangles' edges are shared with no "
-                      "other triangle (a triangle soup); repair the mesh first");
+                      ": not a solid: its 2000 triangles have 6000 distinct corners or more, "
+                      "over 2.25 a triangle, so more than half of their edges are shared with "
+                      "no other triangle (a triangle soup); repair the mesh first");
     }
     // A closed model passes, and so does a small soup (up to 1000 triangles).
     const std::string cube = temp().file("cube_refuse.stl");
