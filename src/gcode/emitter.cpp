@@ -134,8 +134,15 @@ void Emitter::layer(const LayerToolpaths& layer) {
     mark_progress(planner_.time());
     type_known_ = false;
     layer_comb_ = &layer.comb_region;
-    print_layer_cooled(layer);
+    layer_thin_ = &layer.thin_region;
+    if (enter_reversed(layer)) {
+        const LayerToolpaths reversed = with_islands_reversed(layer);
+        print_layer_cooled(reversed);
+    } else {
+        print_layer_cooled(layer);
+    }
     layer_comb_ = nullptr;
+    layer_thin_ = nullptr;
     ++stats_.layers;
     flush(false);
 }
@@ -240,6 +247,7 @@ void Emitter::restore(const Snapshot& k) {
     wipe_length_ = k.wipe_length, planner_ = k.planner, stats_ = k.stats, bounds_ = k.bounds;
     wipe_path_ = k.wipe_path;
     comber_.reset();
+    thin_.reset();
 }
 
 // The layer's paths as the cooling wants them: written at full speed and timed; written
@@ -297,6 +305,7 @@ int Emitter::object_of(const Point& p) const {
 
 void Emitter::print_paths(const LayerToolpaths& layer) {
     comber_.reset();
+    thin_.reset();
     set_fan(fan_byte(layer_fan_));
     // Each object's run of extrusions between its own start and end lines: a host that cancels
     // one skips them, the travel into the object included. One object: the whole layer.

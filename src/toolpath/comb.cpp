@@ -468,10 +468,34 @@ std::optional<Point> Comber::nearest_in(const Point& p, int island) const {
         }
     }
     if (bc < 0) return std::nullopt;
+    // The nearest of the candidates that lie strictly inside: where the nearest boundary point
+    // is a corner, the point moved off the edge lies on the next edge, and the first vertex of
+    // the edge may be its far end (a travel to the nearest island then crossed from the far
+    // corner of a rectangle).
+    std::optional<Point> best_q;
+    double best_d = std::numeric_limits<double>::max();
     for (const Point& q : {inside_edge_point(bc, be, bx, by), inside_vertex(bc, be),
                            inside_vertex(bc, int((be + 1) % contours_[bc].pts.size()))})
-        if (island_of(q) == island && visible(q, q)) return q;
-    return std::nullopt;
+        if (const double d = distance(q, p); d < best_d && island_of(q) == island && visible(q, q))
+            best_q = q, best_d = d;
+    return best_q;
+}
+
+double Comber::gap(int a, int b) const {
+    if (a < 0 || b < 0 || a >= islands_ || b >= islands_) return 0;
+    if (a == b) return 0;
+    // Between two polygons the nearest pair has a vertex of one at one end: every vertex of
+    // each against every edge of the other. Only for layers of a few islands, to order them.
+    double best = std::numeric_limits<double>::max();
+    for (int from : {a, b})
+        for (int c : island_contours_[from])
+            for (const Point& p : contours_[c].pts)
+                for (int d : island_contours_[from == a ? b : a]) {
+                    const Path& q = contours_[d].pts;
+                    for (size_t i = 0; i < q.size(); ++i)
+                        best = std::min(best, nearest_on_edge(q[i], q[(i + 1) % q.size()], p).d2);
+                }
+    return std::sqrt(best);
 }
 
 }  // namespace carve

@@ -47,6 +47,9 @@ class Comber {
     std::optional<Point> first_entry(const Point& a, const Point& b, int island) const;
     // The point of island `island`'s boundary nearest p, moved just inside it.
     std::optional<Point> nearest_in(const Point& p, int island) const;
+    // The shortest distance between the boundaries of islands a and b (the gap a travel from
+    // one to the other must cross), in units.
+    double gap(int a, int b) const;
 
   private:
     struct Hit {
