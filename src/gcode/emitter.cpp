@@ -135,6 +135,10 @@ void Emitter::layer(const LayerToolpaths& layer) {
     type_known_ = false;
     layer_comb_ = &layer.comb_region;
     layer_thin_ = &layer.thin_region;
+    // Built on first use and kept for the layer: the choice of its order and every cooling pass
+    // plan on the same regions.
+    comber_.reset();
+    thin_.reset();
     if (enter_reversed(layer)) {
         const LayerToolpaths reversed = with_islands_reversed(layer);
         print_layer_cooled(reversed);
@@ -246,8 +250,6 @@ void Emitter::restore(const Snapshot& k) {
     objects_labelled_ = k.objects_labelled, object_bounds_ = k.object_bounds;
     wipe_length_ = k.wipe_length, planner_ = k.planner, stats_ = k.stats, bounds_ = k.bounds;
     wipe_path_ = k.wipe_path;
-    comber_.reset();
-    thin_.reset();
 }
 
 // The layer's paths as the cooling wants them: written at full speed and timed; written
@@ -304,8 +306,6 @@ int Emitter::object_of(const Point& p) const {
 }
 
 void Emitter::print_paths(const LayerToolpaths& layer) {
-    comber_.reset();
-    thin_.reset();
     set_fan(fan_byte(layer_fan_));
     // Each object's run of extrusions between its own start and end lines: a host that cancels
     // one skips them, the travel into the object included. One object: the whole layer.
