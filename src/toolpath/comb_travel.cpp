@@ -75,6 +75,44 @@ TravelPlan plan_travel(const Comber& comber, const Point& from, const Point& to,
     if (!options.avoid_crossing) return plan;
     const double straight = distance(from, to);
     if (la && lb) {
+        // Across a wide gap through the islands beside it, when the narrower gaps that way are
+        // less outside in sum (a jaw's teeth round the skull's palate): in each island from the
+        // point nearest the island before to the point nearest the next.
+        const std::vector<int> hops = comber.stepping_stones(la->island, lb->island);
+        if (hops.size() > 2) {
+            Path via;
+            if (la->p != from) via.push_back(la->p);
+            Point cur = la->p;
+            bool ok = true;
+            for (size_t h = 0; ok && h + 1 < hops.size(); ++h) {
+                const Comber::Gap g = comber.closest(hops[h], hops[h + 1]);
+                std::optional<Point> x, y;
+                if (g.d <= Comber::kFarGap) {
+                    x = comber.nearest_in(g.on_a, hops[h]);
+                    y = comber.nearest_in(g.on_b, hops[h + 1]);
+                } else if ((x = comber.nearest_in(lb->p, hops[h]))) {
+                    y = comber.nearest_in(*x, hops[h + 1]);
+                }
+                std::optional<Path> r;
+                if (x && y) r = comber.route(cur, *x);
+                ok = r.has_value();
+                if (!ok) break;
+                append_route(via, *r);
+                append_route(via, Path{*y});
+                cur = *y;
+            }
+            std::optional<Path> last;
+            if (ok) last = comber.route(cur, lb->p);
+            if (last) {
+                append_route(via, *last);
+                if (!via.empty() && via.back() == to) via.pop_back();
+                if (polyline_length(from, via, to) <=
+                    options.max_detour_factor * straight + options.max_detour_extra) {
+                    plan.via = std::move(via);
+                    return plan;
+                }
+            }
+        }
         // Leave where the two islands are closest (alternating nearest points, from the
         // target), so that the part outside, where the string is drawn, is the gap between
         // them; the parts inside cost only travel time, retracted.

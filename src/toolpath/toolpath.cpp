@@ -498,6 +498,12 @@ LayerToolpaths plan_layer(const LayerPartition& layer, const Settings& settings)
         for (size_t a = 0; a < order.size(); ++a)
             for (size_t b = a + 1; b < order.size(); ++b)
                 gaps[a][b] = gaps[b][a] = index->gap(int(order[a]), int(order[b]));
+        // What a travel from one to another crosses: it may step through the islands between
+        // (plan_travel), so the least sum of gaps over any way, not the direct gap.
+        for (size_t m = 0; m < order.size(); ++m)
+            for (size_t a = 0; a < order.size(); ++a)
+                for (size_t b = 0; b < order.size(); ++b)
+                    gaps[a][b] = std::min(gaps[a][b], gaps[a][m] + gaps[m][b]);
         std::vector<size_t> tour = island_tour(gaps);
         for (size_t& t : tour) t = order[t];
         if (entry_distance(islands[tour.back()]) < entry_distance(islands[tour.front()]))

@@ -156,6 +156,24 @@ TEST(Comb, NearestPointOfASquareIsItsNearCorner) {
     EXPECT_NEAR(outside_length(from, t.via, to, region) / kMm, std::hypot(4.0, 4.0), 0.2);
 }
 
+// Two squares 20 mm apart with a bar above the gap between them, 2 mm off each square
+// diagonally: a travel from one square to the other steps through the bar, crossing two gaps
+// of 2.8 mm instead of the 20 mm one (before: straight across it).
+TEST(Comb, TravelStepsThroughAnIslandAcrossAWideGap) {
+    const Paths region =
+        unite(unite(rect(0, 0, 10 * kMm, 10 * kMm), rect(30 * kMm, 0, 40 * kMm, 10 * kMm)),
+              rect(12 * kMm, 12 * kMm, 28 * kMm, 20 * kMm));
+    const Comber comber(region);
+    ASSERT_EQ(comber.islands(), 3);
+    const Point from(1 * kMm, 1 * kMm), to(39 * kMm, 1 * kMm);
+    const int a = comber.island_of(from), c = comber.island_of(to);
+    const int b = comber.island_of(Point(20 * kMm, 16 * kMm));
+    EXPECT_EQ(comber.stepping_stones(a, c), (std::vector<int>{a, b, c}));
+    const TravelPlan t = plan_travel(comber, from, to, {});
+    EXPECT_TRUE(t.leaves);
+    EXPECT_NEAR(outside_length(from, t.via, to, region) / kMm, 2 * std::hypot(2.0, 2.0), 0.3);
+}
+
 TEST(Comb, WallPointsJustOutsideTheRegionAreReached) {
     const Paths region = rect(1 * kMm, 1 * kMm, 19 * kMm, 19 * kMm);
     const Comber comber(region);
