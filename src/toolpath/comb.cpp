@@ -499,7 +499,13 @@ Comber::Gap Comber::closest(int a, int b) const {
     double best = std::numeric_limits<double>::max();
     for (int from : {a, b})
         for (int c : island_contours_[from])
-            for (const Point& v : contours_[c].pts)
+            for (const Point& v : contours_[c].pts) {
+                // A vertex further from the other island's box than the best pair so far has
+                // nothing nearer in it: most vertices face away.
+                const BBox2& o = island_box_[from == a ? b : a];
+                const double vx = double(std::max({Coord(0), o.min_x - v.X, v.X - o.max_x}));
+                const double vy = double(std::max({Coord(0), o.min_y - v.Y, v.Y - o.max_y}));
+                if (vx * vx + vy * vy >= best) continue;
                 for (int d : island_contours_[from == a ? b : a]) {
                     const Path& e = contours_[d].pts;
                     for (size_t i = 0; i < e.size(); ++i) {
@@ -511,6 +517,7 @@ Comber::Gap Comber::closest(int a, int b) const {
                         g.on_b = from == a ? w : v;
                     }
                 }
+            }
     g.d = std::sqrt(best);
     return g;
 }
