@@ -174,6 +174,20 @@ TEST(Comb, TravelStepsThroughAnIslandAcrossAWideGap) {
     EXPECT_NEAR(outside_length(from, t.via, to, region) / kMm, 2 * std::hypot(2.0, 2.0), 0.3);
 }
 
+// Two bars too thin for the comb region (it holds only a square far away): a travel from one
+// to the other used to go straight, 12 mm of it outside; the region inside the outer wall's
+// centreline holds both ends, so it crosses where the bars are closest, 2 mm.
+TEST(Comb, EndsTooThinForTheCombRegionLeaveAcrossTheNarrowestGap) {
+    const Paths thin_region =
+        unite(rect(0, 0, 20 * kMm, 1 * kMm), rect(0, 3 * kMm, 20 * kMm, 4 * kMm));
+    const Comber comber(rect(50 * kMm, 50 * kMm, 60 * kMm, 60 * kMm));
+    const Comber thin(thin_region);
+    const Point from(1 * kMm, kMm / 2), to(19 * kMm, 3 * kMm + kMm / 2);
+    const TravelPlan t = plan_travel(comber, from, to, {}, &thin);
+    EXPECT_TRUE(t.leaves);
+    EXPECT_NEAR(outside_length(from, t.via, to, thin_region) / kMm, 2.0, 0.2);
+}
+
 TEST(Comb, WallPointsJustOutsideTheRegionAreReached) {
     const Paths region = rect(1 * kMm, 1 * kMm, 19 * kMm, 19 * kMm);
     const Comber comber(region);
