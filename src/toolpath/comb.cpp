@@ -523,7 +523,11 @@ Comber::Gap Comber::closest(int a, int b) const {
 }
 
 std::vector<int> Comber::stepping_stones(int a, int b) const {
-    if (a < 0 || b < 0 || a >= islands_ || b >= islands_ || a == b) return {a, b};
+    // A plate of many parts: all the gaps and a search per travel would cost more than the
+    // stepping stones save.
+    constexpr int kMaxIslands = 64;
+    if (a < 0 || b < 0 || a >= islands_ || b >= islands_ || a == b || islands_ > kMaxIslands)
+        return {a, b};
     const size_t n = size_t(islands_);
     if (gaps_.empty()) {
         gaps_.assign(n * n, 0);

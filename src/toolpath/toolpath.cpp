@@ -125,15 +125,20 @@ std::vector<Extrusion> order_bridges(const std::vector<Bridge>& bridges, double 
     return out;
 }
 
+// Above this many islands in a layer (a plate of many parts) they are ordered by one greedy
+// pass from the first: the searches below grow as the cube.
+constexpr size_t kTourIslands = 64;
+
 // An open path through islands 0..k-1 (gaps[a][b]: the gap between a and b) crossing little
 // outside the model: a travel from one island to the next crosses at least their gap, and the
 // nozzle need not come back to the first. The best greedy nearest-gap path over every start,
-// then 2-opt. A few islands a layer: k^3 is nothing.
+// then 2-opt.
 std::vector<size_t> island_tour(const std::vector<std::vector<double>>& gaps) {
     const size_t k = gaps.size();
     std::vector<size_t> best;
     double best_cost = std::numeric_limits<double>::max();
-    for (size_t first = 0; first < k; ++first) {
+    const size_t starts = k <= kTourIslands ? k : 1;
+    for (size_t first = 0; first < starts; ++first) {
         std::vector<size_t> tour{first};
         std::vector<char> used(k, 0);
         used[first] = 1;
@@ -151,7 +156,7 @@ std::vector<size_t> island_tour(const std::vector<std::vector<double>>& gaps) {
     }
     // Reversing best[i..j] changes only the gaps at its ends (an end of the path has none).
     auto gap = [&](size_t a, size_t b) { return a < k && b < k ? gaps[best[a]][best[b]] : 0.0; };
-    for (bool improved = true; improved;) {
+    for (bool improved = k <= kTourIslands; improved;) {
         improved = false;
         for (size_t i = 0; i + 1 < k; ++i)
             for (size_t j = i + 1; j < k; ++j) {
@@ -408,7 +413,6 @@ LayerToolpaths plan_layer(const LayerPartition& layer, const Settings& settings)
         std::vector<Extrusion> outer, shells, covers, solid, ribs;
         std::vector<std::vector<Extrusion>> cavities;
         std::vector<Bridge> bridges;
-        bool done = false;
     };
     std::vector<Island> islands(island_count + 1);  // the last: unplaced
     auto island_at = [&](const Point& p) {
@@ -500,7 +504,7 @@ LayerToolpaths plan_layer(const LayerPartition& layer, const Settings& settings)
                 gaps[a][b] = gaps[b][a] = index->gap(int(order[a]), int(order[b]));
         // What a travel from one to another crosses: it may step through the islands between
         // (plan_travel), so the least sum of gaps over any way, not the direct gap.
-        for (size_t m = 0; m < order.size(); ++m)
+        for (size_t m = 0; m < (order.size() <= kTourIslands ? order.size() : 0); ++m)
             for (size_t a = 0; a < order.size(); ++a)
                 for (size_t b = 0; b < order.size(); ++b)
                     gaps[a][b] = std::min(gaps[a][b], gaps[a][m] + gaps[m][b]);
