@@ -47,7 +47,7 @@ def main():
     print("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
     for m, v in out.items():
         a, b = v["before"], v["after"]
-        print(f"| {m} | {E2F7BC9[m]:,} | {E2F7BC9[m] // 10:,} | {a['travel_outside_mm']:,.0f} "
+        print(f"| {m} | {E2F7BC9[m]:,} | {round(E2F7BC9[m] / 10):,} | {a['travel_outside_mm']:,.0f} "
               f"| **{b['travel_outside_mm']:,.0f}** | {b['lower_bound_mm']:,.0f} "
               f"| {b['lower_bound_mm'] + b['home_to_first_point_mm']:,.0f} "
               f"| {a['retractions']} → {b['retractions']} "

@@ -59,8 +59,8 @@ TravelPlan leave(const Comber& comber, const std::optional<Comber::Located>& la,
     const double straight = distance(from, to);
     if (la && lb) {
         // Across a wide gap through the islands beside it, when the narrower gaps that way are
-        // less outside in sum (a jaw's teeth round the skull's palate): in each island from the
-        // point nearest the island before to the point nearest the next.
+        // less outside in sum (skull's small islands round its big one at 40-50 mm): in each
+        // island from the point nearest the island before to the point nearest the next.
         const std::vector<int> hops = comber.stepping_stones(la->island, lb->island);
         if (hops.size() > 2) {
             Path via;
