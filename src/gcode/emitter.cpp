@@ -134,8 +134,19 @@ void Emitter::layer(const LayerToolpaths& layer) {
     mark_progress(planner_.time());
     type_known_ = false;
     layer_comb_ = &layer.comb_region;
-    print_layer_cooled(layer);
+    layer_thin_ = &layer.thin_region;
+    // Built on first use and kept for the layer: the choice of its order and every cooling pass
+    // plan on the same regions.
+    comber_.reset();
+    thin_.reset();
+    if (enter_reversed(layer)) {
+        const LayerToolpaths reversed = with_islands_reversed(layer);
+        print_layer_cooled(reversed);
+    } else {
+        print_layer_cooled(layer);
+    }
     layer_comb_ = nullptr;
+    layer_thin_ = nullptr;
     ++stats_.layers;
     flush(false);
 }
@@ -277,7 +288,6 @@ void Emitter::restore(const Snapshot& k) {
     objects_labelled_ = k.objects_labelled, object_bounds_ = k.object_bounds;
     wipe_length_ = k.wipe_length, planner_ = k.planner, stats_ = k.stats, bounds_ = k.bounds;
     wipe_path_ = k.wipe_path;
-    comber_.reset();
 }
 
 // The layer's paths as the cooling wants them: written at full speed and timed; written
@@ -334,7 +344,6 @@ int Emitter::object_of(const Point& p) const {
 }
 
 void Emitter::print_paths(const LayerToolpaths& layer) {
-    comber_.reset();
     set_fan(fan_byte(layer_fan_));
     // Each object's run of extrusions between its own start and end lines: a host that cancels
     // one skips them, the travel into the object included. One object: the whole layer.

@@ -130,6 +130,9 @@ class Emitter {
     void travel_to(const Point& p, const Path& via, TravelKind kind);
     void travel_move(const Point& p);
     TravelPlan plan_layer_entry(const Point& target_model);
+    // Whether the layer's islands should be printed last to first: its last island is where
+    // the nozzle can enter without leaving the part, or nearer.
+    bool enter_reversed(const LayerToolpaths& layer);
     double speed_of(Feature f) const;
     void extrude(const Extrusion& ex, const Travel& travel);
     void printed(const Point& q, double len, double e_per_mm, Feature feature);
@@ -205,6 +208,8 @@ class Emitter {
     Bounds bounds_;
     const Paths* layer_comb_ = nullptr;  // the comb region of the layer being written
     std::unique_ptr<Comber> comber_;     // built from it on first use
+    const Paths* layer_thin_ = nullptr;  // and its region inside the outer wall's centreline
+    std::unique_ptr<Comber> thin_;       // built from that if the comb region fails
     Path wipe_path_;                     // output coordinates, from the nozzle backwards
     double wipe_length_ = 0;             // mm
 };

@@ -178,15 +178,41 @@ TravelPlan Emitter::plan_layer_entry(const Point& target_model) {
     if (!comber_) comber_ = std::make_unique<Comber>(*layer_comb_);
     const Point from(pos_.X - off_x_, pos_.Y - off_y_);
     const TravelOptions options = travel_options(st_);
-    plan = plan_travel(*comber_, from, target_model, options);
+    // Where the comb region splits (a wall thinner than it), inside the outer wall's centreline,
+    // as plan_layer does within a layer: on skull the travel into a layer crossed the cranium.
+    auto plan_to = [&](const Point& a) {
+        TravelPlan p = plan_travel(*comber_, a, target_model, options);
+        if (p.leaves && layer_thin_ && !layer_thin_->empty()) {
+            if (!thin_) thin_ = std::make_unique<Comber>(*layer_thin_);
+            p = plan_travel(*comber_, a, target_model, options, thin_.get());
+        }
+        return p;
+    };
+    plan = plan_to(from);
     constexpr Coord kEntryReach = 2500;
     if (!plan.leaves || comber_->locate(from, options.reach)) return plan;
     const auto onto = comber_->locate(from, std::max(options.reach, kEntryReach));
     if (!onto) return plan;
-    TravelPlan inside = plan_travel(*comber_, onto->p, target_model, options);
+    TravelPlan inside = plan_to(onto->p);
     if (inside.leaves) return plan;
     inside.via.insert(inside.via.begin(), onto->p);
     return inside;
+}
+
+bool Emitter::enter_reversed(const LayerToolpaths& layer) {
+    const std::vector<size_t>& starts = layer.island_starts;
+    if (first_travel_ || starts.size() < 3 || starts.back() > layer.extrusions.size()) return false;
+    const Point from(pos_.X - off_x_, pos_.Y - off_y_);
+    // Staying inside first (no string, no retraction), then the shorter way.
+    auto cost = [&](size_t first) {
+        const Point& to = layer.extrusions[first].points.front();
+        const TravelPlan plan = plan_layer_entry(to);
+        double len = 0;
+        Point at = from;
+        for (const Point& q : plan.via) len += distance(at, q), at = q;
+        return std::pair{plan.leaves, len + distance(at, to)};
+    };
+    return cost(starts[starts.size() - 2]) < cost(starts[0]);
 }
 
 double Emitter::speed_of(Feature f) const {

@@ -110,6 +110,10 @@ std::string encode_layer(const LayerToolpaths& layer) {
     }
     put_varint(out, layer.comb_region.size());
     for (const Path& p : layer.comb_region) put_points(out, p);
+    put_varint(out, layer.thin_region.size());
+    for (const Path& p : layer.thin_region) put_points(out, p);
+    put_varint(out, layer.island_starts.size());
+    for (size_t k : layer.island_starts) put_varint(out, k);
     return out;
 }
 
@@ -146,6 +150,19 @@ LayerToolpaths decode_layer(const std::string& blob) {
     if (contours > blob.size()) throw std::runtime_error("carve: malformed layer spill (count)");
     layer.comb_region.resize(contours);
     for (Path& p : layer.comb_region) read_points(r, blob, p);
+    const std::uint64_t thin = r.varint();
+    if (thin > blob.size()) throw std::runtime_error("carve: malformed layer spill (count)");
+    layer.thin_region.resize(thin);
+    for (Path& p : layer.thin_region) read_points(r, blob, p);
+    const std::uint64_t islands = r.varint();
+    if (islands > count + 1) throw std::runtime_error("carve: malformed layer spill (islands)");
+    layer.island_starts.resize(islands);
+    for (size_t& k : layer.island_starts) {
+        const std::uint64_t first = r.varint();
+        if (first > count || (&k != layer.island_starts.data() && first < *(&k - 1)))
+            throw std::runtime_error("carve: malformed layer spill (islands)");
+        k = first;
+    }
     if (!r.done()) throw std::runtime_error("carve: malformed layer spill (trailing bytes)");
     return layer;
 }

@@ -140,6 +140,8 @@ Comber::Comber(const Paths& region) {
     island_contours_.resize(outers.size());
     for (size_t k = 0; k < contours_.size(); ++k)
         if (contours_[k].island >= 0) island_contours_[contours_[k].island].push_back(int(k));
+    island_box_.resize(outers.size());
+    for (size_t k = 0; k < outers.size(); ++k) island_box_[k] = box[outers[k]];
 
     // The grid: a few edges per cell.
     double min_x = std::numeric_limits<double>::max(), min_y = min_x;
@@ -468,10 +470,94 @@ std::optional<Point> Comber::nearest_in(const Point& p, int island) const {
         }
     }
     if (bc < 0) return std::nullopt;
+    // The nearest of the candidates that lie strictly inside: where the nearest boundary point
+    // is a corner, the point moved off the edge lies on the next edge, and the first vertex of
+    // the edge may be its far end (a travel to the nearest island then crossed from the far
+    // corner of a rectangle).
+    std::optional<Point> best_q;
+    double best_d = std::numeric_limits<double>::max();
     for (const Point& q : {inside_edge_point(bc, be, bx, by), inside_vertex(bc, be),
                            inside_vertex(bc, int((be + 1) % contours_[bc].pts.size()))})
-        if (island_of(q) == island && visible(q, q)) return q;
-    return std::nullopt;
+        if (const double d = distance(q, p); d < best_d && island_of(q) == island && visible(q, q))
+            best_q = q, best_d = d;
+    return best_q;
+}
+
+Comber::Gap Comber::closest(int a, int b) const {
+    Gap g;
+    if (a < 0 || b < 0 || a >= islands_ || b >= islands_ || a == b) return g;
+    const BBox2& p = island_box_[a];
+    const BBox2& q = island_box_[b];
+    const double dx = double(std::max({Coord(0), p.min_x - q.max_x, q.min_x - p.max_x}));
+    const double dy = double(std::max({Coord(0), p.min_y - q.max_y, q.min_y - p.max_y}));
+    if (std::hypot(dx, dy) > kFarGap) {
+        g.d = std::hypot(dx, dy);
+        return g;
+    }
+    // Between two polygons the nearest pair has a vertex of one at one end: every vertex of
+    // each against every edge of the other.
+    double best = std::numeric_limits<double>::max();
+    for (int from : {a, b})
+        for (int c : island_contours_[from])
+            for (const Point& v : contours_[c].pts) {
+                // A vertex further from the other island's box than the best pair so far has
+                // nothing nearer in it: most vertices face away.
+                const BBox2& o = island_box_[from == a ? b : a];
+                const double vx = double(std::max({Coord(0), o.min_x - v.X, v.X - o.max_x}));
+                const double vy = double(std::max({Coord(0), o.min_y - v.Y, v.Y - o.max_y}));
+                if (vx * vx + vy * vy >= best) continue;
+                for (int d : island_contours_[from == a ? b : a]) {
+                    const Path& e = contours_[d].pts;
+                    for (size_t i = 0; i < e.size(); ++i) {
+                        const Nearest n = nearest_on_edge(e[i], e[(i + 1) % e.size()], v);
+                        if (n.d2 >= best) continue;
+                        best = n.d2;
+                        const Point w(Coord(std::llround(n.x)), Coord(std::llround(n.y)));
+                        g.on_a = from == a ? v : w;
+                        g.on_b = from == a ? w : v;
+                    }
+                }
+            }
+    g.d = std::sqrt(best);
+    return g;
+}
+
+std::vector<int> Comber::stepping_stones(int a, int b) const {
+    // A plate of many parts: all the gaps and a search per travel would cost more than the
+    // stepping stones save.
+    constexpr int kMaxIslands = 64;
+    if (a < 0 || b < 0 || a >= islands_ || b >= islands_ || a == b || islands_ > kMaxIslands)
+        return {a, b};
+    const size_t n = size_t(islands_);
+    if (gaps_.empty()) {
+        gaps_.assign(n * n, 0);
+        for (size_t i = 0; i < n; ++i)
+            for (size_t j = i + 1; j < n; ++j)
+                gaps_[i * n + j] = gaps_[j * n + i] = gap(int(i), int(j));
+    }
+    // Dijkstra on the gaps (a few islands: the quadratic form).
+    std::vector<double> dist(n, std::numeric_limits<double>::max());
+    std::vector<int> prev(n, -1);
+    std::vector<char> done(n, 0);
+    dist[size_t(a)] = 0;
+    for (size_t round = 0; round < n; ++round) {
+        size_t u = n;
+        for (size_t k = 0; k < n; ++k)
+            if (!done[k] && (u == n || dist[k] < dist[u])) u = k;
+        if (u == n || u == size_t(b)) break;
+        done[u] = 1;
+        for (size_t k = 0; k < n; ++k) {
+            // A wide gap is never crossed for a stepping stone: kFarGap's boxes only bound it.
+            const double g = gaps_[u * n + k];
+            if (done[k] || (g > kFarGap && k != size_t(b))) continue;
+            if (dist[u] + g < dist[k]) dist[k] = dist[u] + g, prev[k] = int(u);
+        }
+    }
+    std::vector<int> path;
+    for (int k = b; k >= 0; k = prev[size_t(k)]) path.push_back(k);
+    if (path.back() != a) return {a, b};
+    std::reverse(path.begin(), path.end());
+    return path;
 }
 
 }  // namespace carve

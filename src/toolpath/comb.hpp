@@ -47,6 +47,20 @@ class Comber {
     std::optional<Point> first_entry(const Point& a, const Point& b, int island) const;
     // The point of island `island`'s boundary nearest p, moved just inside it.
     std::optional<Point> nearest_in(const Point& p, int island) const;
+    // The shortest distance between the boundaries of islands a and b (the gap a travel from
+    // one to the other must cross), in units, and a nearest pair of boundary points. Exact up
+    // to kFarGap; beyond, the distance between the islands' boxes (a lower bound), which is
+    // enough to order islands that far apart and spares comparing their every edge.
+    struct Gap {
+        double d = 0;
+        Point on_a, on_b;
+    };
+    static constexpr double kFarGap = 20e3;
+    Gap closest(int a, int b) const;
+    double gap(int a, int b) const { return closest(a, b).d; }
+    // The islands a travel from a to b passes through (a first, b last) when it crosses the
+    // least outside in sum: another island may be a stepping stone across a wide gap.
+    std::vector<int> stepping_stones(int a, int b) const;
 
   private:
     struct Hit {
@@ -79,6 +93,8 @@ class Comber {
     mutable unsigned query_ = 0;
     int islands_ = 0;
     std::vector<std::vector<int>> island_contours_;
+    std::vector<BBox2> island_box_;
+    mutable std::vector<double> gaps_;  // islands_ x islands_, on first use
 };
 
 // One planned travel: the points to pass through after the start, up to the target (which is

@@ -126,6 +126,52 @@ std::vector<Extrusion> order_bridges(const std::vector<Bridge>& bridges, double 
     return out;
 }
 
+// Above this many islands in a layer (a plate of many parts) they are ordered by one greedy
+// pass from the first: the searches below grow as the cube.
+constexpr size_t kTourIslands = 64;
+
+// An open path through islands 0..k-1 (gaps[a][b]: the gap between a and b) crossing little
+// outside the model: a travel from one island to the next crosses at least their gap, and the
+// nozzle need not come back to the first. The best greedy nearest-gap path over every start,
+// then 2-opt.
+std::vector<size_t> island_tour(const std::vector<std::vector<double>>& gaps) {
+    const size_t k = gaps.size();
+    std::vector<size_t> best;
+    double best_cost = std::numeric_limits<double>::max();
+    const size_t starts = k <= kTourIslands ? k : 1;
+    for (size_t first = 0; first < starts; ++first) {
+        std::vector<size_t> tour{first};
+        std::vector<char> used(k, 0);
+        used[first] = 1;
+        double cost = 0;
+        while (tour.size() < k) {
+            size_t next = k;
+            for (size_t j = 0; j < k; ++j)
+                if (!used[j] && (next == k || gaps[tour.back()][j] < gaps[tour.back()][next]))
+                    next = j;
+            cost += gaps[tour.back()][next];
+            used[next] = 1;
+            tour.push_back(next);
+        }
+        if (cost < best_cost) best_cost = cost, best = std::move(tour);
+    }
+    // Reversing best[i..j] changes only the gaps at its ends (an end of the path has none).
+    auto gap = [&](size_t a, size_t b) { return a < k && b < k ? gaps[best[a]][best[b]] : 0.0; };
+    for (bool improved = k <= kTourIslands; improved;) {
+        improved = false;
+        for (size_t i = 0; i + 1 < k; ++i)
+            for (size_t j = i + 1; j < k; ++j) {
+                const size_t before = i > 0 ? i - 1 : k, after = j + 1;
+                if (gap(before, j) + gap(i, after) + 1 < gap(before, i) + gap(j, after)) {
+                    std::reverse(best.begin() + std::ptrdiff_t(i),
+                                 best.begin() + std::ptrdiff_t(j + 1));
+                    improved = true;
+                }
+            }
+    }
+    return best;
+}
+
 // Supports (supports/support_volume.hpp): the interface as dense lines across the body's walls,
 // the body as its outline and walls along x every kSupportSpacing, at the same places on every
 // layer so that they stack. The interface's lowest layer bridges between those walls.
@@ -189,6 +235,26 @@ std::string_view feature_name(Feature f) {
             return "Support material interface";
     }
     return "Custom";
+}
+
+LayerToolpaths with_islands_reversed(const LayerToolpaths& layer) {
+    LayerToolpaths out;
+    out.index = layer.index;
+    out.z = layer.z;
+    out.comb_region = layer.comb_region;
+    out.thin_region = layer.thin_region;
+    const std::vector<size_t>& starts = layer.island_starts;
+    const bool planned = !layer.travels.empty();
+    auto take = [&](size_t from, size_t to) {
+        for (size_t i = from; i < to && i < layer.extrusions.size(); ++i) {
+            out.extrusions.push_back(layer.extrusions[i]);
+            // The travel into an island came from the island printed before it, no longer so.
+            if (planned) out.travels.push_back(i == from ? Travel{} : layer.travels[i]);
+        }
+    };
+    for (size_t g = starts.size(); g-- > 1;) take(starts[g - 1], starts[g]);
+    take(starts.empty() ? 0 : starts.back(), layer.extrusions.size());
+    return out;
 }
 
 LayerToolpaths plan_layer(const LayerPartition& layer, const Settings& settings) {
@@ -348,7 +414,6 @@ LayerToolpaths plan_layer(const LayerPartition& layer, const Settings& settings)
         std::vector<Extrusion> outer, shells, covers, solid, ribs;
         std::vector<std::vector<Extrusion>> cavities;
         std::vector<Bridge> bridges;
-        bool done = false;
     };
     std::vector<Island> islands(island_count + 1);  // the last: unplaced
     auto island_at = [&](const Point& p) {
@@ -390,7 +455,10 @@ LayerToolpaths plan_layer(const LayerPartition& layer, const Settings& settings)
         const Point start = pos;
         order_nearest(group, pos, keep_loop_starts);
         improve_order(group, start, pos, keep_loop_starts);
-        for (Extrusion& e : group) result.extrusions.push_back(std::move(e));
+        // A path of fewer than two points prints nothing (the G-code stage skipped it); gone,
+        // an island's first path is one that prints.
+        for (Extrusion& e : group)
+            if (e.points.size() >= 2) result.extrusions.push_back(std::move(e));
     };
     auto d2 = [](const Point& a, const Point& b) {
         const double dx = double(a.X - b.X), dy = double(a.Y - b.Y);
@@ -411,16 +479,7 @@ LayerToolpaths plan_layer(const LayerPartition& layer, const Settings& settings)
                 if (!l.empty()) best = std::min(best, d2(pos, l.front()));
         return best;
     };
-    for (size_t round = 0; round < islands.size(); ++round) {
-        size_t next = islands.size();
-        double best = std::numeric_limits<double>::max();
-        for (size_t k = 0; k < islands.size(); ++k) {
-            if (islands[k].done) continue;
-            const double d = entry_distance(islands[k]);
-            if (next == islands.size() || d < best) best = d, next = k;
-        }
-        Island& isl = islands[next];
-        isl.done = true;
+    auto print_island = [&](Island& isl) {
         append(isl.outer, placed_seams);
         append(isl.shells);
         append(isl.covers);
@@ -431,8 +490,42 @@ LayerToolpaths plan_layer(const LayerPartition& layer, const Settings& settings)
         append(isl.ribs);
         // Bridges last: they hang over the cavity below, anchored on the walls just printed.
         for (Extrusion& e : order_bridges(isl.bridges, settings.bridge_flow, pos))
-            result.extrusions.push_back(std::move(e));
+            if (e.points.size() >= 2) result.extrusions.push_back(std::move(e));
+    };
+    // The islands in the order that crosses the least outside the model (issue #18: the gaps
+    // between islands were most of the travel outside: cat's legs, man's arms), from the end
+    // nearer the corner; the G-code stage may reverse it (LayerToolpaths::island_starts).
+    std::vector<size_t> order;
+    for (size_t k = 0; k + 1 < islands.size(); ++k)
+        if (entry_distance(islands[k]) < std::numeric_limits<double>::max()) order.push_back(k);
+    if (order.size() > 1) {
+        std::vector<std::vector<double>> gaps(order.size(), std::vector<double>(order.size(), 0));
+        for (size_t a = 0; a < order.size(); ++a)
+            for (size_t b = a + 1; b < order.size(); ++b)
+                gaps[a][b] = gaps[b][a] = index->gap(int(order[a]), int(order[b]));
+        // What a travel from one to another crosses: it may step through the islands between
+        // (plan_travel), so the least sum of gaps over any way, not the direct gap.
+        for (size_t m = 0; m < (order.size() <= kTourIslands ? order.size() : 0); ++m)
+            for (size_t a = 0; a < order.size(); ++a)
+                for (size_t b = 0; b < order.size(); ++b)
+                    gaps[a][b] = std::min(gaps[a][b], gaps[a][m] + gaps[m][b]);
+        std::vector<size_t> tour = island_tour(gaps);
+        for (size_t& t : tour) t = order[t];
+        if (entry_distance(islands[tour.back()]) < entry_distance(islands[tour.front()]))
+            std::reverse(tour.begin(), tour.end());
+        order = std::move(tour);
     }
+    for (size_t k : order) {
+        result.island_starts.push_back(result.extrusions.size());
+        print_island(islands[k]);
+    }
+    result.island_starts.push_back(result.extrusions.size());
+    // An island whose paths all printed nothing is no island to start in.
+    result.island_starts.erase(
+        std::unique(result.island_starts.begin(), result.island_starts.end()),
+        result.island_starts.end());
+    if (result.island_starts.size() < 3) result.island_starts.clear();
+    print_island(islands.back());  // paths of no island
 
     // Supports last: nothing of the model rests on them within the layer.
     std::vector<Extrusion> supports = support_paths(layer, settings);
@@ -448,6 +541,7 @@ LayerToolpaths plan_layer(const LayerPartition& layer, const Settings& settings)
         // centreline, built only if needed; not with Combing::Inside, which keeps off covers.
         std::optional<Comber> thin;
         const bool use_thin = settings.combing == Combing::All;
+        if (use_thin) result.thin_region = layer.wall_region;
         const TravelOptions options = travel_options(settings);
         auto exit_of = [](const Extrusion& e) {
             return e.closed ? e.points.front() : e.points.back();

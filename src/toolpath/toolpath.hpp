@@ -45,7 +45,21 @@ struct LayerToolpaths {
     // Where travel may go without retracting (comb.hpp), for the travel into the layer; empty
     // without combing.
     Paths comb_region;
+    // The region inside the outer wall's centreline, where the travel into the layer may go
+    // where the comb region is too thin or splits (Combing::All); empty otherwise.
+    Paths thin_region;
+    // Islands printed one after the other: island k is extrusions [island_starts[k],
+    // island_starts[k + 1]); what follows the last island (supports, paths of no island) comes
+    // after them in either order. Empty for a layer of fewer than two islands. The G-code stage,
+    // which knows where the layer below ended, may print them last to first so that the layer
+    // starts in that island: the layers are planned in parallel and cannot know it.
+    std::vector<size_t> island_starts;
 };
+
+// The layer with its islands printed last to first, each island's paths in their order. The
+// travel into each island's first path (and into the first path after the islands) is left
+// unplanned, for the G-code stage to plan from where the nozzle is.
+LayerToolpaths with_islands_reversed(const LayerToolpaths& layer);
 
 // Pure function of one layer: layers may be planned on worker threads.
 LayerToolpaths plan_layer(const LayerPartition& layer, const Settings& settings);

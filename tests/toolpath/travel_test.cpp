@@ -134,6 +134,60 @@ TEST(Comb, TravelBetweenIslandsLeavesOnceAcrossTheGap) {
     EXPECT_TRUE(s.via.empty());
 }
 
+// Two squares placed corner to corner: the gap between them is between the facing corners, so
+// a travel from one to the other must cross there. The point of the left square nearest the
+// right one used to be the far end of the edge found first (its bottom-right corner, 10 mm
+// away), and such a travel crossed from there.
+TEST(Comb, NearestPointOfASquareIsItsNearCorner) {
+    const Paths region =
+        unite(rect(0, 0, 10 * kMm, 10 * kMm), rect(14 * kMm, 14 * kMm, 24 * kMm, 24 * kMm));
+    const Comber comber(region);
+    ASSERT_EQ(comber.islands(), 2);
+    const Point far(20 * kMm, 20 * kMm);
+    const int left = comber.island_of(Point(5 * kMm, 5 * kMm));
+    const auto q = comber.nearest_in(far, left);
+    ASSERT_TRUE(q);
+    EXPECT_LT(dist(*q, Point(10 * kMm, 10 * kMm)), 0.1 * kMm);
+    EXPECT_NEAR(comber.gap(0, 1) / kMm, std::hypot(4.0, 4.0), 0.01);
+    // A travel from the far corner of one to the far corner of the other leaves only across the
+    // gap between the near corners.
+    const Point from(1 * kMm, 1 * kMm), to(23 * kMm, 23 * kMm);
+    const TravelPlan t = plan_travel(comber, from, to, {});
+    EXPECT_NEAR(outside_length(from, t.via, to, region) / kMm, std::hypot(4.0, 4.0), 0.2);
+}
+
+// Two squares 20 mm apart with a bar above the gap between them, 2 mm off each square
+// diagonally: a travel from one square to the other steps through the bar, crossing two gaps
+// of 2.8 mm instead of the 20 mm one (before: straight across it).
+TEST(Comb, TravelStepsThroughAnIslandAcrossAWideGap) {
+    const Paths region =
+        unite(unite(rect(0, 0, 10 * kMm, 10 * kMm), rect(30 * kMm, 0, 40 * kMm, 10 * kMm)),
+              rect(12 * kMm, 12 * kMm, 28 * kMm, 20 * kMm));
+    const Comber comber(region);
+    ASSERT_EQ(comber.islands(), 3);
+    const Point from(1 * kMm, 1 * kMm), to(39 * kMm, 1 * kMm);
+    const int a = comber.island_of(from), c = comber.island_of(to);
+    const int b = comber.island_of(Point(20 * kMm, 16 * kMm));
+    EXPECT_EQ(comber.stepping_stones(a, c), (std::vector<int>{a, b, c}));
+    const TravelPlan t = plan_travel(comber, from, to, {});
+    EXPECT_TRUE(t.leaves);
+    EXPECT_NEAR(outside_length(from, t.via, to, region) / kMm, 2 * std::hypot(2.0, 2.0), 0.3);
+}
+
+// Two bars too thin for the comb region (it holds only a square far away): a travel from one
+// to the other used to go straight, 12 mm of it outside; the region inside the outer wall's
+// centreline holds both ends, so it crosses where the bars are closest, 2 mm.
+TEST(Comb, EndsTooThinForTheCombRegionLeaveAcrossTheNarrowestGap) {
+    const Paths thin_region =
+        unite(rect(0, 0, 20 * kMm, 1 * kMm), rect(0, 3 * kMm, 20 * kMm, 4 * kMm));
+    const Comber comber(rect(50 * kMm, 50 * kMm, 60 * kMm, 60 * kMm));
+    const Comber thin(thin_region);
+    const Point from(1 * kMm, kMm / 2), to(19 * kMm, 3 * kMm + kMm / 2);
+    const TravelPlan t = plan_travel(comber, from, to, {}, &thin);
+    EXPECT_TRUE(t.leaves);
+    EXPECT_NEAR(outside_length(from, t.via, to, thin_region) / kMm, 2.0, 0.2);
+}
+
 TEST(Comb, WallPointsJustOutsideTheRegionAreReached) {
     const Paths region = rect(1 * kMm, 1 * kMm, 19 * kMm, 19 * kMm);
     const Comber comber(region);
@@ -194,6 +248,42 @@ TEST(Spill, KeepsTravelsAndTheCombRegion) {
     EXPECT_EQ(back.comb_region, layer.comb_region);
     layer.travels.clear();  // none planned (combing off)
     EXPECT_TRUE(decode_layer(encode_layer(layer)).travels.empty());
+    layer.island_starts = {0, 1, 3};
+    layer.thin_region = rect(0, 0, 3 * kMm, 3 * kMm);
+    const LayerToolpaths islands = decode_layer(encode_layer(layer));
+    EXPECT_EQ(islands.island_starts, layer.island_starts);
+    EXPECT_EQ(islands.thin_region, layer.thin_region);
+}
+
+// The G-code stage may print a layer's islands last to first: the paths of each island keep
+// their order and their travels, the travel into each island (and into the supports after them)
+// is left for it to plan from where the nozzle is.
+TEST(Islands, ReversedKeepsEachIslandsPathsAndUnplansTheTravelsIntoThem) {
+    LayerToolpaths layer;
+    layer.index = 2;
+    for (int i = 0; i < 6; ++i) {
+        Extrusion e;
+        e.points = {{i * kMm, 0}, {i * kMm, 5 * kMm}};
+        e.feature = i == 5 ? Feature::Support : Feature::OuterWall;
+        layer.extrusions.push_back(e);
+        layer.travels.push_back({{{i * kMm, -kMm}}, TravelKind::Inside});
+    }
+    layer.travels[0] = {};
+    layer.island_starts = {0, 2, 3, 5};  // islands {0, 1}, {2}, {3, 4}; then a support
+    const LayerToolpaths r = with_islands_reversed(layer);
+    ASSERT_EQ(r.extrusions.size(), 6u);
+    ASSERT_EQ(r.travels.size(), 6u);
+    const int order[] = {3, 4, 2, 0, 1, 5};
+    for (size_t k = 0; k < 6; ++k) {
+        EXPECT_EQ(r.extrusions[k].points.front().X, order[k] * kMm) << k;
+        const bool first_of_island =
+            order[k] == 3 || order[k] == 2 || order[k] == 0 || order[k] == 5;
+        if (first_of_island)
+            EXPECT_EQ(r.travels[k].kind, TravelKind::Unplanned) << k;
+        else
+            EXPECT_EQ(r.travels[k].via, layer.travels[size_t(order[k])].via) << k;
+    }
+    EXPECT_TRUE(r.island_starts.empty());
 }
 
 double order_travel(const std::vector<Extrusion>& paths, Point at) {
@@ -400,6 +490,52 @@ TEST(TravelRun, TwoIslandsRetractOnlyToLeaveAnIsland) {
         // the layer.
         EXPECT_GE(leaving, 1) << "layer " << index;
         EXPECT_LE(leaving, 2) << "layer " << index;
+    }
+}
+
+// Islands whose facing sides are close while the order that a nearest-start rule gives, or the
+// layer's corner, leads across a wide gap (issue #18): a bar with a post above each end (gaps
+// 5 mm, the posts 30 mm apart), and four squares in an L whose narrowest gaps are 4, 4 and
+// 7.2 mm, corner to corner. Each layer crosses only the narrowest gaps, once each, and starts in
+// the island where the layer below ended, so the travel into it stays inside. Before, bar: up
+// to 34 mm outside a layer and 922 mm over the layers above the first; L: 39 and 1,091.
+TEST(TravelRun, IslandsAreJoinedAcrossTheirNarrowestGaps) {
+    struct Case {
+        const char* name;
+        std::vector<std::array<float, 4>> boxes;  // x0, y0, x1, y1 (mm), 8 mm tall
+        double gaps_mm;                           // the shortest way through all of them
+    };
+    const Case cases[] = {
+        {"bar", {{0, 0, 40, 5}, {0, 10, 5, 15}, {35, 10, 40, 15}}, 10.0},
+        {"ell",
+         {{0, 0, 10, 10}, {14, 0, 24, 10}, {14, 14, 24, 24}, {0, 30, 10, 40}},
+         8.0 + std::hypot(4.0, 6.0)},
+    };
+    for (const Case& c : cases) {
+        std::vector<Triangle> t;
+        Paths model;
+        for (const auto& b : c.boxes) {
+            add_box(t, b[0], b[1], 0, b[2], b[3], 8);
+            model = unite(model, rect(Coord(b[0] * kMm), Coord(b[1] * kMm), Coord(b[2] * kMm),
+                                      Coord(b[3] * kMm)));
+        }
+        const fs::path stl = write_stl(std::string(c.name) + ".stl", t);
+        const Paths part = footprint(model, bounds(model));
+        const auto layers = read_moves(slice(stl, std::string(c.name) + ".gcode", ""));
+        ASSERT_GT(layers.size(), 30u) << c.name;
+        for (const auto& [index, l] : layers) {
+            if (index == 0) continue;  // from the home position
+            double outside = 0;
+            int leaving = 0;
+            for (const Move& m : l.travels) {
+                for (const Path& p : clip_lines_outside(Paths{m.points}, part))
+                    outside += length(Paths{p}, false) / kMm;
+                leaving += m.retracted;
+            }
+            EXPECT_LT(outside, c.gaps_mm + 0.5) << c.name << " layer " << index;
+            // One crossing per gap, none into the layer.
+            EXPECT_EQ(leaving, int(c.boxes.size()) - 1) << c.name << " layer " << index;
+        }
     }
 }
 
