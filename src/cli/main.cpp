@@ -3,8 +3,8 @@
 // Errors come out as one line on stderr with the exit status of their kind (base/errors.hpp):
 // 1 bad input or option value, 2 usage, 3 an output not written or refused, 4 internal. No
 // partial output is ever left behind (every output goes through base/atomic_file.hpp).
-// The numeric options of `slice` are made from the settings table (core/setting_table.hpp):
-// a new numeric setting is one entry there, not an option here.
+// The options of `slice` that set a setting are made from the settings table
+// (config/setting_table.hpp): a new setting is one entry there, not an option here.
 #include <fmt/format.h>
 #include <unistd.h>
 
@@ -63,17 +63,6 @@ CLI::Validator strict(double lo, double hi, const char* unit, bool integer = fal
         fmt::format("in [{} - {}]", carve::plain_number(lo), carve::plain_number(hi)));
 }
 
-// "250x210": two decimal numbers (sscanf's %lf read "0x100" as hexadecimal 256).
-bool parse_bed(const std::string& text, double& x, double& y) {
-    const size_t cross = text.find_first_of("xX");
-    if (cross == std::string::npos) return false;
-    const auto a = carve::parse_decimal(std::string_view(text).substr(0, cross));
-    const auto b = carve::parse_decimal(std::string_view(text).substr(cross + 1));
-    if (!a || !b || !(*a > 0) || !(*b > 0) || *a > 10000 || *b > 10000) return false;
-    x = *a, y = *b;
-    return true;
-}
-
 // Standard output is an output too: a failed write (a full disk, a closed pipe) is exit 3,
 // never a truncated answer with exit 0.
 [[maybe_unused]] int checked_stdout(int code) {
@@ -115,15 +104,14 @@ int run(int argc, char** argv) {
 
     carve::Settings settings;
     carve::RunOptions run;
-    std::string cavities_text = "6", walls_text = "single", preset, profile_path, printer_name,
-                flavor_text = "marlin", bed_text, combing_text = "all", seam_text = "aligned",
-                support_text = "none";
-    bool quiet = false, no_bed_check = false, relative_e = false, m73_on = false, m73_off = false;
-    std::string thumbnails_text;
-    bool thumbnails_given = false;
+    std::string preset, profile_path, printer_name;
+    bool quiet = false;
     double timeout_s = 0;
     // Table options as typed, applied after the printer, the profile and the preset.
     std::vector<std::pair<const carve::SettingSpec*, std::string>> given;
+    // Each switch's option and where CLI11 leaves its value: one that was given is added to
+    // `given` after parsing (the last of --m73 and --no-m73 wins).
+    std::map<const carve::SettingSpec*, std::pair<CLI::Option*, bool>> switches;
 
     CLI::App* slice = app.add_subcommand("slice", "Slice MODEL into hollow G-code (the main job)");
     slice
@@ -162,63 +150,6 @@ int run(int argc, char** argv) {
                      "The report's presets: 2c0s (2 covers, no shell) or "
                      "3c1s (3 covers, 1 shell) [none: 2 covers, 0 shells]")
         ->check(CLI::IsMember({"2c0s", "3c1s"}));
-    slice->add_option("--cavities", cavities_text,
-                      "Carving iterations k, or 'auto' (stop when the remainder erodes away at "
-                      "the line width); 0 = a plain hollow shell [6]");
-    slice
-        ->add_option("--walls", walls_text,
-                     "Cavity walls: single (one filament, report 4.3) or double (4.1) [single]")
-        ->check(CLI::IsMember({"single", "double"}));
-    slice->add_option("--flavor", flavor_text, "G-code flavour: marlin, reprap or klipper [marlin]")
-        ->check(CLI::IsMember({"marlin", "reprap", "klipper"}));
-    slice->add_flag("--relative-e", relative_e,
-                    "Relative extrusion distances (M83) [off: absolute, M82]");
-    slice->add_option("--bed", bed_text, "Bed size WxH, mm; the model is centred on it [250x210]");
-    slice->add_flag("--no-bed-check", no_bed_check, "Allow a model larger than the bed [off]");
-    slice
-        ->add_option("--combing", combing_text,
-                     "Travel inside the part without retracting: off (straight travels), inside "
-                     "(not over covers) or all (anywhere in the island) [all]")
-        ->check(CLI::IsMember({"off", "inside", "all"}));
-    slice
-        ->add_option("--support", support_text,
-                     "Supports under the model's own overhangs: none, auto (down to the bed or "
-                     "onto the model) or buildplate (only where nothing of the model lies below) "
-                     "[none]")
-        ->check(CLI::IsMember({"none", "auto", "buildplate"}));
-    slice->add_flag("!--no-avoid-crossing-perimeters,--avoid-crossing-perimeters",
-                    settings.avoid_crossing_perimeters,
-                    "A travel that must leave its island goes inside it to where the next island "
-                    "is closest, crosses the gap and goes on inside that one, instead of "
-                    "straight [on]");
-    slice
-        ->add_option("--seam", seam_text,
-                     "Where outer wall loops start: aligned (one line, in concave corners where "
-                     "there are any), nearest, rear or random [aligned]")
-        ->check(CLI::IsMember({"aligned", "nearest", "rear", "random"}));
-    slice->add_flag("--wipe", settings.wipe,
-                    "Move back along the last path while retracting [off]");
-    slice->add_flag("--firmware-retraction", settings.firmware_retraction,
-                    "Retract with G10/G11, length and speed set in the firmware [off]");
-    slice->add_flag("--arc-fitting", settings.arc_fitting,
-                    "Write G2/G3 arcs where a path follows a circle within --arc-tolerance; the "
-                    "firmware must accept arcs (Klipper: [gcode_arcs]) [off]");
-    slice->add_flag("--m73", m73_on,
-                    "Write M73 progress and remaining time for printer screens and hosts [off; "
-                    "on with --printer mk3s or ender3]");
-    slice->add_flag("--no-m73", m73_off, "No M73 lines, whatever the printer [off]");
-    slice
-        ->add_option_function<std::string>(
-            "--thumbnails",
-            [&](const std::string& v) {
-                thumbnails_text = v;
-                thumbnails_given = true;
-            },
-            "PNG previews of the model in the header, PrusaSlicer's format, sizes WxH,WxH "
-            "(e.g. 16x16,220x124) [none]")
-        ->type_name("SIZES");
-    slice->add_flag("!--keep-all-bridges", settings.prune_bridges,
-                    "Keep bridges that the layer below already supports [off]");
     slice->add_option("--report", run.report_path,
                       "Write an HTML report (self-contained) to this file [none]");
     slice->add_option("--svg-layers", run.svg_dir,
@@ -241,12 +172,21 @@ int run(int argc, char** argv) {
         ->check(strict(0.01, 10.0, "mm"));
     for (const carve::SettingSpec& spec : carve::setting_table()) {
         if (!*spec.option) continue;  // a profile key without an option of its own
-        slice
-            ->add_option_function<std::string>(
-                std::string("--") + spec.option,
-                [&given, &spec](const std::string& v) { given.emplace_back(&spec, v); }, spec.help)
-            ->type_name(fmt::format("{} in [{} - {}]", spec.integer() ? "INT" : "FLOAT",
-                                    carve::plain_number(spec.min), carve::plain_number(spec.max)));
+        if (spec.is_switch()) {
+            auto& [option, on] = switches[&spec];
+            option = slice->add_flag(spec.cli_switch_names(), on, spec.help);
+            continue;
+        }
+        CLI::Option* o = slice->add_option_function<std::string>(
+            std::string("--") + spec.option,
+            [&given, &spec](const std::string& v) { given.emplace_back(&spec, v); }, spec.help);
+        if (!spec.text())
+            o->type_name(fmt::format("{} in [{} - {}]", spec.integer() ? "INT" : "FLOAT",
+                                     carve::plain_number(spec.min), carve::plain_number(spec.max)));
+        else if (!spec.text_field().choices.empty())
+            o->check(CLI::IsMember(spec.text_field().choices));
+        else
+            o->type_name(spec.text_field().type_name);
     }
     slice
         ->add_option("--timeout", timeout_s,
@@ -405,13 +345,11 @@ int run(int argc, char** argv) {
             profile_notes = carve::load_prusa_profile(profile_path, settings, profile_options);
         if (preset == "2c0s") settings.covers = 2, settings.shells = 0;
         if (preset == "3c1s") settings.covers = 3, settings.shells = 1;
+        for (const auto& [spec, option_on] : switches)
+            if (option_on.first->count() > 0)
+                given.emplace_back(spec, option_on.second ? "1" : "0");
         for (const auto& [spec, text] : given)
             spec->set(settings, text, std::string("--") + spec->option);
-        if (relative_e) settings.relative_e = true;
-        if (m73_on) settings.m73 = 1;
-        if (m73_off) settings.m73 = 0;
-        if (thumbnails_given)
-            settings.thumbnails = carve::parse_thumbnail_sizes(thumbnails_text, "--thumbnails");
         for (const std::string& n : profile_notes)
             if (!quiet) std::fprintf(stderr, "carve: note: %s\n", n.c_str());
         // Placeholders of the custom G-code that carve cannot evaluate: said once, up front.
@@ -432,41 +370,6 @@ int run(int argc, char** argv) {
                 throw carve::InputError(fmt::format("{}: {}", name, e.what()));
             }
 
-        if (cavities_text == "auto") {
-            settings.cavities_auto = true;
-        } else if (const std::string why = carve::range_problem(cavities_text, 0, 64, true, "");
-                   !why.empty()) {
-            return fail(fmt::format(
-                "--cavities: expected a number from 0 to 64 or 'auto', got '{}'", cavities_text));
-        } else {
-            settings.cavities = static_cast<int>(*carve::parse_decimal(cavities_text));
-        }
-        if (slice->count("--walls"))
-            settings.walls =
-                walls_text == "double" ? carve::WallMode::Double : carve::WallMode::Single;
-        if (slice->count("--flavor"))
-            settings.flavor = flavor_text == "klipper"  ? carve::GcodeFlavor::Klipper
-                              : flavor_text == "reprap" ? carve::GcodeFlavor::RepRap
-                                                        : carve::GcodeFlavor::Marlin;
-        if (slice->count("--combing"))
-            settings.combing = combing_text == "off"      ? carve::Combing::Off
-                               : combing_text == "inside" ? carve::Combing::Inside
-                                                          : carve::Combing::All;
-        if (slice->count("--support"))
-            settings.support = support_text == "auto"         ? carve::SupportMode::Auto
-                               : support_text == "buildplate" ? carve::SupportMode::Buildplate
-                                                              : carve::SupportMode::None;
-        if (slice->count("--seam"))
-            settings.seam = seam_text == "nearest"  ? carve::SeamMode::Nearest
-                            : seam_text == "rear"   ? carve::SeamMode::Rear
-                            : seam_text == "random" ? carve::SeamMode::Random
-                                                    : carve::SeamMode::Aligned;
-        if (!bed_text.empty() && !parse_bed(bed_text, settings.bed_x, settings.bed_y))
-            return fail(
-                fmt::format("--bed: expected WIDTHxDEPTH in mm, each above 0 and at most "
-                            "10000, such as 250x210, got '{}'",
-                            bed_text));
-        if (no_bed_check) settings.bed_check = false;
         carve::validate_settings(settings);
         // Nothing the run writes may be one of its inputs, another of its outputs, or a device.
         carve::check_output_paths({{run.model_path, "the model"}, {profile_path, "the profile"}},

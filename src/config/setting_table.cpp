@@ -1,12 +1,15 @@
-// The table of numeric settings (see setting_table.hpp). Ranges are physical bounds, wide
+// The table of settings (see setting_table.hpp). Ranges are physical bounds, wide
 // enough for every real printer and narrow enough that nothing downstream overflows: a nozzle
 // or layer of 0.001 mm or 1e20 mm reaches the micrometre integers as 0 or INT64_MIN.
 #include "config/setting_table.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
+#include <algorithm>
 #include <cmath>
 #include <optional>
+#include <stdexcept>
 #include <type_traits>
 
 #include "base/error.hpp"
@@ -18,6 +21,78 @@ namespace {
 
 using S = Settings;
 
+// One of a few words, in the order of the enum's values.
+template <class E>
+TextField words(E S::*member, std::vector<std::string> names) {
+    TextField t;
+    t.get = [member, names](const Settings& s) { return names.at(static_cast<size_t>(s.*member)); };
+    t.set = [member, names](Settings& s, const std::string& text, const std::string& source) {
+        const auto it = std::find(names.begin(), names.end(), text);
+        if (it == names.end())
+            throw InputError(
+                fmt::format("{}: '{}' is not one of {}", source, text, fmt::join(names, ", ")));
+        s.*member = static_cast<E>(it - names.begin());
+    };
+    t.choices = std::move(names);
+    return t;
+}
+
+TextField cavities_field() {
+    TextField t;
+    t.get = [](const Settings& s) {
+        return s.cavities_auto ? std::string("auto") : std::to_string(s.cavities);
+    };
+    t.set = [](Settings& s, const std::string& text, const std::string& source) {
+        if (text == "auto") {
+            s.cavities_auto = true;
+            return;
+        }
+        if (!range_problem(text, 0, 64, true, "").empty())
+            throw InputError(fmt::format("{}: expected a number from 0 to 64 or 'auto', got '{}'",
+                                         source, text));
+        s.cavities = static_cast<int>(*parse_decimal(text));
+        s.cavities_auto = false;
+    };
+    return t;
+}
+
+// "250x210": two decimal numbers (sscanf's %lf read "0x100" as hexadecimal 256).
+TextField bed_field() {
+    TextField t;
+    t.get = [](const Settings& s) { return plain_number(s.bed_x) + "x" + plain_number(s.bed_y); };
+    t.set = [](Settings& s, const std::string& text, const std::string& source) {
+        const size_t cross = text.find_first_of("xX");
+        std::optional<double> x, y;
+        if (cross != std::string::npos) {
+            x = parse_decimal(std::string_view(text).substr(0, cross));
+            y = parse_decimal(std::string_view(text).substr(cross + 1));
+        }
+        if (!x || !y || !(*x > 0) || !(*y > 0) || *x > 10000 || *y > 10000)
+            throw InputError(fmt::format(
+                "{}: expected WIDTHxDEPTH in mm, each above 0 and at most 10000, such as "
+                "250x210, got '{}'",
+                source, text));
+        s.bed_x = *x, s.bed_y = *y;
+    };
+    t.type_name = "WxH";
+    return t;
+}
+
+TextField thumbnails_field() {
+    TextField t;
+    t.get = [](const Settings& s) {
+        std::string out;
+        for (const auto& [w, h] : s.thumbnails)
+            out += fmt::format("{}{}x{}", out.empty() ? "" : ",", w, h);
+        return out;
+    };
+    t.set = [](Settings& s, const std::string& text, const std::string& source) {
+        s.thumbnails = parse_thumbnail_sizes(text, source);
+    };
+    t.type_name = "SIZES";
+    return t;
+}
+
 std::vector<SettingSpec> make_table() {
     return {
         {"layer-height", "layer_height", "mm", 0.01, 2.0, &S::layer_height,
@@ -27,6 +102,14 @@ std::vector<SettingSpec> make_table() {
         {"max-overhang", "", "degrees", 5.0, 75.0, &S::max_overhang,
          "Largest overhang from vertical the printer bridges, degrees; the per-layer dilation "
          "is r = h * tan(angle) [45]"},
+        {"cavities", "", "", 0, 0, cavities_field(),
+         "Carving iterations k, or 'auto' (stop when the remainder erodes away at the line "
+         "width); 0 = a plain hollow shell [6]"},
+        {"walls", "", "", 0, 0, words(&S::walls, {"single", "double"}),
+         "Cavity walls: single (one filament, report 4.3) or double (4.1) [single]"},
+        {"support", "", "", 0, 0, words(&S::support, {"none", "auto", "buildplate"}),
+         "Supports under the model's own overhangs: none, auto (down to the bed or onto the "
+         "model) or buildplate (only where nothing of the model lies below) [none]"},
         {"support-angle", "", "degrees", 0.0, 85.0, &S::support_angle,
          "Overhang from vertical beyond which the model's own surface needs support; with "
          "--support none carve measures that overhang and warns when it will hang, degrees [0 = "
@@ -45,6 +128,14 @@ std::vector<SettingSpec> make_table() {
         {"extrusion-width", "", "mm", 0.0, 3.0, &S::extrusion_width,
          "Line width w of every wall and cover, mm; a profile's perimeter_extrusion_width or "
          "extrusion_width sets it [0 = the nozzle diameter]"},
+        {"flavor", "", "", 0, 0, words(&S::flavor, {"marlin", "reprap", "klipper"}),
+         "G-code flavour: marlin, reprap or klipper [marlin]"},
+        {"relative-e", "", "0/1", 0, 1, &S::relative_e,
+         "Relative extrusion distances (M83) [off: absolute, M82]"},
+        {"bed", "", "mm", 0, 0, bed_field(),
+         "Bed size WxH, mm; the model is centred on it [250x210]"},
+        {"bed-check", "", "0/1", 0, 1, &S::bed_check, "Allow a model larger than the bed [off]",
+         false, "!--no-bed-check"},
         {"filament-diameter", "filament_diameter", "mm", 0.5, 5.0, &S::filament_diameter,
          "Filament diameter, mm [1.75]"},
         {"temperature", "temperature", "C", 0, 450, &S::nozzle_temperature,
@@ -103,6 +194,8 @@ std::vector<SettingSpec> make_table() {
         {"threads", "", "threads", 0, 512, &S::threads,
          "Threads the per-layer work runs on, from 1 (everything on one thread) up; the G-code "
          "is the same for every count, threads [0 = every core]"},
+        {"prune-bridges", "", "0/1", 0, 1, &S::prune_bridges,
+         "Keep bridges that the layer below already supports [off]", false, "!--keep-all-bridges"},
         {"max-bridge-length", "", "mm", 1.0, 500.0, &S::max_bridge_length,
          "Longest span a bridge may have, mm; a longer one is split into pieces bridged apart, "
          "and what no shorter line reaches is left out [10]"},
@@ -120,10 +213,23 @@ std::vector<SettingSpec> make_table() {
         {"max-vertices", "", "vertices", 0, 1e10, &S::max_vertices_total,
          "Give up when the slices hold more contour vertices than this in all; 0 = no limit, "
          "vertices [100000000]"},
+        {"combing", "", "", 0, 0, words(&S::combing, {"off", "inside", "all"}),
+         "Travel inside the part without retracting: off (straight travels), inside (not over "
+         "covers) or all (anywhere in the island) [all]"},
+        {"avoid-crossing-perimeters", "", "0/1", 0, 1, &S::avoid_crossing_perimeters,
+         "A travel that must leave its island goes inside it to where the next island is "
+         "closest, crosses the gap and goes on inside that one, instead of straight [on]",
+         false, "!--no-avoid-crossing-perimeters,--avoid-crossing-perimeters"},
+        {"seam", "", "", 0, 0, words(&S::seam, {"aligned", "nearest", "rear", "random"}),
+         "Where outer wall loops start: aligned (one line, in concave corners where there are "
+         "any), nearest, rear or random [aligned]"},
+        {"wipe", "", "0/1", 0, 1, &S::wipe, "Move back along the last path while retracting [off]"},
         {"retract-before-travel", "retract_before_travel", "mm", 0.0, 1000.0,
          &S::retract_min_travel,
          "Only a travel longer than this retracts (one that stays inside the part with combing "
          "never does), mm [2]"},
+        {"firmware-retraction", "", "0/1", 0, 1, &S::firmware_retraction,
+         "Retract with G10/G11, length and speed set in the firmware [off]"},
         {"wipe-distance", "", "mm", 0.0, 50.0, &S::wipe_distance,
          "With --wipe: how far back, mm [1]"},
         // Cooling (PrusaSlicer's keys and meanings).
@@ -177,26 +283,56 @@ std::vector<SettingSpec> make_table() {
          "Machine limit M205 E (classic jerk), mm/s [4.5]"},
         {"", "machine_max_junction_deviation", "mm", 0.0, 1.0, &S::junction_deviation,
          "Junction deviation M205 J (Marlin 2); 0 = classic jerk, mm [0.013]"},
+        {"arc-fitting", "", "0/1", 0, 1, &S::arc_fitting,
+         "Write G2/G3 arcs where a path follows a circle within --arc-tolerance; the firmware "
+         "must accept arcs (Klipper: [gcode_arcs]) [off]"},
         {"arc-tolerance", "", "mm", 0.001, 0.2, &S::arc_tolerance,
          "With --arc-fitting, how far an arc may leave the path it replaces, mm [0.02]"},
-        {"", "remaining_times", "0/1", 0, 1, &S::m73,
-         "Write M73 progress and remaining time, 0/1 [0]"},
+        // The stats have always called it by its profile key.
+        {"m73", "remaining_times", "0/1", 0, 1, &S::m73,
+         "Write M73 progress and remaining time for printer screens and hosts; --no-m73: none, "
+         "whatever the printer [off; on with --printer mk3s or ender3]",
+         false, "!--no-m73,--m73", "remaining_times"},
+        {"thumbnails", "", "", 0, 0, thumbnails_field(),
+         "PNG previews of the model in the header, PrusaSlicer's format, sizes WxH,WxH (e.g. "
+         "16x16,220x124) [none]"},
     };
 }
 
 }  // namespace
 
 double SettingSpec::get(const Settings& s) const {
-    return std::visit([&](auto member) { return static_cast<double>(s.*member); }, field);
+    return std::visit(
+        [&](const auto& member) -> double {
+            if constexpr (std::is_same_v<std::decay_t<decltype(member)>, TextField>)
+                throw std::logic_error(std::string("text setting read as a number: ") + option);
+            else
+                return static_cast<double>(s.*member);
+        },
+        field);
 }
 
-std::variant<double, long long, bool> SettingSpec::value(const Settings& s) const {
+std::string SettingSpec::text_value(const Settings& s) const {
+    if (text()) return text_field().get(s);
+    if (flag()) return get(s) != 0 ? "on" : "off";
+    return plain_number(get(s));
+}
+
+std::variant<double, long long, bool, std::string> SettingSpec::value(const Settings& s) const {
+    if (text()) {
+        std::string t = text_field().get(s);
+        if (const auto d = parse_decimal(t); d && *d == std::floor(*d) && std::abs(*d) < 1e15)
+            return static_cast<long long>(*d);
+        return t;
+    }
     if (flag()) return get(s) != 0;
     return std::visit(
-        [&](auto member) -> std::variant<double, long long, bool> {
-            using T = std::remove_reference_t<decltype(s.*member)>;
-            if constexpr (std::is_floating_point_v<T>)
-                return static_cast<double>(s.*member);
+        [&](const auto& member) -> std::variant<double, long long, bool, std::string> {
+            using M = std::decay_t<decltype(member)>;
+            if constexpr (std::is_same_v<M, double Settings::*>)
+                return s.*member;
+            else if constexpr (std::is_same_v<M, TextField>)
+                return std::string();  // handled above
             else
                 return static_cast<long long>(s.*member);
         },
@@ -204,20 +340,48 @@ std::variant<double, long long, bool> SettingSpec::value(const Settings& s) cons
 }
 
 std::string SettingSpec::name() const {
-    std::string out = *option ? option : ini_key;
+    std::string out = *key ? key : *option ? option : ini_key;
     for (char& c : out)
         if (c == '-') c = '_';
     return out;
 }
 
+std::string SettingSpec::cli_switch_names() const {
+    return *switch_names ? std::string(switch_names) : std::string("--") + option;
+}
+
+std::string SettingSpec::label() const {
+    if (!*option) return name();
+    // A switch that only has a negation (--keep-all-bridges) has no --option to name it by.
+    const std::string own = std::string("--") + option;
+    if (is_switch()) {
+        const std::string names = cli_switch_names();
+        bool named = false;
+        for (size_t at = 0; at <= names.size();) {
+            const size_t comma = std::min(names.find(',', at), names.size());
+            named = named || std::string_view(names).substr(at, comma - at) == own;
+            at = comma + 1;
+        }
+        if (!named) return name();
+    }
+    return own;
+}
+
 void SettingSpec::set(Settings& s, const std::string& text, const std::string& source) const {
+    if (const TextField* t = std::get_if<TextField>(&field)) {
+        t->set(s, text, source);
+        return;
+    }
     const std::string problem = range_problem(text, min, max, integer(), unit);
     if (!problem.empty()) throw InputError(source + ": " + problem);
     const double d = *parse_decimal(text);
     std::visit(
-        [&](auto member) {
-            using T = std::remove_reference_t<decltype(s.*member)>;
-            s.*member = static_cast<T>(d);
+        [&](const auto& member) {
+            using M = std::decay_t<decltype(member)>;
+            if constexpr (std::is_same_v<M, bool Settings::*>)
+                s.*member = d != 0;
+            else if constexpr (!std::is_same_v<M, TextField>)
+                s.*member = static_cast<std::remove_reference_t<decltype(s.*member)>>(d);
         },
         field);
 }
@@ -278,6 +442,7 @@ std::vector<std::pair<int, int>> parse_thumbnail_sizes(const std::string& text,
 
 void validate_settings(const Settings& s) {
     for (const SettingSpec& spec : setting_table()) {
+        if (spec.text()) continue;  // its parser checked it, and the bed is checked below
         const double v = spec.get(s);
         if (!(std::isfinite(v) && v >= spec.min && v <= spec.max))
             throw InputError(fmt::format(

@@ -1,11 +1,13 @@
-// One declaration per numeric setting: its command-line option, PrusaSlicer profile key, unit,
-// range and help text, with its default taken from Settings{} itself. The CLI's options and
-// --help, the profile reader, the placeholders of custom G-code and the final validation are
-// all made from this table, so a setting is added in one place and cannot be valid in one
-// reader and unbounded in another (NaN, 1e20 and negative temperatures once came in through the
-// profile while the CLI refused them).
+// One declaration per setting: its command-line option, PrusaSlicer profile key, unit, range
+// and help text, with its default taken from Settings{} itself. The CLI's options and --help,
+// the profile reader, the placeholders of custom G-code, the final validation, the stats JSON's
+// settings and the HTML report's settings table are all made from this table, so a setting is
+// added in one place and cannot be valid in one reader and unbounded in another (NaN, 1e20 and
+// negative temperatures once came in through the profile while the CLI refused them), nor be
+// left out of what a run reports about itself.
 #pragma once
 
+#include <functional>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -16,27 +18,60 @@
 
 namespace carve {
 
+// A setting given as a word or a few numbers in one (--seam rear, --bed 250x210, --cavities
+// auto): no member pointer can hold it, so it is read and written through these.
+struct TextField {
+    std::function<std::string(const Settings&)> get;
+    // Parses and checks `text`; throws InputError naming `source`.
+    std::function<void(Settings&, const std::string& text, const std::string& source)> set;
+    std::vector<std::string> choices;  // the words it takes, when it is one of a few
+    const char* type_name = "TEXT";    // what --help shows for its value
+};
+
 struct SettingSpec {
     const char* option;   // command-line long option without "--" ("layer-height")
     const char* ini_key;  // PrusaSlicer profile key and placeholder name, or "" for none
     const char* unit;     // as the help states it: "mm", "mm/s", "C", "layers" ...
     double min, max;      // inclusive; the value is refused outside
-    std::variant<double Settings::*, int Settings::*, long long Settings::*> field;
+    // A bool is an on/off switch (an option without a value); the numbers take one.
+    std::variant<double Settings::*, int Settings::*, long long Settings::*, bool Settings::*,
+                 TextField>
+        field;
     const char* help;  // the help text, ending with the default in brackets
     // A profile value holding '%' (PrusaSlicer's "50%" of another speed) keeps carve's own.
     bool profile_skips_percent = false;
+    // CLI11's names of a switch when they are not just --option: a negation ("!--no-m73,--m73"),
+    // or only a negation ("!--keep-all-bridges" turns prune-bridges off).
+    const char* switch_names = "";
+    // The identifier when it must differ from the option's (stats keys other tools read).
+    const char* key = "";
 
+    bool text() const { return std::holds_alternative<TextField>(field); }
+    const TextField& text_field() const { return std::get<TextField>(field); }
+    // An option without a value: a bool, or a 0/1 setting with switch names (--m73, --no-m73).
+    bool is_switch() const {
+        return std::holds_alternative<bool Settings::*>(field) || *switch_names;
+    }
     bool integer() const { return !std::holds_alternative<double Settings::*>(field); }
     bool flag() const { return std::string_view(unit) == "0/1"; }
+    // The numeric value (a switch 0 or 1); not for a text setting.
     double get(const Settings& s) const;
+    // The value as the help's [default] and the report state it: "0.2", "on", "rear", "250x210".
+    std::string text_value(const Settings& s) const;
     // The value with its field's type, a 0/1 setting as a flag: for writers that keep types
-    // (the stats JSON), where 2 and 2.0 or 1 and true are not the same.
-    std::variant<double, long long, bool> value(const Settings& s) const;
-    // An identifier for writers that have no options: the option, or the profile key of a
-    // profile-only setting, with '_' for '-' ("layer_height", "machine_max_jerk_x").
+    // (the stats JSON), where 2 and 2.0 or 1 and true are not the same. A text setting holding
+    // a whole number is that number (--cavities 6, but "auto").
+    std::variant<double, long long, bool, std::string> value(const Settings& s) const;
+    // An identifier for writers that have no options: the key, the option, or the profile key of
+    // a profile-only setting, with '_' for '-' ("layer_height", "machine_max_jerk_x").
     std::string name() const;
-    // Parses `text` strictly (decimal, finite, whole for integers) and checks the range; throws
-    // InputError "<source>: 'text' is out of range; expected from A to B unit".
+    // How a person finds it: "--option" when the command line has it, else the name.
+    std::string label() const;
+    // The CLI11 names of a switch ("--wipe", "!--no-m73,--m73").
+    std::string cli_switch_names() const;
+    // Parses `text` strictly (decimal, finite, whole for integers; a switch 0 or 1; a text
+    // setting by its own parser) and checks the range; throws InputError
+    // "<source>: 'text' is out of range; expected from A to B unit".
     void set(Settings& s, const std::string& text, const std::string& source) const;
 };
 
@@ -49,8 +84,9 @@ const SettingSpec* find_setting_by_ini_key(const std::string& key);
 std::vector<std::pair<int, int>> parse_thumbnail_sizes(const std::string& text,
                                                        const std::string& source);
 
-// Checks every setting of the table (and the few the table does not hold) once more after the
-// printer preset, the profile and the options were applied: the last word before a run starts.
+// Checks every numeric setting of the table, the bed and what ties two settings together once
+// more after the printer preset, the profile and the options were applied: the last word before
+// a run starts.
 void validate_settings(const Settings& s);
 
 }  // namespace carve

@@ -93,6 +93,8 @@ std::vector<std::string> footer_figures(const PrintStats& s, int layer_count) {
 std::vector<std::string> config_block(const Settings& s) {
     std::vector<std::pair<std::string, std::string>> kv;
     for (const SettingSpec& spec : setting_table()) {
+        // Switches and words are written below, under PrusaSlicer's names and spellings.
+        if (spec.text() || std::holds_alternative<bool Settings::*>(spec.field)) continue;
         // The thread count shapes nothing: the G-code is the same for every count.
         if (std::string_view(spec.option) == "threads") continue;
         // The support settings shape nothing without supports: left out then, so that a print

@@ -37,8 +37,13 @@ constexpr Coord kGrid = 10;  // drawing grid, micrometres (0.01 mm)
 // Simplification tolerances tried in turn until a layer's drawing fits its share of the budget.
 constexpr std::array<double, 4> kTolerances = {50, 100, 200, 400};
 
-// A table setting's value with its unit as a person reads it ("0.2 mm", "45°", "on").
+// A table setting's value with its unit as a person reads it ("0.2 mm", "45°", "on", "rear").
 std::string setting_text(const SettingSpec& spec, const Settings& st) {
+    if (spec.text()) {
+        const std::string t = spec.text_field().get(st);
+        if (t.empty()) return "none";
+        return *spec.unit ? t + " " + spec.unit : t;
+    }
     const double v = spec.get(st);
     if (spec.flag()) return v != 0 ? "on" : "off";
     static const std::map<std::string_view, std::string_view> shown = {
@@ -543,21 +548,13 @@ void HtmlReportWriter::Impl::write_details(std::ostream& out, const PageFigures&
         if (!help.empty()) out << " title=\"" << xml_escape(help) << "\"";
         out << ">" << xml_escape(k) << "</td><td>" << xml_escape(v) << "</td></tr>";
     };
-    // What the table of settings cannot hold: words and "auto".
+    // Not a setting but where they came from (--printer's preset).
     setting("printer", st.printer_name, "");
-    setting("cavities k", st.cavities_auto ? "auto" : std::to_string(st.cavities), "");
-    setting("cavity walls", st.walls == WallMode::Single ? "single filament" : "double", "");
-    setting("supports",
-            st.support == SupportMode::Auto         ? "auto"
-            : st.support == SupportMode::Buildplate ? "buildplate"
-                                                    : "none",
-            "");
     // The line width is the nozzle's unless --extrusion-width sets it: its row below says 0.
     setting("line width", fmt::format("{} mm", plain_number(st.width_mm())), "");
-    // Every setting of the table under the name it is given by (option, else profile key).
+    // Every setting of the table under the name it is given by.
     for (const SettingSpec& spec : setting_table())
-        setting(*spec.option ? std::string("--") + spec.option : std::string(spec.ini_key),
-                setting_text(spec, st), spec.help);
+        setting(spec.label(), setting_text(spec, st), spec.help);
     out << "</table>\n<details><summary>Stats JSON</summary><pre>" << xml_escape(stats.dump(2))
         << "</pre></details>\n</div></div></section>\n</main>\n"
         << "<footer>Made by carve &middot; self-contained page, nothing is loaded from the "

@@ -19,12 +19,12 @@ namespace carve {
 std::string stats_key(const SettingSpec& spec) {
     // The keys written before the table was used were spelt this way and other tools read
     // them: a count names what it counts already ("covers", "support_interface_layers") and a
-    // flag is a JSON bool, so neither takes a suffix.
+    // flag is a JSON bool, so neither takes a suffix; nor does a word ("walls": "single").
     static const std::map<std::string_view, std::string_view> suffixes = {
         {"mm", "_mm"},    {"degrees", "_deg"},  {"mm/s", "_mm_s"}, {"mm/s^2", "_mm_s2"},
         {"C", "_c"},      {"g/cm^3", "_g_cm3"}, {"seconds", "_s"}, {"%", "_percent"},
         {"layers", ""},   {"lines", ""},        {"copies", ""},    {"threads", ""},
-        {"vertices", ""}, {"ratio", ""},        {"0/1", ""},
+        {"vertices", ""}, {"ratio", ""},        {"0/1", ""},       {"", ""},
     };
     std::string key = spec.name();
     if (const auto it = suffixes.find(spec.unit); it != suffixes.end())
@@ -123,15 +123,8 @@ nlohmann::json stats_json(const RunResult& run, const Settings& settings) {
     s["support_z_gap_mm"] = settings.support_gap_layers() * settings.layer_height;
     // Without pruning no bridge is cut to a length.
     s["max_bridge_length_mm"] = settings.prune_bridges ? settings.max_bridge_length : 0.0;
-    // Settings the table cannot hold (words, "auto", flags without a 0/1 option).
-    s["cavities"] =
-        settings.cavities_auto ? nlohmann::json("auto") : nlohmann::json(settings.cavities);
-    s["walls"] = settings.walls == WallMode::Single ? "single" : "double";
-    s["prune_bridges"] = settings.prune_bridges;
+    // Not a setting but where they came from (--printer's preset).
     s["printer"] = settings.printer_name;
-    s["support"] = settings.support == SupportMode::Auto         ? "auto"
-                   : settings.support == SupportMode::Buildplate ? "buildplate"
-                                                                 : "none";
     j["settings"] = s;
     return j;
 }

@@ -250,12 +250,23 @@ TEST(HostileNumbers, ProfileValuesAreBoundedAndNamed) {
 TEST(HostileNumbers, EveryTableEntryStatesARangeThatHoldsItsDefault) {
     const Settings defaults;
     for (const SettingSpec& spec : setting_table()) {
+        const std::string help = spec.help;
+        if (spec.text()) {
+            // Its own parser takes the default back, and the help states it (or "none").
+            Settings again;
+            EXPECT_NO_THROW(spec.set(again, spec.text_value(defaults), "test")) << spec.option;
+            const std::string shown = spec.text_value(defaults);
+            EXPECT_NE(help.find("[" + (shown.empty() ? std::string("none") : shown)),
+                      std::string::npos)
+                << spec.option << ": " << help;
+            continue;
+        }
         const double v = spec.get(defaults);
         EXPECT_TRUE(v >= spec.min && v <= spec.max) << spec.option << spec.ini_key;
         EXPECT_LT(spec.min, spec.max) << spec.option;
-        // The help's [default] begins with the default itself (one declaration, one value).
-        const std::string help = spec.help;
-        if (!help.empty()) {
+        // The help's [default] begins with the default itself (one declaration, one value); a
+        // switch's help speaks of what giving it does ([off]: not given).
+        if (!help.empty() && !spec.is_switch()) {
             EXPECT_NE(help.find("[" + plain_number(v)), std::string::npos)
                 << spec.option << ": " << help;
         }

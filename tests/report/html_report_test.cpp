@@ -9,6 +9,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <numbers>
 #include <set>
 #include <sstream>
@@ -135,12 +136,32 @@ std::string write_report(const std::filesystem::path& path, size_t budget = 0,
     return read_all(path);
 }
 
-// Every table setting moved off its default (to an end of its range), so that a writer showing
-// defaults, or a value of the wrong setting, is caught.
+// A value off the default for each text setting that is not one of a few words.
+const std::map<std::string, std::string> kOffDefaultText = {
+    {"cavities", "auto"}, {"bed", "300x200"}, {"thumbnails", "16x16,220x124"}};
+
+// Every table setting moved off its default (a number to an end of its range, a switch turned
+// over, a word to another word), so that a writer showing defaults, or a value of the wrong
+// setting, is caught.
 Settings off_default_settings() {
     Settings st;
     const Settings defaults;
     for (const SettingSpec& spec : setting_table()) {
+        if (spec.text()) {
+            const std::string now = spec.text_value(defaults);
+            std::string other;
+            for (const std::string& word : spec.text_field().choices)
+                if (word != now) other = word;
+            if (other.empty()) {
+                const auto it = kOffDefaultText.find(spec.name());
+                EXPECT_NE(it, kOffDefaultText.end()) << spec.name() << " needs a value here";
+                if (it == kOffDefaultText.end()) continue;
+                other = it->second;
+            }
+            spec.set(st, other, "test");
+            EXPECT_NE(spec.text_value(st), now) << spec.name();
+            continue;
+        }
         const double v = spec.get(defaults) == spec.max ? spec.min : spec.max;
         spec.set(st, plain_number(v), "test");
     }
@@ -270,7 +291,14 @@ TEST(StatsJson, SettingsBlockHoldsEveryTableSetting) {
         EXPECT_EQ(key.rfind(spec.name(), 0), 0u) << "the key starts with the setting's name";
         ASSERT_TRUE(s.contains(key));
         const nlohmann::json& v = s[key];
-        if (spec.flag()) {
+        if (spec.text()) {
+            // A word is a string; --cavities 6 is the number 6 (and "auto" a word).
+            const std::string text = spec.text_value(st);
+            if (v.is_number_integer())
+                EXPECT_EQ(std::to_string(v.get<long long>()), text);
+            else
+                EXPECT_EQ(v.get<std::string>(), text);
+        } else if (spec.flag()) {
             ASSERT_TRUE(v.is_boolean());
             EXPECT_EQ(v.get<bool>(), spec.get(st) != 0);
         } else if (spec.integer()) {
@@ -278,11 +306,24 @@ TEST(StatsJson, SettingsBlockHoldsEveryTableSetting) {
             EXPECT_EQ(v.get<long long>(), static_cast<long long>(spec.get(st)));
         } else {
             ASSERT_TRUE(v.is_number_float());
-            // At the ends of the ranges the derived values (support_angle_deg, support_z_gap_mm,
-            // max_bridge_length_mm) equal the given ones.
-            EXPECT_DOUBLE_EQ(v.get<double>(), spec.get(st));
+            // At the ends of the ranges the derived values (support_angle_deg, support_z_gap_mm)
+            // equal the given ones; with --keep-all-bridges no bridge is cut to a length.
+            const bool uncut = key == "max_bridge_length_mm" && !st.prune_bridges;
+            EXPECT_DOUBLE_EQ(v.get<double>(), uncut ? 0.0 : spec.get(st));
         }
     }
+}
+
+// The settings the command line once made by hand, outside the table, so that they were missing
+// from the stats and the report: in the table now, which the two tests around make sure of.
+TEST(SettingTable, HoldsTheSettingsOnceOutsideIt) {
+    std::set<std::string> names;
+    for (const SettingSpec& spec : setting_table()) names.insert(spec.name());
+    for (const char* name :
+         {"cavities", "walls", "support", "flavor", "relative_e", "bed", "bed_check", "combing",
+          "avoid_crossing_perimeters", "seam", "wipe", "firmware_retraction", "prune_bridges",
+          "arc_fitting", "remaining_times", "thumbnails"})
+        EXPECT_TRUE(names.count(name)) << name;
 }
 
 // The keys the stats JSON had before it was made from the table: other tools read them
@@ -332,14 +373,19 @@ TEST(HtmlReport, SettingsTableListsEveryTableSetting) {
     ASSERT_NE(from, std::string::npos);
     const std::string table = page.substr(from, page.find("</table>", from) - from);
     for (const SettingSpec& spec : setting_table()) {
-        const std::string label =
-            *spec.option ? std::string("--") + spec.option : std::string(spec.ini_key);
+        const std::string label = spec.label();
         SCOPED_TRACE(label);
         const size_t row = table.find(">" + label + "</td><td>");
         ASSERT_NE(row, std::string::npos);
         const size_t value = table.find("</td><td>", row) + 9;
         const std::string shown = table.substr(value, table.find("</td>", value) - value);
-        if (spec.flag()) {
+        if (spec.text()) {
+            const std::string text = spec.text_value(st);
+            EXPECT_EQ(shown.rfind(text, 0), 0u) << shown;
+            if (*spec.unit) {
+                EXPECT_NE(shown.find(spec.unit), std::string::npos) << shown;
+            }
+        } else if (spec.flag()) {
             EXPECT_EQ(shown, spec.get(st) != 0 ? "on" : "off");
         } else {
             const std::string number = plain_number(spec.get(st));
