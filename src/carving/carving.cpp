@@ -9,6 +9,7 @@
 #include <tuple>
 
 #include "base/stage_timer.hpp"
+#include "carving/layer.hpp"
 #include "geometry/morphology.hpp"
 #include "geometry/polygon.hpp"
 #include "skeleton/skeleton.hpp"
@@ -273,6 +274,17 @@ std::vector<Paths> uncarved_levels(const LayerPartition& layer) {
     for (const Paths& cavity : layer.cavities)
         levels.push_back(cavity.empty() ? levels.back() : subtract(levels.back(), cavity));
     return levels;
+}
+
+BridgedPartition unbridged(const LayerPartition& carved) {
+    BridgedPartition out;
+    out.cavities = carved.cavities;
+    out.remainder = carved.remainder;
+    // A hand-made layer's remainder need not be V^k (a test clears it to have no solid fill):
+    // its V^k comes from the cavities too, for the walls of C^k, which open only near it.
+    out.uncarved = carved.uncarved.size() == carved.cavities.size() ? carved.uncarved
+                                                                    : uncarved_levels(carved);
+    return out;
 }
 
 IterationPrep CarvingSweep::prepare(LayerPartition& layer, const Paths* carvable_above,

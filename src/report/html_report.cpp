@@ -76,7 +76,7 @@ struct HtmlReportWriter::Impl {
     bool finished = false;
     std::string model_name;
 
-    std::string drawing(const LayerPartition& layer, const LayerToolpaths& paths, double tol) const;
+    std::string drawing(const LayerRecord& layer, const LayerToolpaths& paths, double tol) const;
 
     // The steps of finish(), in the order the page is written.
     struct PageFigures;
@@ -91,15 +91,16 @@ struct HtmlReportWriter::Impl {
                     const PlotFrame& frame) const;  // the layers and META for the script
 };
 
-std::string HtmlReportWriter::Impl::drawing(const LayerPartition& layer,
-                                            const LayerToolpaths& paths, double tol) const {
+std::string HtmlReportWriter::Impl::drawing(const LayerRecord& layer, const LayerToolpaths& paths,
+                                            double tol) const {
     nlohmann::json rec;
     rec["t"] = rounded(tol / kUnitsPerMm, 3);
-    rec["O"] = html::svg_path_data(layer.outline, true, tol, kGrid);
+    rec["O"] = html::svg_path_data(layer.partition().outline, true, tol, kGrid);
     nlohmann::json regions = nlohmann::json::array();
-    for (size_t j = 0; j < layer.cavities.size(); ++j) {
-        if (layer.cavities[j].empty()) continue;
-        std::string d = html::svg_path_data(layer.cavities[j], true, tol, kGrid);
+    const std::vector<Paths>& cavities = layer.bridged.cavities;
+    for (size_t j = 0; j < cavities.size(); ++j) {
+        if (cavities[j].empty()) continue;
+        std::string d = html::svg_path_data(cavities[j], true, tol, kGrid);
         if (!d.empty()) regions.push_back({cavity_class(int(j) + 1), std::move(d)});
     }
     rec["R"] = std::move(regions);
@@ -173,7 +174,8 @@ const std::vector<ReportLayer>& HtmlReportWriter::layers() const {
     return impl_->layers;
 }
 
-void HtmlReportWriter::add_layer(const LayerPartition& layer, const LayerToolpaths& paths) {
+void HtmlReportWriter::add_layer(const LayerRecord& record, const LayerToolpaths& paths) {
+    const LayerPartition& layer = record.partition();
     Impl& m = *impl_;
     const Settings& st = m.settings;
     ReportLayer r;
@@ -183,11 +185,11 @@ void HtmlReportWriter::add_layer(const LayerPartition& layer, const LayerToolpat
     r.perimeter_mm = length(layer.outline, true) / kUnitsPerMm;
     r.covers_mm2 = area_mm2(layer.covers);
     r.carvable_mm2 = area_mm2(layer.carvable);
-    r.remainder_mm2 = area_mm2(layer.remainder);
-    for (const Paths& c : layer.cavities) r.cavity_mm2.push_back(area_mm2(c));
+    r.remainder_mm2 = area_mm2(record.bridged.remainder);
+    for (const Paths& c : record.bridged.cavities) r.cavity_mm2.push_back(area_mm2(c));
     while (!r.cavity_mm2.empty() && r.cavity_mm2.back() <= 0) r.cavity_mm2.pop_back();
     m.max_cavities = std::max(m.max_cavities, int(r.cavity_mm2.size()));
-    r.bridges = int(layer.bridges.size());
+    r.bridges = int(record.bridged.bridges.size());
     const double w = st.width_mm(), h = st.layer_height;
     for (const Extrusion& e : paths.extrusions) {
         const double len = length(Paths{e.points}, e.closed) / kUnitsPerMm;
@@ -218,7 +220,7 @@ void HtmlReportWriter::add_layer(const LayerPartition& layer, const LayerToolpat
     r.conventional_mm3 = 2 * r.perimeter_mm * w * h + r.covers_mm2 * h + 0.15 * r.carvable_mm2 * h;
 
     expand(m.box, bounds(layer.outline.empty() ? layer.wall_region : layer.outline));
-    expand(m.box, bounds(layer.support));
+    expand(m.box, bounds(record.support.region));
 
     // The first layer to arrive is the top one: its index tells how many will follow.
     if (m.expected_layers == 0) m.expected_layers = layer.index + 1;
@@ -226,7 +228,7 @@ void HtmlReportWriter::add_layer(const LayerPartition& layer, const LayerToolpat
         m.budget / size_t(std::max<int>(m.expected_layers, int(m.layers.size()) + 1));
     std::string d;
     for (double tol : kTolerances) {
-        d = m.drawing(layer, paths, tol);
+        d = m.drawing(record, paths, tol);
         r.tolerance_mm = tol / kUnitsPerMm;
         if (d.size() <= share) break;
     }

@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "carving/partition.hpp"
+#include "carving/layer.hpp"
 #include "config/settings.hpp"
 #include "report/run_result.hpp"
 #include "toolpath/toolpath.hpp"
@@ -58,7 +58,7 @@ class HtmlReportWriter {
     HtmlReportWriter& operator=(const HtmlReportWriter&) = delete;
 
     // Called top down for every layer, with the layer's partition and its print paths.
-    void add_layer(const LayerPartition& layer, const LayerToolpaths& paths);
+    void add_layer(const LayerRecord& layer, const LayerToolpaths& paths);
     // Writes the page to a temporary name next to `path` and renames it into place. `stats` is
     // the run's stats JSON (shown as is; "model" is used for the title when present).
     void finish(const RunResult& run, const nlohmann::json& stats);

@@ -118,13 +118,15 @@ std::string line_swatch(const std::string& colour, double width) {
 
 }  // namespace
 
-std::string layer_svg(const LayerPartition& layer, const LayerToolpaths* paths,
+std::string layer_svg(const LayerRecord& record, const LayerToolpaths* paths,
                       const SvgOptions& options) {
+    const LayerPartition& layer = record.partition();
+    const BridgedPartition& bridged = record.bridged;
     if (!options.toolpaths) paths = nullptr;
     BBox2 box;
     expand(box, bounds(layer.outline));
     expand(box, bounds(layer.wall_region));
-    expand(box, bounds(layer.support));
+    expand(box, bounds(record.support.region));
     if (paths)
         for (const Extrusion& e : paths->extrusions) expand(box, bounds(e.points));
     if (box.empty) box = {0, 0, 10000, 10000, false};  // an empty layer still gets a frame
@@ -148,23 +150,24 @@ std::string layer_svg(const LayerPartition& layer, const LayerToolpaths* paths,
         const double a = area_mm2(r);
         return a < 1 ? fmt::format("{:.3f} mm²", a) : fmt::format("{:.1f} mm²", a);
     };
-    const int k = int(layer.cavities.size());
+    const int k = int(bridged.cavities.size());
     legend.push_back(
         {fill_swatch(kOutlineFill, kOutlineStroke), "model slice O " + mm2(layer.outline)});
     if (!layer.covers.empty())
         legend.push_back({fill_swatch(kCoverFill), "covers " + mm2(layer.covers)});
     for (int j = 1; j <= k; ++j)
-        if (!layer.cavities[size_t(j - 1)].empty())
+        if (!bridged.cavities[size_t(j - 1)].empty())
             legend.push_back(
                 {fill_swatch(cavity_colour(j)),
-                 "cavity C" + superscript(j) + " " + mm2(layer.cavities[size_t(j - 1)])});
-    if (!layer.remainder.empty())
+                 "cavity C" + superscript(j) + " " + mm2(bridged.cavities[size_t(j - 1)])});
+    if (!bridged.remainder.empty())
         legend.push_back({fill_swatch(kRemainderFill),
-                          "remainder V" + superscript(k) + " " + mm2(layer.remainder)});
-    if (!layer.bridges.empty())
-        legend.push_back({fill_swatch(kBridge), fmt::format("bridges ({})", layer.bridges.size())});
-    if (!layer.support.empty())
-        legend.push_back({fill_swatch(kSupport), "support " + mm2(layer.support)});
+                          "remainder V" + superscript(k) + " " + mm2(bridged.remainder)});
+    if (!bridged.bridges.empty())
+        legend.push_back(
+            {fill_swatch(kBridge), fmt::format("bridges ({})", bridged.bridges.size())});
+    if (!record.support.region.empty())
+        legend.push_back({fill_swatch(kSupport), "support " + mm2(record.support.region)});
 
     const double line_px = std::clamp(options.path_width_mm * f.scale, 0.4, 3.0);
     if (paths) {
@@ -217,13 +220,13 @@ std::string layer_svg(const LayerPartition& layer, const LayerToolpaths* paths,
     fill(svg, "outline", layer.outline, kOutlineFill, f,
          fmt::format(R"~( stroke="{}" stroke-width="1")~", kOutlineStroke));
     fill(svg, "covers", layer.covers, kCoverFill, f);
-    fill(svg, "remainder", layer.remainder, kRemainderFill, f);
+    fill(svg, "remainder", bridged.remainder, kRemainderFill, f);
     for (int j = 1; j <= k; ++j)
-        fill(svg, "cavity", layer.cavities[size_t(j - 1)], cavity_colour(j), f,
+        fill(svg, "cavity", bridged.cavities[size_t(j - 1)], cavity_colour(j), f,
              fmt::format(R"~( data-cavity="{}")~", j));
-    for (const Bridge& b : layer.bridges)
+    for (const Bridge& b : bridged.bridges)
         fill(svg, "bridge-region", b.region, kBridge, f, R"~( fill-opacity="0.3")~");
-    fill(svg, "support", layer.support, kSupport, f, R"~( fill-opacity="0.25")~");
+    fill(svg, "support", record.support.region, kSupport, f, R"~( fill-opacity="0.25")~");
     svg += "</g>\n";
 
     if (paths) {
@@ -289,8 +292,8 @@ std::string layer_svg(const LayerPartition& layer, const LayerToolpaths* paths,
     return svg;
 }
 
-void write_layer_svg(const std::string& file, const LayerPartition& layer,
-                     const LayerToolpaths* paths, const SvgOptions& options) {
+void write_layer_svg(const std::string& file, const LayerRecord& layer, const LayerToolpaths* paths,
+                     const SvgOptions& options) {
     const std::string svg = layer_svg(layer, paths, options);
     write_file_atomically(file, svg);
 }
@@ -334,9 +337,10 @@ std::vector<int> SvgLayerWriter::spread(int layer_count, int count) {
     return out;
 }
 
-std::string SvgLayerWriter::add(const LayerPartition& layer, const LayerToolpaths* paths) {
-    if (!wants(layer.index)) return {};
-    const std::string file = (std::filesystem::path(dir_) / file_name(layer.index)).string();
+std::string SvgLayerWriter::add(const LayerRecord& layer, const LayerToolpaths* paths) {
+    const int index = layer.partition().index;
+    if (!wants(index)) return {};
+    const std::string file = (std::filesystem::path(dir_) / file_name(index)).string();
     write_layer_svg(file, layer, paths, options_);
     std::lock_guard lock(*mutex_);
     // Names hold the index zero-padded to 4 digits, so shorter then lexicographic is layer order.

@@ -12,7 +12,7 @@
 #include <string_view>
 #include <vector>
 
-#include "carving/partition.hpp"
+#include "carving/layer.hpp"
 #include "report/palette.hpp"
 #include "toolpath/toolpath.hpp"
 
@@ -32,13 +32,13 @@ struct SvgOptions {
 std::string xml_escape(std::string_view text);
 
 // One layer as an SVG document. `paths` may be null (partition only).
-std::string layer_svg(const LayerPartition& layer, const LayerToolpaths* paths,
+std::string layer_svg(const LayerRecord& layer, const LayerToolpaths* paths,
                       const SvgOptions& options = {});
 
 // Writes layer_svg to `file` (through a temporary name, renamed when complete). Throws
 // InputError if the file cannot be written.
-void write_layer_svg(const std::string& file, const LayerPartition& layer,
-                     const LayerToolpaths* paths, const SvgOptions& options = {});
+void write_layer_svg(const std::string& file, const LayerRecord& layer, const LayerToolpaths* paths,
+                     const SvgOptions& options = {});
 
 // Writes DIR/layer_0123.svg for the chosen layers as they arrive (in any order, the sweep gives
 // them top down). The directory is created when needed.
@@ -52,7 +52,7 @@ class SvgLayerWriter {
     bool wants(int index) const;
     // Writes the layer if it is chosen; returns the file written, or "" if it was not chosen.
     // Several threads may add layers at once.
-    std::string add(const LayerPartition& layer, const LayerToolpaths* paths);
+    std::string add(const LayerRecord& layer, const LayerToolpaths* paths);
     // The files written so far, in layer order whatever order they came in.
     const std::vector<std::string>& written() const { return written_; }
     static std::string file_name(int index);  // "layer_0123.svg"

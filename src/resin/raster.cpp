@@ -139,14 +139,15 @@ void rasterize(const Paths& region, const RasterGrid& grid, std::vector<uint8_t>
     }
 }
 
-Paths resin_solid(const LayerPartition& layer, Coord shell, Coord min_wall, Coord bridge_half) {
+Paths resin_solid(const LayerRecord& record, Coord shell, Coord min_wall, Coord bridge_half) {
+    const LayerPartition& layer = record.partition();
     if (layer.outline.empty()) return {};
     const Paths inner = shell > 0 ? erode(layer.outline, shell) : layer.outline;
     // Each cavity shrinks on its own: eroding their union would erase the wall between two
     // cavities that share a boundary.
     const Coord half = min_wall / 2;
     Paths hollow;
-    for (const Paths& cavity : layer.cavities) {
+    for (const Paths& cavity : record.bridged.cavities) {
         if (cavity.empty()) continue;
         const Paths shrunk = half > 0 ? erode(cavity, half) : cavity;
         hollow.insert(hollow.end(), shrunk.begin(), shrunk.end());
@@ -154,7 +155,7 @@ Paths resin_solid(const LayerPartition& layer, Coord shell, Coord min_wall, Coor
     Paths solid = hollow.empty() ? unite(layer.outline)
                                  : subtract(layer.outline, intersect(unite(hollow), inner));
     Paths strips;
-    for (const Bridge& b : layer.bridges) {
+    for (const Bridge& b : record.bridged.bridges) {
         if (b.lines.empty() || bridge_half <= 0) continue;
         const Paths s = dilate_lines(b.lines, bridge_half);
         strips.insert(strips.end(), s.begin(), s.end());
@@ -214,7 +215,7 @@ RasterWriter::RasterWriter(std::string dir, const Settings& settings, BBox2 boun
 
 RasterWriter::~RasterWriter() = default;
 
-void RasterWriter::add_layer(const LayerPartition& layer) {
+void RasterWriter::add_layer(const LayerRecord& layer) {
     // Several layers may be drawn at once (the run calls this from its parallel filter): each
     // call has its own image, and only the list of figures is shared.
     Impl& m = *impl_;
@@ -223,9 +224,10 @@ void RasterWriter::add_layer(const LayerPartition& layer) {
         static_cast<size_t>(m.grid.width) * static_cast<size_t>(m.grid.height), 0);
     rasterize(solid, m.grid, image, 255);
     RasterLayerStats s;
-    s.index = layer.index;
+    s.index = layer.partition().index;
     s.white_pixels = std::count(image.begin(), image.end(), uint8_t{255});
-    write_layer_png((m.dir / layer_name(layer.index)).string(), m.grid.width, m.grid.height, image);
+    write_layer_png((m.dir / layer_name(layer.partition().index)).string(), m.grid.width,
+                    m.grid.height, image);
     std::lock_guard lock(m.mutex);
     m.stats.push_back(s);
 }

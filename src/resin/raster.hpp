@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "carving/partition.hpp"
+#include "carving/layer.hpp"
 #include "config/settings.hpp"
 
 namespace carve {
@@ -33,7 +33,7 @@ void rasterize(const Paths& region, const RasterGrid& grid, std::vector<uint8_t>
 // keep a full wall between them), covers and the remainder V^k solid, cavities empty. Bridges
 // become solid strips over their minimum: the layer above then rests on them as on the FDM
 // bridge lines.
-Paths resin_solid(const LayerPartition& layer, Coord shell, Coord min_wall, Coord bridge_half);
+Paths resin_solid(const LayerRecord& layer, Coord shell, Coord min_wall, Coord bridge_half);
 
 struct RasterLayerStats {
     int index = 0;
@@ -53,7 +53,7 @@ class RasterWriter {
 
     // Layers arrive in any order (the sweep gives them top down), from several threads at once
     // if need be; each becomes DIR/layer_NNNNN.png with NNNNN = layer.index, bottom up.
-    void add_layer(const LayerPartition& layer);
+    void add_layer(const LayerRecord& layer);
     // Writes DIR/raster.json (grid, pixel size, layer height) and DIR/layers.zip holding every
     // PNG and the JSON.
     void finish();

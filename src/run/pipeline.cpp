@@ -373,13 +373,11 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
             if (!t) return t;
             TokenPtr out = std::exchange(held, nullptr);
             SpanTimer timer(span, out ? out->seq : t->seq, kHold);
-            if (out && !t->end) {
-                // A copy: the parallel filter changes slice i's cavities (its own bridges)
-                // while slice i + 1's bridges read them as they were.
-                out->below.emplace();
-                out->below->cavities = t->layer.cavities;
-                out->below->outline = t->layer.outline;
-            }
+            // Slice i is carved: from here on its partition is only read, by its own later
+            // stages and, at once, by the bridges of slice i + 1.
+            if (!t->end)
+                t->record.carved = std::make_shared<const LayerPartition>(std::move(t->layer));
+            if (out && !t->end) out->below = t->record.carved;
             // The end tokens after the first flush the support filter's hold-back (there are
             // none more without supports).
             if (t->end && !out) return t;
@@ -399,18 +397,16 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
             if (finished) {
                 pool.drop(t);
             } else {
-                planner.add_outline(t->layer.index, t->layer.outline);
+                planner.add_outline(t->record.partition().index, t->record.partition().outline);
                 support_held.push_back(t);
             }
             if (support_held.empty() ||
-                planner.ready(finished) != support_held.front()->layer.index)
+                planner.ready(finished) != support_held.front()->record.partition().index)
                 return nullptr;
             TokenPtr out = support_held.front();
             support_held.pop_front();
-            SupportLayer s = planner.plan(out->layer.index);
-            out->layer.support = std::move(s.region);
-            out->layer.support_interface = std::move(s.interface);
-            out->layer.support_walls = std::move(s.walls);
+            SupportLayer s = planner.plan(out->record.partition().index);
+            out->record.support = {std::move(s.region), std::move(s.interface), std::move(s.walls)};
             out->support_new_mm2 = s.new_mm2;
             return out;
         });
@@ -423,16 +419,16 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
             if (!t) return t;
             SpanTimer timer(span, t->seq, kWork);
             // The bottom slice has no slice below: it stands on the bed.
-            t->overhang =
-                measure_overhang(t->layer.outline, t->below ? &t->below->outline : nullptr,
-                                 overhang_reach, to_units(2.0));
+            t->overhang = measure_overhang(t->record.partition().outline,
+                                           t->below ? &t->below->outline : nullptr, overhang_reach,
+                                           to_units(2.0));
             {
                 StageTimer bridges_timer(Stage::kBridges);
-                add_bridges(t->layer, t->below ? &*t->below : nullptr, bridging);
+                t->record.bridged = bridge_layer(t->record.partition(), t->below.get(), bridging);
             }
             // The ribs' per-slice regions here, in parallel: the serial rib filter then only
             // carries the ribs down.
-            t->rib_slice = rib_slice(t->layer, ribbing);
+            t->rib_slice = rib_slice(t->record, ribbing);
             t->below.reset();
             return t;
         });
@@ -443,20 +439,20 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
         tbb::filter_mode::serial_in_order, [&](TokenPtr t) -> TokenPtr {
             if (!t) return t;
             SpanTimer timer(span, t->seq, kRibs);
-            ribs.add(t->layer, std::move(t->rib_slice));
+            t->record.ribs = ribs.add(t->record, std::move(t->rib_slice));
             return t;
         });
     auto paths = tbb::make_filter<TokenPtr, TokenPtr>(
         tbb::filter_mode::parallel, [&](TokenPtr t) -> TokenPtr {
             if (!t) return t;
             SpanTimer timer(span, t->seq, kPaths);
-            t->paths = plan_layer(t->layer, settings);
-            if (options.in_parallel_stage) options.in_parallel_stage(t->layer.index);
+            t->paths = plan_layer(t->record, settings);
+            if (options.in_parallel_stage) options.in_parallel_stage(t->record.partition().index);
             writer.add_layer(t->paths);  // thread-safe: the spill is indexed by layer
             // Pictures of one layer each, to files of their own (the HTML report stays in the
             // serial filter: it shares a size budget between the layers in the order they come).
-            if (svg) svg->add(t->layer, &t->paths);
-            if (raster) raster->add_layer(t->layer);
+            if (svg) svg->add(t->record, &t->paths);
+            if (raster) raster->add_layer(t->record);
             t->volumes = extrusion_volumes_mm3(t->paths, settings);
             for (double v : t->volumes) t->material += v;
             return t;
@@ -470,32 +466,34 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
                 ~DropAtEnd() { pool.drop(t); }
             } drop_at_end{pool, t};
             SpanTimer timer(span, t->seq, kSink);
-            const LayerPartition& layer = t->layer;
+            const LayerPartition& layer = t->record.partition();
+            const BridgedPartition& bridged = t->record.bridged;
             for (const std::string& w : layer.warnings) note(w);
-            if (html) html->add_layer(layer, t->paths);
+            if (html) html->add_layer(t->record, t->paths);
 
             sliced_volume += area_mm2(layer.outline) * h;
             result.carvable_volume_mm3 += area_mm2(layer.carvable) * h;
-            for (size_t j = 0; j < layer.cavities.size(); ++j)
-                result.cavity_volume_mm3[j] += area_mm2(layer.cavities[j]) * h;
-            result.remainder_volume_mm3 += area_mm2(layer.remainder) * h;
+            for (size_t j = 0; j < bridged.cavities.size(); ++j)
+                result.cavity_volume_mm3[j] += area_mm2(bridged.cavities[j]) * h;
+            result.remainder_volume_mm3 += area_mm2(bridged.remainder) * h;
             result.cover_volume_mm3 += area_mm2(layer.covers) * h;
             result.layer_material_mm3[layer.index] = t->material;
             overhangs.add(layer.index, (layer.index + 1) * h, t->overhang);  // z as the G-code says
             result.supported_area_mm2 += t->support_new_mm2;
-            if (!layer.support.empty())
-                result.support_region_volume_mm3 += area_mm2(layer.support) * h;
-            result.minima_found += layer.minima_found;
-            result.minima_unsupported += layer.minima_unsupported;
-            result.minima_held_by_wall += layer.minima_held_by_wall;
+            if (const Paths& support = t->record.support.region; !support.empty())
+                result.support_region_volume_mm3 += area_mm2(support) * h;
+            result.minima_found += bridged.minima_found;
+            result.minima_unsupported += bridged.minima_unsupported;
+            result.minima_held_by_wall += bridged.minima_held_by_wall;
             // Ribs on this slice hold minima of the slice above, already counted unsupported.
-            result.minima_unsupported -= layer.minima_held_by_ribs;
-            result.minima_held_by_ribs += layer.minima_held_by_ribs;
-            result.ceilings_unsupported -= layer.ceilings_held_by_ribs;
-            result.ceilings_held_by_ribs += layer.ceilings_held_by_ribs;
-            result.ribs += static_cast<int>(layer.ribs.size());
-            result.ceilings_found += layer.ceilings_found;
-            result.ceilings_unsupported += layer.ceilings_unsupported;
+            const LayerRibs& ribbed = t->record.ribs;
+            result.minima_unsupported -= ribbed.minima_held;
+            result.minima_held_by_ribs += ribbed.minima_held;
+            result.ceilings_unsupported -= ribbed.ceilings_held;
+            result.ceilings_held_by_ribs += ribbed.ceilings_held;
+            result.ribs += static_cast<int>(ribbed.lines.size());
+            result.ceilings_found += bridged.ceilings_found;
+            result.ceilings_unsupported += bridged.ceilings_unsupported;
             for (size_t i = 0; i < t->paths.extrusions.size(); ++i) {
                 const Extrusion& e = t->paths.extrusions[i];
                 const double v = t->volumes[i];
@@ -511,7 +509,7 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
                 else
                     result.remainder_fill_mm3 += v;
             }
-            for (const Bridge& b : layer.bridges) {
+            for (const Bridge& b : bridged.bridges) {
                 ++result.bridges;
                 if (b.cover) ++result.cover_bridges;
                 result.bridge_length_mm += to_mm(static_cast<Coord>(length(b.lines, false)));

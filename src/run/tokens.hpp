@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "carving/carving.hpp"
+#include "carving/layer.hpp"
 #include "slice/slicer.hpp"
 #include "supports/overhang.hpp"
 #include "supports/ribs.hpp"
@@ -25,15 +26,15 @@ struct Token {
     std::optional<Slice> slice;               // as cut, until eroded
     std::shared_ptr<const CoverSlice> cover;  // ... and eroded, until the window takes it
     std::vector<std::shared_ptr<const CoverSlice>> window;  // layer i's 2c+1 slices, top down
-    LayerPartition layer;
+    LayerPartition layer;  // while it is carved; then moved into `record`
+    LayerRecord record;    // from the hold-back on: the carved partition, then each stage's
     std::shared_ptr<const Paths> carvable;        // O'_i, until handed to the layer below
     std::shared_ptr<const Paths> carvable_above;  // O'_{i+1}, while the layer is carved
     std::optional<IterationPrep> prep;            // of the next carving iteration
-    std::optional<LayerPartition> below;  // the cavities of slice i - 1 as the sweep left them,
-                                          // and its outline
-    LayerOverhang overhang;               // of O_i beyond O_{i-1}
-    double support_new_mm2 = 0;           // overhang area a support starts under here
-    RibSlice rib_slice;                   // what the ribs need of this slice alone
+    std::shared_ptr<const LayerPartition> below;  // slice i - 1 as carved
+    LayerOverhang overhang;                       // of O_i beyond O_{i-1}
+    double support_new_mm2 = 0;                   // overhang area a support starts under here
+    RibSlice rib_slice;                           // what the ribs need of this slice alone
     LayerToolpaths paths;
     std::vector<double> volumes;  // of each extrusion of `paths`, mm^3
     double material = 0;          // their sum

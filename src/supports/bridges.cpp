@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "base/error.hpp"
 #include "base/stage_timer.hpp"
@@ -246,8 +247,8 @@ Paths exchange(const Paths& region, const BridgedMinima& minima, size_t gain_fro
 // below (a cover line overhanging a wall by less than that is held by it), are printed as
 // bridges across the cavity below, wall to wall. Bands narrower than a line width (the edge
 // of a cover over a sloping ceiling, overhanging the cover below) are left to the solid lines.
-void add_cover_bridges(LayerPartition& layer, const LayerPartition& below,
-                       const BridgeOptions& options) {
+void add_cover_bridges(BridgedPartition& out, const LayerPartition& layer,
+                       const LayerPartition& below, const BridgeOptions& options) {
     if (layer.covers.empty()) return;
     const Coord w = options.line_width;
     const BBox2 cover_box = bounds(layer.covers);
@@ -276,20 +277,20 @@ void add_cover_bridges(LayerPartition& layer, const LayerPartition& below,
             // length (the area over the spacing), so the plain total cannot tell an 8 mm span
             // from a 40 mm one: the sum of squared spans can (a line sags with its span).
             Bridge br = plan_bridge(need, span, options, true);
-            ++layer.minima_found;
-            ++layer.ceilings_found;
+            ++out.minima_found;
+            ++out.ceilings_found;
             // Kept even when a line is longer than a printable span: solid lines in its place
             // would hang over the cavity all the same. Counted as unsupported.
             if (br.lines.empty() || longest_line(br.lines) > double(options.max_length)) {
-                ++layer.minima_unsupported;
-                ++layer.ceilings_unsupported;
-                layer.unheld.push_back({need, true});
+                ++out.minima_unsupported;
+                ++out.ceilings_unsupported;
+                out.unheld.push_back({need, true});
             }
             if (br.lines.empty()) continue;
             br.cavity = static_cast<int>(j) + 1;
             br.island = false;
             br.cover = true;
-            layer.bridges.push_back(std::move(br));
+            out.bridges.push_back(std::move(br));
         }
     }
 }
@@ -298,10 +299,12 @@ void add_cover_bridges(LayerPartition& layer, const LayerPartition& below,
 
 constexpr size_t kMaxMinimaPerLayer = 10000;
 
-void add_bridges(LayerPartition& layer, const LayerPartition* below, const BridgeOptions& options) {
-    if (!below) return;
+BridgedPartition bridge_layer(const LayerPartition& layer, const LayerPartition* below,
+                              const BridgeOptions& options) {
+    BridgedPartition out = unbridged(layer);
+    if (!below) return out;
     const size_t k = std::min(layer.cavities.size(), below->cavities.size());
-    BridgedMinima bridged(layer.cavities.size());
+    BridgedMinima bridged(out.cavities.size());
     size_t minima = 0;
     for (size_t j = 0; j < k; ++j) {
         const std::vector<Paths> needs =
@@ -318,9 +321,9 @@ void add_bridges(LayerPartition& layer, const LayerPartition* below, const Bridg
         // The minima of the cavities before this one leave it first: its bridges span it
         // without them. (Its minima do not depend on it: they lie in the erosion of C^j
         // below, which theirs do not meet.) The others leave it at the end.
-        if (!bridged.empty()) layer.cavities[j] = exchange(layer.cavities[j], bridged, j, j);
-        const Paths holes = empty_holes(layer.cavities[j]);
-        const std::vector<BBox2> piece_boxes = path_bounds(layer.cavities[j]);
+        if (!bridged.empty()) out.cavities[j] = exchange(out.cavities[j], bridged, j, j);
+        const Paths holes = empty_holes(out.cavities[j]);
+        const std::vector<BBox2> piece_boxes = path_bounds(out.cavities[j]);
         for (const Paths& need : needs) {
             // The lines run across the cavity with the minimum filled in, wall to wall. Lines
             // longer than max_length are dropped anyway, so the scan only needs the part of the
@@ -329,11 +332,11 @@ void add_bridges(LayerPartition& layer, const LayerPartition* below, const Bridg
             const BBox2 b0 = bounds(need);
             const Coord m = options.max_length;
             const BBox2 w{b0.min_x - m, b0.min_y - m, b0.max_x + m, b0.max_y + m, false};
-            const Paths span = unite(
-                options.prune ? clip_to_box(paths_meeting(layer.cavities[j], piece_boxes, w), w)
-                              : layer.cavities[j],
-                need);
-            ++layer.minima_found;
+            const Paths span =
+                unite(options.prune ? clip_to_box(paths_meeting(out.cavities[j], piece_boxes, w), w)
+                                    : out.cavities[j],
+                      need);
+            ++out.minima_found;
             bool whole = true;
             for (Bridge& b : plan_bridges(need, span, options, whole)) {
                 b.cavity = static_cast<int>(j) + 1;
@@ -341,7 +344,7 @@ void add_bridges(LayerPartition& layer, const LayerPartition* below, const Bridg
                 b.island =
                     std::abs(area(intersect(b.region, holes))) > 0.5 * std::abs(area(b.region));
                 bridged.add(j, b.region);
-                layer.bridges.push_back(std::move(b));
+                out.bridges.push_back(std::move(b));
             }
             // What no bridge within a printable span reaches is left to hang on its own: a
             // longer span sags worse than the small minimum it would hold (counted). But a
@@ -355,43 +358,47 @@ void add_bridges(LayerPartition& layer, const LayerPartition* below, const Bridg
                 const Paths deep = intersect(need, erode(below_near, options.line_width));
                 if (std::abs(area(deep)) <
                     options.min_area_r2 * double(options.dilation) * double(options.dilation))
-                    ++layer.minima_held_by_wall;
+                    ++out.minima_held_by_wall;
                 else {
-                    ++layer.minima_unsupported;
-                    layer.unheld.push_back({need, false});
+                    ++out.minima_unsupported;
+                    out.unheld.push_back({need, false});
                 }
             }
         }
     }
-    add_cover_bridges(layer, *below, options);
-    if (bridged.empty()) return;
+    add_cover_bridges(out, layer, *below, options);
+    if (bridged.empty()) return out;
     // The minima join their cavity in this slice: nothing is printed over the void but the
     // bridge, and the slice above rests on the bridge. Each cavity and the remainder change
     // once, for all the minima (big slices hold hundreds), and only near them.
-    for (size_t j = 0; j < layer.cavities.size(); ++j)
-        layer.cavities[j] = exchange(layer.cavities[j], bridged, j, j + 1);
-    layer.remainder = exchange(layer.remainder, bridged, 0, 0);
+    for (size_t j = 0; j < out.cavities.size(); ++j)
+        out.cavities[j] = exchange(out.cavities[j], bridged, j, j + 1);
+    out.remainder = exchange(out.remainder, bridged, 0, 0);
     // So does what each iteration had left, V^{j-1} = C^j ∪ .. ∪ C^k ∪ V^k: it gains the minima
     // of C^j .. C^k and loses the others. The toolpaths read V^{j-1} and V^j from it.
-    if (layer.uncarved.size() == layer.cavities.size())
-        for (size_t j = 1; j < layer.uncarved.size(); ++j)
-            layer.uncarved[j] = exchange(layer.uncarved[j], bridged, j, layer.cavities.size());
+    for (size_t j = 1; j < out.uncarved.size(); ++j)
+        out.uncarved[j] = exchange(out.uncarved[j], bridged, j, out.cavities.size());
+    return out;
 }
 
 BridgeStage::BridgeStage(LayerSource& input, const Settings& settings)
     : input_(input), options_(bridge_options(settings)) {}
 
-std::optional<LayerPartition> BridgeStage::next() {
+std::optional<LayerRecord> BridgeStage::next() {
+    auto carved = [](std::optional<LayerPartition> layer) -> std::shared_ptr<const LayerPartition> {
+        if (!layer) return nullptr;
+        return std::make_shared<const LayerPartition>(std::move(*layer));
+    };
     if (!started_) {
         started_ = true;
-        pending_ = input_.next();
+        pending_ = carved(input_.next());
     }
     if (!pending_) return std::nullopt;
-    std::optional<LayerPartition> below = input_.next();
+    std::shared_ptr<const LayerPartition> below = carved(input_.next());
     StageTimer timer(Stage::kBridges);
-    add_bridges(*pending_, below ? &*below : nullptr, options_);
-    std::optional<LayerPartition> out = std::move(pending_);
-    pending_ = std::move(below);
+    LayerRecord out;
+    out.bridged = bridge_layer(*pending_, below.get(), options_);
+    out.carved = std::exchange(pending_, std::move(below));
     return out;
 }
 

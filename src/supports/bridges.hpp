@@ -9,10 +9,12 @@
 // components that are holes of C^j_i are the report's islands; the others are edge-like minima.
 #pragma once
 
+#include <memory>
 #include <optional>
 #include <vector>
 
 #include "carving/carving.hpp"
+#include "carving/layer.hpp"
 
 namespace carve {
 
@@ -44,19 +46,21 @@ Bridge plan_bridge(const Paths& need, const Paths& span, const BridgeOptions& op
 std::vector<Bridge> plan_bridges(const Paths& need, const Paths& span, const BridgeOptions& options,
                                  bool& whole);
 
-// Fills in layer.bridges for slice i given the carved slice below (nullptr at layer 0).
-void add_bridges(LayerPartition& layer, const LayerPartition* below, const BridgeOptions& options);
+// The bridges of slice i as carved, given slice i - 1 as carved (nullptr at layer 0), and the
+// partition with the bridged minima joined to their cavities. The carved slices are only read.
+BridgedPartition bridge_layer(const LayerPartition& layer, const LayerPartition* below,
+                              const BridgeOptions& options);
 
-class BridgeStage : public LayerSource {
+// The carved layers of `input` going down, each with its bridges.
+class BridgeStage {
   public:
     BridgeStage(LayerSource& input, const Settings& settings);
-    // The next layer going down, with its bridges filled in.
-    std::optional<LayerPartition> next() override;
+    std::optional<LayerRecord> next();
 
   private:
     LayerSource& input_;
     BridgeOptions options_;
-    std::optional<LayerPartition> pending_;  // slice i, waiting for slice i - 1
+    std::shared_ptr<const LayerPartition> pending_;  // slice i, waiting for slice i - 1
     bool started_ = false;
 };
 

@@ -118,34 +118,36 @@ RibOptions rib_options(const Settings& settings) {
 
 RibPlanner::RibPlanner(const RibOptions& options) : options_(options) {}
 
-RibSlice rib_slice(const LayerPartition& layer, const RibOptions& options) {
+RibSlice rib_slice(const LayerRecord& layer, const RibOptions& options) {
     RibSlice out;
     if (!options.enabled) return out;
     const Coord w = options.line_width;
     // Each cavity less half a line width (its wall's half inside it; cavities touch along the
     // walls between them, so each is eroded alone) and less its bridge lines.
     Paths empty;
-    for (const Paths& c : layer.cavities) {
+    for (const Paths& c : layer.bridged.cavities) {
         if (c.empty()) continue;
         Paths e = erode(c, w / 2);
         empty.insert(empty.end(), std::make_move_iterator(e.begin()),
                      std::make_move_iterator(e.end()));
     }
     Paths bridge_lines;
-    for (const Bridge& b : layer.bridges)
+    for (const Bridge& b : layer.bridged.bridges)
         bridge_lines.insert(bridge_lines.end(), b.lines.begin(), b.lines.end());
     if (!bridge_lines.empty() && !empty.empty())
         empty = subtract(unite(empty), dilate_lines(bridge_lines, w / 2));
     else if (!empty.empty())
         empty = unite(empty);
     if (!empty.empty()) out.deep = erode(empty, options.reach);
-    out.printed = empty.empty() ? layer.outline : subtract(layer.outline, empty);
+    const Paths& outline = layer.partition().outline;
+    out.printed = empty.empty() ? outline : subtract(outline, empty);
     out.empty = std::move(empty);
     return out;
 }
 
-void RibPlanner::add(LayerPartition& layer, RibSlice slice) {
-    if (!options_.enabled) return;
+LayerRibs RibPlanner::add(const LayerRecord& layer, RibSlice slice) {
+    LayerRibs out;
+    if (!options_.enabled) return out;
     StageTimer timer(Stage::kBridges);
     const Coord w = options_.line_width, r = options_.lean;
     const Paths& empty = slice.empty;
@@ -288,7 +290,7 @@ void RibPlanner::add(LayerPartition& layer, RibSlice slice) {
     if (!pieces.empty()) {
         // A piece stops at the walls it nears: it must not double a wall's line.
         for (Path& l : clip_lines(pieces, empty))
-            if (length(Paths{l}, false) >= double(w)) layer.ribs.push_back(std::move(l));
+            if (length(Paths{l}, false) >= double(w)) out.lines.push_back(std::move(l));
     }
 
     // The minima of the slice above that no bridge held: held now if nothing of them deeper
@@ -302,15 +304,16 @@ void RibPlanner::add(LayerPartition& layer, RibSlice slice) {
             Paths left = empty.empty() ? Paths{} : intersect(u.region, deep);
             if (!left.empty() && !covered.empty()) left = subtract(left, covered);
             if (std::abs(area(left)) < 0.5 * double(w) * double(w)) {
-                ++layer.minima_held_by_ribs;
-                if (u.ceiling) ++layer.ceilings_held_by_ribs;
+                ++out.minima_held;
+                if (u.ceiling) ++out.ceilings_held;
             }
         }
     }
 
     printed_above_ = std::move(slice.printed);
-    unheld_above_ = layer.unheld;
-    has_above_ = layer.index > 0;
+    unheld_above_ = layer.bridged.unheld;
+    has_above_ = layer.partition().index > 0;
+    return out;
 }
 
 }  // namespace carve

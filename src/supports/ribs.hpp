@@ -12,7 +12,7 @@
 
 #include <vector>
 
-#include "carving/partition.hpp"
+#include "carving/layer.hpp"
 #include "config/settings.hpp"
 
 namespace carve {
@@ -36,15 +36,15 @@ struct RibSlice {
     Paths deep;     // deeper than `reach` inside `empty`
     Paths printed;  // the outline less `empty`: what the slice below's new ribs hold
 };
-RibSlice rib_slice(const LayerPartition& layer, const RibOptions& options);
+RibSlice rib_slice(const LayerRecord& layer, const RibOptions& options);
 
 class RibPlanner {
   public:
     explicit RibPlanner(const RibOptions& options);
     // The next slice going down (index one less than the previous call's), its bridges already
-    // placed: fills layer.ribs and counts the minima of the slice above that its ribs hold.
-    void add(LayerPartition& layer, RibSlice slice);
-    void add(LayerPartition& layer) { add(layer, rib_slice(layer, options_)); }
+    // placed: its ribs, and the minima of the slice above that they hold.
+    LayerRibs add(const LayerRecord& layer, RibSlice slice);
+    LayerRibs add(const LayerRecord& layer) { return add(layer, rib_slice(layer, options_)); }
     size_t active() const { return nodes_.size(); }  // ribs still to stand on something
 
   private:

@@ -177,14 +177,13 @@ std::vector<size_t> island_tour(const std::vector<std::vector<double>>& gaps) {
 // layer so that they stack. The interface's lowest layer bridges between those walls.
 constexpr double kSupportSpacingMm = 2.5;
 
-std::vector<Extrusion> support_paths(const LayerPartition& layer, const Settings& settings) {
+std::vector<Extrusion> support_paths(const LayerSupport& support, const Settings& settings) {
     std::vector<Extrusion> out;
-    add_lines(layer.support_walls, Feature::Support, out);
-    if (layer.support.empty()) return out;
+    add_lines(support.walls, Feature::Support, out);
+    if (support.region.empty()) return out;
     const Coord s = settings.nozzle_radius(), w = settings.line_width();
-    const Paths body = layer.support_interface.empty()
-                           ? layer.support
-                           : subtract(layer.support, layer.support_interface);
+    const Paths body =
+        support.interface.empty() ? support.region : subtract(support.region, support.interface);
     const Paths inner = erode(body, s);
     add_loops(inner, Feature::Support, 0, 2.0 * double(w), out);
     if (!inner.empty()) {
@@ -202,9 +201,9 @@ std::vector<Extrusion> support_paths(const LayerPartition& layer, const Settings
             out.push_back(std::move(e));
         }
     }
-    if (!layer.support_interface.empty()) {
+    if (!support.interface.empty()) {
         std::vector<Extrusion> dense =
-            fill_solid(erode(layer.support_interface, s), 90.0, 2 * w, Feature::SupportInterface);
+            fill_solid(erode(support.interface, s), 90.0, 2 * w, Feature::SupportInterface);
         for (Extrusion& e : dense) out.push_back(std::move(e));
     }
     return out;
@@ -257,8 +256,10 @@ LayerToolpaths with_islands_reversed(const LayerToolpaths& layer) {
     return out;
 }
 
-LayerToolpaths plan_layer(const LayerPartition& layer, const Settings& settings) {
+LayerToolpaths plan_layer(const LayerRecord& record, const Settings& settings) {
     StageTimer timer(Stage::kToolpaths);
+    const LayerPartition& layer = record.partition();
+    const BridgedPartition& bridged = record.bridged;
     LayerToolpaths result;
     result.index = layer.index;
     result.z = (layer.index + 1) * settings.layer_height;
@@ -331,26 +332,23 @@ LayerToolpaths plan_layer(const LayerPartition& layer, const Settings& settings)
             fill = intersect(layer.covers, erode(inner, keep_off));
         }
         // Where the cover bridges a cavity below, its bridge lines take the place of these.
-        Paths bridged;
-        for (const Bridge& b : layer.bridges)
-            if (b.cover) bridged.insert(bridged.end(), b.lines.begin(), b.lines.end());
-        if (!bridged.empty() && !fill.empty()) fill = subtract(fill, dilate_lines(bridged, w));
+        Paths cover_bridges;
+        for (const Bridge& b : bridged.bridges)
+            if (b.cover) cover_bridges.insert(cover_bridges.end(), b.lines.begin(), b.lines.end());
+        if (!cover_bridges.empty() && !fill.empty())
+            fill = subtract(fill, dilate_lines(cover_bridges, w));
         const double angle = (layer.index % 2 == 0) ? 45.0 : -45.0;
         cover_lines = fill_solid(fill, angle, w, Feature::Cover);
     }
 
     // 3. Cavity walls, C^1 .. C^k in the order they were modelled (4.2). Each is restricted to
     // V^{j-1}, what was left before its iteration, and opened only near V^j, what it left.
-    std::vector<std::vector<Extrusion>> cavity_walls(layer.cavities.size());
-    const std::vector<Paths> made_here = layer.uncarved.size() == layer.cavities.size()
-                                             ? std::vector<Paths>{}
-                                             : uncarved_levels(layer);
+    std::vector<std::vector<Extrusion>> cavity_walls(bridged.cavities.size());
     auto level = [&](size_t j) -> const Paths& {  // V^j
-        if (!made_here.empty()) return made_here[j];
-        return j < layer.uncarved.size() ? layer.uncarved[j] : layer.remainder;
+        return j < bridged.uncarved.size() ? bridged.uncarved[j] : bridged.remainder;
     };
-    for (size_t j = 0; j < layer.cavities.size(); ++j) {
-        const Paths& cavity = layer.cavities[j];
+    for (size_t j = 0; j < bridged.cavities.size(); ++j) {
+        const Paths& cavity = bridged.cavities[j];
         if (cavity.empty()) continue;
         const int index = static_cast<int>(j) + 1;
         if (settings.walls == WallMode::Double) {
@@ -390,10 +388,10 @@ LayerToolpaths plan_layer(const LayerPartition& layer, const Settings& settings)
     // whose top nothing holds. With the defaults it is a few specks; it grows when cavities
     // open slowly (the tear limit) or when --cavities is small.
     std::vector<Extrusion> solid_lines;
-    if (!layer.remainder.empty() && !layer.cavities.empty()) {
+    if (!bridged.remainder.empty() && !bridged.cavities.empty()) {
         const Coord overlap = static_cast<Coord>(std::llround(kCoverOverlap * double(w)));
         const double angle = (layer.index % 2 == 0) ? 45.0 : -45.0;
-        solid_lines = fill_solid(erode(layer.remainder, w - overlap), angle, w, Feature::Cover);
+        solid_lines = fill_solid(erode(bridged.remainder, w - overlap), angle, w, Feature::Cover);
         for (Extrusion& e : solid_lines) e.cavity = -1;  // the stats tell it from the covers
     }
 
@@ -439,9 +437,9 @@ LayerToolpaths plan_layer(const LayerPartition& layer, const Settings& settings)
                 islands[island_at(e.points.front())].cavities[j].push_back(std::move(e));
     distribute(solid_lines, &Island::solid);
     std::vector<Extrusion> ribs;
-    add_lines(layer.ribs, Feature::Rib, ribs);
+    add_lines(record.ribs.lines, Feature::Rib, ribs);
     distribute(ribs, &Island::ribs);
-    for (const Bridge& b : layer.bridges) {
+    for (const Bridge& b : bridged.bridges) {
         const auto first =
             std::find_if(b.lines.begin(), b.lines.end(), [](const Path& l) { return !l.empty(); });
         if (first != b.lines.end()) islands[island_at(first->front())].bridges.push_back(b);
@@ -528,7 +526,7 @@ LayerToolpaths plan_layer(const LayerPartition& layer, const Settings& settings)
     print_island(islands.back());  // paths of no island
 
     // Supports last: nothing of the model rests on them within the layer.
-    std::vector<Extrusion> supports = support_paths(layer, settings);
+    std::vector<Extrusion> supports = support_paths(record.support, settings);
     if (!supports.empty()) append(supports);
 
     // 6. Travel between the paths (issue #18): inside the island without retraction where it

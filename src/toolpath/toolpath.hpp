@@ -7,7 +7,7 @@
 #include <string_view>
 #include <vector>
 
-#include "carving/partition.hpp"
+#include "carving/layer.hpp"
 #include "config/settings.hpp"
 
 namespace carve {
@@ -62,6 +62,6 @@ struct LayerToolpaths {
 LayerToolpaths with_islands_reversed(const LayerToolpaths& layer);
 
 // Pure function of one layer: layers may be planned on worker threads.
-LayerToolpaths plan_layer(const LayerPartition& layer, const Settings& settings);
+LayerToolpaths plan_layer(const LayerRecord& layer, const Settings& settings);
 
 }  // namespace carve

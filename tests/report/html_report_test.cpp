@@ -36,13 +36,13 @@ constexpr Coord kMm = 1000;
 // One hand-made layer: a 20 mm square, covers on the bottom and top layers, a round cavity C^1
 // and a slot C^2 in the middle one, with a bridge.
 struct HandLayer {
-    LayerPartition part;
+    LayerRecord part;
     LayerToolpaths paths;
 };
 
 HandLayer make_layer(const Settings& st, int index, bool cover) {
     HandLayer h;
-    LayerPartition& l = h.part;
+    LayerPartition l;
     l.index = index;
     l.z = (index + 0.5) * st.layer_height;
     l.outline = rect_region(0, 0, 20 * kMm, 20 * kMm);
@@ -63,6 +63,7 @@ HandLayer make_layer(const Settings& st, int index, bool cover) {
             e.points = {{600, y}, {19400, y}};
             h.paths.extrusions.push_back(e);
         }
+        h.part = std::move(l);
         return h;
     }
     l.carvable = l.wall_region;
@@ -81,7 +82,8 @@ HandLayer make_layer(const Settings& st, int index, bool cover) {
     b.cavity = 1;
     b.region = rect_region(6 * kMm, 9 * kMm, 8 * kMm, 11 * kMm);
     b.lines = {{{3 * kMm, 10 * kMm}, {11 * kMm, 10 * kMm}}};
-    l.bridges.push_back(b);
+    h.part = std::move(l);
+    h.part.bridged.bridges.push_back(b);
     Extrusion e;
     e.feature = Feature::Bridge;
     e.cavity = 1;

@@ -28,9 +28,9 @@ namespace {
 
 // A 40 x 30 mm slice with a round hole, a cover band along its bottom, four cavities (a
 // disk, a ring around it, and two side blocks), the remainder in between, and one bridge.
-LayerPartition hand_made_layer() {
+LayerRecord hand_made_layer(int index = 12) {
     LayerPartition layer;
-    layer.index = 12;
+    layer.index = index;
     layer.z = 2.5;
     Path hole = circle(32000, 22000, 3000);
     std::reverse(hole.begin(), hole.end());
@@ -52,24 +52,26 @@ LayerPartition hand_made_layer() {
     b.cavity = 3;
     b.region = Paths{rect(23000, 15000, 25000, 17000)};
     for (Coord y = 15000; y <= 17000; y += 400) b.lines.push_back({{22000, y}, {26000, y}});
-    layer.bridges.push_back(b);
-    return layer;
+    LayerRecord record = std::move(layer);
+    record.bridged.bridges.push_back(b);
+    return record;
 }
 
-LayerToolpaths hand_made_paths(const LayerPartition& layer) {
+LayerToolpaths hand_made_paths(const LayerRecord& record) {
+    const LayerPartition& layer = record.partition();
     LayerToolpaths paths;
     paths.index = layer.index;
     paths.z = 2.6;
     for (const Path& p : layer.wall_region)
         paths.extrusions.push_back({Feature::OuterWall, p, true, 1.0, 0});
-    for (size_t j = 0; j < layer.cavities.size(); ++j)
-        for (const Path& p : layer.cavities[j])
+    for (size_t j = 0; j < record.bridged.cavities.size(); ++j)
+        for (const Path& p : record.bridged.cavities[j])
             paths.extrusions.push_back({Feature::CavityWall, p, true, 1.0, int(j + 1)});
     Paths zigzag;
     for (Coord y = 400; y < 4000; y += 400) zigzag.push_back({{400, y}, {39600, y}});
     for (const Path& p : clip_lines(zigzag, layer.covers))
         paths.extrusions.push_back({Feature::Cover, p, false, 1.0, 0});
-    for (const Path& p : layer.bridges[0].lines)
+    for (const Path& p : record.bridged.bridges[0].lines)
         paths.extrusions.push_back({Feature::Bridge, p, false, 1.0, 0});
     return paths;
 }
@@ -136,7 +138,7 @@ std::vector<double> numbers(const std::string& d) {
 }  // namespace
 
 TEST(Svg, HandMadeLayerIsWellFormedWithOnePathPerCavity) {
-    const LayerPartition layer = hand_made_layer();
+    const LayerRecord layer = hand_made_layer();
     const LayerToolpaths paths = hand_made_paths(layer);
     const std::string svg = layer_svg(layer, &paths);
     EXPECT_TRUE(well_formed(svg));
@@ -213,13 +215,11 @@ TEST(Svg, WriterChoosesLayersAndNamesFiles) {
     const std::filesystem::path dir =
         std::filesystem::path(::testing::TempDir()) / "carve_svg_test" / "nested";
     std::filesystem::remove_all(dir.parent_path());
-    LayerPartition layer = hand_made_layer();
-    const LayerToolpaths paths = hand_made_paths(layer);
+    const LayerToolpaths paths = hand_made_paths(hand_made_layer());
 
     SvgLayerWriter every = SvgLayerWriter::every(dir.string(), 5);
     for (int i = 12; i >= 0; --i) {  // top down, as the sweep hands them out
-        layer.index = i;
-        const std::string file = every.add(layer, &paths);
+        const std::string file = every.add(hand_made_layer(i), &paths);
         EXPECT_EQ(file.empty(), i % 5 != 0) << i;
     }
     ASSERT_EQ(every.written().size(), 3u);
@@ -236,8 +236,8 @@ TEST(Svg, WriterChoosesLayersAndNamesFiles) {
     SvgLayerWriter listed(dir.string(), {3, 1234});
     EXPECT_TRUE(listed.wants(1234));
     EXPECT_FALSE(listed.wants(4));
-    layer.index = 1234;
-    EXPECT_EQ(std::filesystem::path(listed.add(layer, nullptr)).filename(), "layer_1234.svg");
+    EXPECT_EQ(std::filesystem::path(listed.add(hand_made_layer(1234), nullptr)).filename(),
+              "layer_1234.svg");
     EXPECT_EQ(SvgLayerWriter::file_name(12345), "layer_12345.svg");
 
     EXPECT_EQ(SvgLayerWriter::spread(100, 5), (std::vector<int>{0, 25, 50, 74, 99}));
@@ -251,7 +251,7 @@ TEST(Svg, WriterChoosesLayersAndNamesFiles) {
 
 TEST(Svg, WritesAPictureToLookAt) {
     // Left in the build tree for a person to open: <build>/svg_test_layer.svg.
-    const LayerPartition layer = hand_made_layer();
+    const LayerRecord layer = hand_made_layer();
     const LayerToolpaths paths = hand_made_paths(layer);
     const std::string file = "svg_test_layer.svg";
     write_layer_svg(file, layer, &paths);

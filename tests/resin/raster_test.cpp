@@ -180,12 +180,12 @@ TEST(ResinSolid, TouchingCavitiesKeepAWallBetweenThem) {
 
 TEST(ResinSolid, BridgesAreSolidStrips) {
     Settings st;
-    LayerPartition l = centred_cavity(st, 0);
+    LayerRecord l = centred_cavity(st, 0);
     Bridge b;
     b.cavity = 1;
     b.region = rect_region(8 * kMm, 8 * kMm, 12 * kMm, 12 * kMm);
     b.lines = {{{5 * kMm, 10 * kMm}, {15 * kMm, 10 * kMm}}};
-    l.bridges.push_back(b);
+    l.bridged.bridges.push_back(b);
     const Paths with = resin_solid(l, st.line_width(), st.line_width(), st.nozzle_radius());
     const Paths without =
         resin_solid(centred_cavity(st, 0), st.line_width(), st.line_width(), st.nozzle_radius());
@@ -293,20 +293,20 @@ TEST(RasterWriter, WallPixelsMatchPrintPathLengths) {
     while (auto layer = bridges.next()) {
         ++layers;
         const LayerToolpaths paths = plan_layer(*layer, st);
-        double length_mm = thin_band_mm2(*layer, st) / st.nozzle;
+        double length_mm = thin_band_mm2(layer->partition(), st) / st.nozzle;
         for (const Extrusion& e : paths.extrusions)
             length_mm += length(Paths{e.points}, e.closed) / kMm;
         const Paths solid =
             resin_solid(*layer, st.line_width(), st.line_width(), st.nozzle_radius());
-        const Paths walls = subtract(solid, erode(layer->remainder, st.nozzle_radius()));
-        const BBox2 b = bounds(layer->outline);
+        const Paths walls = subtract(solid, erode(layer->bridged.remainder, st.nozzle_radius()));
+        const BBox2 b = bounds(layer->partition().outline);
         const RasterGrid g =
             grid_over(b.min_x - kMm, b.min_y - kMm, b.max_x + kMm, b.max_y + kMm, pixel);
         std::vector<uint8_t> image;
         rasterize(walls, g, image);
         const double pixels_mm2 = double(count_white(image)) * pixel_mm2;
         const double paths_mm2 = length_mm * st.nozzle;
-        ASSERT_GT(paths_mm2, 0) << "layer " << layer->index;
+        ASSERT_GT(paths_mm2, 0) << "layer " << layer->partition().index;
         ratios.push_back(pixels_mm2 / paths_mm2);
         total_pixels_mm2 += pixels_mm2;
         total_paths_mm2 += paths_mm2;
@@ -401,15 +401,15 @@ TEST(RasterWriter, WallAreaOfARealModelDoesNotDependOnPixelSize) {
     std::vector<double> total_mm2(pixels_um.size(), 0.0);
     double paths_mm2 = 0;
     while (auto layer = bridges.next()) {
-        if (layer->index % 20 != 10) continue;
+        if (layer->partition().index % 20 != 10) continue;
         const LayerToolpaths paths = plan_layer(*layer, st);
-        paths_mm2 += thin_band_mm2(*layer, st);
+        paths_mm2 += thin_band_mm2(layer->partition(), st);
         for (const Extrusion& e : paths.extrusions)
             paths_mm2 += length(Paths{e.points}, e.closed) / kMm * st.nozzle;
         const Paths solid =
             resin_solid(*layer, st.line_width(), st.line_width(), st.nozzle_radius());
-        const Paths walls = subtract(solid, erode(layer->remainder, st.nozzle_radius()));
-        const BBox2 b = bounds(layer->outline);
+        const Paths walls = subtract(solid, erode(layer->bridged.remainder, st.nozzle_radius()));
+        const BBox2 b = bounds(layer->partition().outline);
         for (size_t k = 0; k < pixels_um.size(); ++k) {
             const double p = pixels_um[k];
             const RasterGrid g =

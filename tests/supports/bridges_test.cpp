@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <optional>
 #include <set>
 #include <string>
 
@@ -43,16 +44,40 @@ SlicePair vanishing_island(Coord lo, Coord hi) {
     return p;
 }
 
+// Fandisk carved with nested cavities, several bridged on one slice: parts torn as before ribs
+// (carved whole, the default since, fandisk has one cavity). Members in order: each stage
+// holds a reference to the one before.
+struct FandiskSweep {
+    static Settings nested() {
+        Settings s;
+        s.whole_width = 4;
+        s.whole_width_max = 14;
+        return s;
+    }
+    FandiskSweep()
+        : settings(nested()),
+          mesh(load_mesh(carve::test::repo_model("fandisk.stl"), report)),
+          slicer(mesh, settings.layer_height),
+          carvable(slicer, settings),
+          carving(carvable, settings) {}
+    Settings settings;
+    MeshReport report;
+    Mesh mesh;
+    TopDownSlicer slicer;
+    CarvableStream carvable;
+    CarvingSweep carving;
+};
+
 }  // namespace
 
 TEST(Bridges, IslandHoleCoveredBelowGetsOneAnchoredBridge) {
     // Upper cavity slice: a 20 mm square with an empty 4 mm hole; the slice below is the whole
     // square grown by r: the hole vanished, so its walls would hang in the air.
     auto [upper, lower] = vanishing_island(0, 20000);
-    add_bridges(upper, &lower, options());
+    const BridgedPartition bridged = bridge_layer(upper, &lower, options());
 
-    ASSERT_EQ(upper.bridges.size(), 1u);
-    const Bridge& b = upper.bridges[0];
+    ASSERT_EQ(bridged.bridges.size(), 1u);
+    const Bridge& b = bridged.bridges[0];
     EXPECT_TRUE(b.island);
     EXPECT_EQ(b.cavity, 1);
     EXPECT_TRUE(std::fmod(b.angle_deg, 90.0) == 0.0) << b.angle_deg;  // shortest lines
@@ -67,15 +92,15 @@ TEST(Bridges, IslandHoleCoveredBelowGetsOneAnchoredBridge) {
         EXPECT_LT(distance_to_boundary(line.back(), outer), 5.0);
     }
     // The hole is filled in the cavity: no wall is printed around it in this slice.
-    EXPECT_TRUE(empty_holes(upper.cavities[0]).empty());
+    EXPECT_TRUE(empty_holes(bridged.cavities[0]).empty());
 }
 
 TEST(Bridges, NothingWhenTheSliceBelowHoldsTheHole) {
     auto [upper, lower] = vanishing_island(0, 20000);
     // Below, the hole only shrinks by r: the cavity grows as it should, the walls are supported.
     lower.cavities = {dilate(upper.cavities[0], 200)};
-    add_bridges(upper, &lower, options());
-    EXPECT_TRUE(upper.bridges.empty());
+    const BridgedPartition bridged = bridge_layer(upper, &lower, options());
+    EXPECT_TRUE(bridged.bridges.empty());
 }
 
 TEST(Bridges, NarrowConcavityIsAnEdgeLikeMinimum) {
@@ -90,13 +115,13 @@ TEST(Bridges, NarrowConcavityIsAnEdgeLikeMinimum) {
         unsupported_regions(upper.cavities[0], lower.cavities[0], upper.carvable, options());
     ASSERT_EQ(needs.size(), 1u);
     EXPECT_GT(area(needs[0]), 0.5 * 300 * 6000);
-    add_bridges(upper, &lower, options());
-    ASSERT_EQ(upper.bridges.size(), 1u);
-    EXPECT_FALSE(upper.bridges[0].island);
+    const BridgedPartition bridged = bridge_layer(upper, &lower, options());
+    ASSERT_EQ(bridged.bridges.size(), 1u);
+    EXPECT_FALSE(bridged.bridges[0].island);
     // The least total length is one line along the notch, anchored on the walls at both ends
     // of the cavity (15 lines across it would total 150 mm against 20 mm).
-    EXPECT_DOUBLE_EQ(upper.bridges[0].angle_deg, 0.0);
-    EXPECT_EQ(upper.bridges[0].lines.size(), 1u);
+    EXPECT_DOUBLE_EQ(bridged.bridges[0].angle_deg, 0.0);
+    EXPECT_EQ(bridged.bridges[0].lines.size(), 1u);
 }
 
 TEST(Bridges, SpikeAtASharpCornerIsNotAMinimum) {
@@ -122,14 +147,14 @@ TEST(Bridges, SpansLongerThanThePrinterBridgesAreLeftOut) {
     auto [upper, lower] = vanishing_island(0, 20000);
     BridgeOptions o = options();
     o.max_length = 10000;
-    add_bridges(upper, &lower, o);
-    EXPECT_TRUE(upper.bridges.empty());
-    EXPECT_EQ(upper.minima_found, 1);
-    EXPECT_EQ(upper.minima_unsupported, 1);  // counted in the stats
+    const BridgedPartition bridged = bridge_layer(upper, &lower, o);
+    EXPECT_TRUE(bridged.bridges.empty());
+    EXPECT_EQ(bridged.minima_found, 1);
+    EXPECT_EQ(bridged.minima_unsupported, 1);  // counted in the stats
     // With a small cavity around the same minimum the bridge is short and kept.
     auto [small_upper, small_lower] = vanishing_island(6000, 14000);
-    add_bridges(small_upper, &small_lower, o);
-    EXPECT_EQ(small_upper.bridges.size(), 1u);
+    const BridgedPartition small_upper_bridged = bridge_layer(small_upper, &small_lower, o);
+    EXPECT_EQ(small_upper_bridged.bridges.size(), 1u);
 }
 
 TEST(Bridges, MinimaMergeOnlyIntoNearbyPiecesLikeFullBooleans) {
@@ -148,21 +173,24 @@ TEST(Bridges, MinimaMergeOnlyIntoNearbyPiecesLikeFullBooleans) {
     lower.cavities = {dilate(unite({rect(0, 0, 20000, 20000)}, far1), 200),
                       dilate({rect(60000, 0, 62000, 2000)}, 200)};
     const LayerPartition original = upper;
-    add_bridges(upper, &lower, options());
+    const BridgedPartition bridged = bridge_layer(upper, &lower, options());
 
-    ASSERT_EQ(upper.bridges.size(), 1u);
-    EXPECT_EQ(upper.bridges[0].cavity, 1);
-    const Paths& minimum = upper.bridges[0].region;
+    ASSERT_EQ(bridged.bridges.size(), 1u);
+    EXPECT_EQ(bridged.bridges[0].cavity, 1);
+    const Paths& minimum = bridged.bridges[0].region;
     const auto same = [](const Paths& a, const Paths& b) {
         return std::abs(area(symmetric_difference(a, b))) < 100.0;  // um^2: rounding only
     };
-    EXPECT_TRUE(same(upper.cavities[0], unite(original.cavities[0], minimum)));
-    EXPECT_TRUE(same(upper.cavities[1], subtract(original.cavities[1], minimum)));
-    EXPECT_TRUE(same(upper.remainder, subtract(original.remainder, minimum)));
+    // The carved slice is only read: the bridged partition is the stage's own.
+    EXPECT_EQ(upper.cavities, original.cavities);
+    EXPECT_EQ(upper.remainder, original.remainder);
+    EXPECT_TRUE(same(bridged.cavities[0], unite(original.cavities[0], minimum)));
+    EXPECT_TRUE(same(bridged.cavities[1], subtract(original.cavities[1], minimum)));
+    EXPECT_TRUE(same(bridged.remainder, subtract(original.remainder, minimum)));
     // The pieces inside the hole went to cavity 1; the far ones are still there.
-    EXPECT_NEAR(area(upper.cavities[1]), 2000.0 * 2000.0, 100.0);
-    EXPECT_NEAR(area(upper.remainder), 2000.0 * 2000.0, 100.0);
-    EXPECT_NEAR(area(upper.cavities[0]),
+    EXPECT_NEAR(area(bridged.cavities[1]), 2000.0 * 2000.0, 100.0);
+    EXPECT_NEAR(area(bridged.remainder), 2000.0 * 2000.0, 100.0);
+    EXPECT_NEAR(area(bridged.cavities[0]),
                 20000.0 * 20000.0 + 4000.0 * 4000.0 + 10000.0 * 10000.0 - 4000.0 * 4000.0, 1000.0);
 }
 
@@ -171,35 +199,28 @@ TEST(Bridges, WhatEachIterationLeftFollowsTheMinimaOnARealModel) {
     // keeps V^{j-1} = C^j ∪ .. ∪ C^k ∪ V^k up to date for the toolpaths, which read the walls'
     // restriction from it. On fandisk, slice by slice, it must still be that union, and the
     // cavities and the remainder a partition of the carvable region.
-    Settings settings;
-    // Nested cavities, several bridged on one slice: parts torn as before ribs (carved whole,
-    // the default since, fandisk has one cavity).
-    settings.whole_width = 4;
-    settings.whole_width_max = 14;
-    MeshReport report;
-    Mesh mesh = load_mesh(carve::test::repo_model("fandisk.stl"), report);
-    TopDownSlicer slicer(mesh, settings.layer_height);
-    CarvableStream carvable(slicer, settings);
-    CarvingSweep carving(carvable, settings);
-    BridgeStage bridges(carving, settings);
+    FandiskSweep fandisk;
+    BridgeStage bridges(fandisk.carving, fandisk.settings);
     int layers_with_several = 0;
     double worst_union = 0, worst_partition = 0;
     while (auto layer = bridges.next()) {
         std::set<int> bridged;
-        for (const Bridge& b : layer->bridges) bridged.insert(b.cavity);
+        for (const Bridge& b : layer->bridged.bridges) bridged.insert(b.cavity);
         if (bridged.empty()) continue;
         layers_with_several += bridged.size() > 1;
-        ASSERT_EQ(layer->uncarved.size(), layer->cavities.size());
-        Paths left = layer->remainder;  // V^j, from j = k down
-        double pieces = area(layer->remainder);
-        for (size_t j = layer->cavities.size(); j-- > 0;) {
-            left = unite(left, layer->cavities[j]);
-            pieces += area(layer->cavities[j]);
-            worst_union = std::max(worst_union,
-                                   std::abs(area(symmetric_difference(layer->uncarved[j], left))));
+        ASSERT_EQ(layer->bridged.uncarved.size(), layer->bridged.cavities.size());
+        Paths left = layer->bridged.remainder;  // V^j, from j = k down
+        double pieces = area(layer->bridged.remainder);
+        for (size_t j = layer->bridged.cavities.size(); j-- > 0;) {
+            left = unite(left, layer->bridged.cavities[j]);
+            pieces += area(layer->bridged.cavities[j]);
+            worst_union =
+                std::max(worst_union,
+                         std::abs(area(symmetric_difference(layer->bridged.uncarved[j], left))));
         }
-        worst_partition = std::max({worst_partition, std::abs(pieces - area(layer->carvable)),
-                                    std::abs(area(symmetric_difference(left, layer->carvable)))});
+        worst_partition =
+            std::max({worst_partition, std::abs(pieces - area(layer->partition().carvable)),
+                      std::abs(area(symmetric_difference(left, layer->partition().carvable)))});
     }
     EXPECT_GT(layers_with_several, 20);
     // um^2. The sweep's own rounding leaves up to 0.007 mm^2 between V^{j-1} and the union on
@@ -208,6 +229,30 @@ TEST(Bridges, WhatEachIterationLeftFollowsTheMinimaOnARealModel) {
     EXPECT_LT(worst_union, 40000.0);
     EXPECT_LT(worst_partition, 40000.0);
     RecordProperty("worst_union_um2", std::to_string(worst_union));
+}
+
+TEST(Bridges, TheStageLeavesTheCarvedPartitionAsTheSweepMadeIt) {
+    // Two sweeps of fandisk, one read as it comes out, one through the bridge stage: each
+    // layer's carved partition must come out of the stage exactly as the sweep made it, also
+    // on the slices whose minima the stage joined to their cavities (its own partition).
+    FandiskSweep plain, fandisk;
+    BridgeStage bridges(fandisk.carving, fandisk.settings);
+    int changed = 0;
+    while (auto layer = bridges.next()) {
+        const std::optional<LayerPartition> swept = plain.carving.next();
+        ASSERT_TRUE(swept);
+        const LayerPartition& carved = layer->partition();
+        ASSERT_EQ(carved.index, swept->index);
+        EXPECT_EQ(carved.outline, swept->outline);
+        EXPECT_EQ(carved.carvable, swept->carvable);
+        EXPECT_EQ(carved.covers, swept->covers);
+        EXPECT_EQ(carved.cavities, swept->cavities) << "layer " << carved.index;
+        EXPECT_EQ(carved.remainder, swept->remainder) << "layer " << carved.index;
+        EXPECT_EQ(carved.uncarved, swept->uncarved) << "layer " << carved.index;
+        changed += layer->bridged.cavities != carved.cavities;
+    }
+    EXPECT_FALSE(plain.carving.next());
+    EXPECT_GT(changed, 20);  // the stage did change cavities: in its own record
 }
 
 TEST(Bridges, CeilingOverACavityCarvedWholeIsBridgedAcrossItsShortSide) {
@@ -221,13 +266,13 @@ TEST(Bridges, CeilingOverACavityCarvedWholeIsBridgedAcrossItsShortSide) {
     lower.cavities = {lower.carvable};
     BridgeOptions o = options();
     o.max_length = 10000;
-    add_bridges(upper, &lower, o);
-    ASSERT_EQ(upper.bridges.size(), 1u);
-    const Bridge& b = upper.bridges[0];
+    const BridgedPartition bridged = bridge_layer(upper, &lower, o);
+    ASSERT_EQ(bridged.bridges.size(), 1u);
+    const Bridge& b = bridged.bridges[0];
     EXPECT_TRUE(b.cover);
-    EXPECT_EQ(upper.minima_found, 1);
-    EXPECT_EQ(upper.ceilings_found, 1);
-    EXPECT_EQ(upper.minima_unsupported, 0);
+    EXPECT_EQ(bridged.minima_found, 1);
+    EXPECT_EQ(bridged.ceilings_found, 1);
+    EXPECT_EQ(bridged.minima_unsupported, 0);
     double longest = 0;
     for (const Path& line : b.lines) longest = std::max(longest, length(Paths{line}, false));
     EXPECT_LE(longest, 8000.0 + 5);
@@ -243,9 +288,9 @@ TEST(Bridges, CoverOverWallsIsNotBridged) {
     upper.covers = {rect(0, 0, 20000, 20000)};
     lower.carvable = upper.covers;
     lower.cavities = {{rect(9800, 0, 10200, 20000)}};
-    add_bridges(upper, &lower, options());
-    EXPECT_TRUE(upper.bridges.empty());
-    EXPECT_EQ(upper.minima_found, 0);
+    const BridgedPartition bridged = bridge_layer(upper, &lower, options());
+    EXPECT_TRUE(bridged.bridges.empty());
+    EXPECT_EQ(bridged.minima_found, 0);
 }
 
 TEST(Bridges, LongMinimumIsSplitIntoPiecesEachBridgedAcrossItsOwnNarrowSide) {
@@ -261,14 +306,14 @@ TEST(Bridges, LongMinimumIsSplitIntoPiecesEachBridgedAcrossItsOwnNarrowSide) {
     lower.cavities = {corridor};
     BridgeOptions o = options();
     o.max_length = 10000;
-    add_bridges(upper, &lower, o);
-    EXPECT_EQ(upper.minima_found, 1);
+    const BridgedPartition bridged = bridge_layer(upper, &lower, o);
+    EXPECT_EQ(bridged.minima_found, 1);
     // The corner, where no direction is short, is left out and the minimum counted.
-    EXPECT_EQ(upper.minima_unsupported, 1);
-    ASSERT_GE(upper.bridges.size(), 2u);
+    EXPECT_EQ(bridged.minima_unsupported, 1);
+    ASSERT_GE(bridged.bridges.size(), 2u);
     double longest = 0;
     Paths printed;
-    for (const Bridge& b : upper.bridges)
+    for (const Bridge& b : bridged.bridges)
         for (const Path& line : b.lines) {
             longest = std::max(longest, length(Paths{line}, false));
             printed.push_back(line);

@@ -37,7 +37,7 @@ RibOptions options() {
 
 // A 30 mm box: solid bottom layers 0 and 1, a 28 mm cavity from layer 2 to `top` - 1, and a
 // solid ceiling at `top`.
-LayerPartition box_layer(int i, int top) {
+LayerRecord box_layer(int i, int top) {
     LayerPartition l;
     l.index = i;
     l.outline = rect_region(0, 0, 30 * kMm, 30 * kMm);
@@ -46,11 +46,11 @@ LayerPartition box_layer(int i, int top) {
 }
 
 // What a layer prints: everything but its cavities less half a line width, plus its ribs.
-Paths printed(const LayerPartition& l) {
+Paths printed(const LayerRecord& l) {
     Paths empty;
-    for (const Paths& c : l.cavities) empty = unite(empty, erode(c, 200));
-    Paths p = subtract(l.outline, empty);
-    if (!l.ribs.empty()) p = unite(p, dilate_lines(l.ribs, 200));
+    for (const Paths& c : l.bridged.cavities) empty = unite(empty, erode(c, 200));
+    Paths p = subtract(l.partition().outline, empty);
+    if (!l.ribs.lines.empty()) p = unite(p, dilate_lines(l.ribs.lines, 200));
     return p;
 }
 
@@ -63,11 +63,11 @@ Point middle(const Path& l) {
     return Point((l.front().X + l.back().X) / 2, (l.front().Y + l.back().Y) / 2);
 }
 
-std::vector<LayerPartition> planned_box(int top, const RibOptions& o) {
-    std::vector<LayerPartition> layers;
+std::vector<LayerRecord> planned_box(int top, const RibOptions& o) {
+    std::vector<LayerRecord> layers;
     for (int i = 0; i <= top; ++i) layers.push_back(box_layer(i, top));
     RibPlanner planner(o);
-    for (int i = top; i >= 0; --i) planner.add(layers[size_t(i)]);
+    for (int i = top; i >= 0; --i) layers[size_t(i)].ribs = planner.add(layers[size_t(i)]);
     return layers;
 }
 
@@ -75,8 +75,8 @@ std::vector<LayerPartition> planned_box(int top, const RibOptions& o) {
 
 TEST(Ribs, WideCeilingIsHeldWithinTwoMillimetres) {
     const int top = 60;
-    const std::vector<LayerPartition> layers = planned_box(top, options());
-    ASSERT_FALSE(layers[top - 1].ribs.empty());
+    const std::vector<LayerRecord> layers = planned_box(top, options());
+    ASSERT_FALSE(layers[top - 1].ribs.lines.empty());
     // Every point of the ceiling lies within 2 mm of what the layer below prints.
     const Paths below = printed(layers[top - 1]);
     int far = 0;
@@ -87,32 +87,32 @@ TEST(Ribs, WideCeilingIsHeldWithinTwoMillimetres) {
     // Without ribs the middle of the ceiling is 14 mm from the walls.
     RibOptions off = options();
     off.enabled = false;
-    const std::vector<LayerPartition> bare = planned_box(top, off);
-    EXPECT_TRUE(bare[top - 1].ribs.empty());
+    const std::vector<LayerRecord> bare = planned_box(top, off);
+    EXPECT_TRUE(bare[top - 1].ribs.lines.empty());
     EXPECT_GT(distance_to(Point(15 * kMm, 15 * kMm), printed(bare[top - 1])), 10.0 * kMm);
 }
 
 TEST(Ribs, EachPieceStandsWithinTheLeanOfTheLayerBelow) {
     const int top = 60;
     const RibOptions o = options();
-    const std::vector<LayerPartition> layers = planned_box(top, o);
+    const std::vector<LayerRecord> layers = planned_box(top, o);
     int pieces = 0;
     for (int i = top - 1; i >= 1; --i) {
-        const LayerPartition& here = layers[size_t(i)];
-        const LayerPartition& below = layers[size_t(i - 1)];
-        Paths solid_below = subtract(below.outline, [&] {
+        const LayerRecord& here = layers[size_t(i)];
+        const LayerRecord& below = layers[size_t(i - 1)];
+        Paths solid_below = subtract(below.partition().outline, [&] {
             Paths e;
-            for (const Paths& c : below.cavities) e = unite(e, erode(c, 200));
+            for (const Paths& c : below.bridged.cavities) e = unite(e, erode(c, 200));
             return e;
         }());
-        for (const Path& piece : here.ribs) {
+        for (const Path& piece : here.ribs.lines) {
             ++pieces;
             EXPECT_GE(length(Paths{piece}, false), double(o.line_width));
             // The rib's point on this layer: within r of its point on the layer below, or of
             // what that layer prints solid.
             const Point m = middle(piece);
             double best = distance_to(m, solid_below);
-            for (const Path& p : below.ribs) best = std::min(best, distance(m, middle(p)));
+            for (const Path& p : below.ribs.lines) best = std::min(best, distance(m, middle(p)));
             EXPECT_LE(best, double(o.lean) + 2.0) << "layer " << i;
             // Where it stands on the solid below, the whole piece does, not its middle alone.
             if (distance_to(m, solid_below) <= double(o.lean) + 2.0) {
@@ -123,8 +123,8 @@ TEST(Ribs, EachPieceStandsWithinTheLeanOfTheLayerBelow) {
     }
     EXPECT_GT(pieces, 0);
     // Every rib stands on something: nothing is left on the bottom cover's layers.
-    EXPECT_TRUE(layers[1].ribs.empty());
-    EXPECT_TRUE(layers[0].ribs.empty());
+    EXPECT_TRUE(layers[1].ribs.lines.empty());
+    EXPECT_TRUE(layers[0].ribs.lines.empty());
 }
 
 // Issue #23: the ribs under a wide flat ceiling merge in pairs going down, as lightning
@@ -132,25 +132,26 @@ TEST(Ribs, EachPieceStandsWithinTheLeanOfTheLayerBelow) {
 // one another in rows and never meet: the flat box printed some 22,000 pieces.
 TEST(Ribs, LatticeUnderAFlatCeilingMergesGoingDown) {
     const int top = 60;
-    const std::vector<LayerPartition> layers = planned_box(top, options());
-    const size_t first = layers[top - 1].ribs.size();
+    const std::vector<LayerRecord> layers = planned_box(top, options());
+    const size_t first = layers[top - 1].ribs.lines.size();
     ASSERT_GT(first, 50u);
     // Two ribs 2.6 mm apart meet in some 6 layers: after 20, two halvings at least.
-    EXPECT_LE(layers[top - 21].ribs.size() * 4, first)
-        << first << " -> " << layers[top - 21].ribs.size();
+    EXPECT_LE(layers[top - 21].ribs.lines.size() * 4, first)
+        << first << " -> " << layers[top - 21].ribs.lines.size();
     for (int i = top - 2; i >= 0; --i)
-        EXPECT_LE(layers[size_t(i)].ribs.size(), layers[size_t(i + 1)].ribs.size()) << i;
+        EXPECT_LE(layers[size_t(i)].ribs.lines.size(), layers[size_t(i + 1)].ribs.lines.size())
+            << i;
 }
 
 TEST(Ribs, UnheldCeilingIsCountedHeldByRibs) {
     const int top = 30;
-    std::vector<LayerPartition> layers;
+    std::vector<LayerRecord> layers;
     for (int i = 0; i <= top; ++i) layers.push_back(box_layer(i, top));
-    layers[top].unheld.push_back({rect_region(kMm, kMm, 29 * kMm, 29 * kMm), true});
+    layers[top].bridged.unheld.push_back({rect_region(kMm, kMm, 29 * kMm, 29 * kMm), true});
     RibPlanner planner(options());
-    for (int i = top; i >= 0; --i) planner.add(layers[size_t(i)]);
-    EXPECT_EQ(layers[top - 1].minima_held_by_ribs, 1);
-    EXPECT_EQ(layers[top - 1].ceilings_held_by_ribs, 1);
+    for (int i = top; i >= 0; --i) layers[size_t(i)].ribs = planner.add(layers[size_t(i)]);
+    EXPECT_EQ(layers[top - 1].ribs.minima_held, 1);
+    EXPECT_EQ(layers[top - 1].ribs.ceilings_held, 1);
 }
 
 // End to end: a flat 40 x 40 x 10 mm box carved whole under its top, whose ceiling no bridge

@@ -312,9 +312,11 @@ TEST(Toolpath, PrintOrderFollowsTheReport) {
     Bridge b;
     b.cavity = 2;
     b.lines = {{{2 * kMm, 0}, {5 * kMm, 0}}, {{2 * kMm, 400}, {5 * kMm, 400}}};
-    l.bridges.push_back(b);
-    l.ribs = {{{-3 * kMm, 0}, {-2200, 0}}};  // after the walls it stands beside, before bridges
-    LayerToolpaths t = plan_layer(l, st);
+    LayerRecord record = l;
+    record.bridged.bridges.push_back(b);
+    // After the walls it stands beside, before bridges.
+    record.ribs.lines = {{{-3 * kMm, 0}, {-2200, 0}}};
+    LayerToolpaths t = plan_layer(record, st);
     auto rank = [](const Extrusion& e) {
         switch (e.feature) {
             case Feature::OuterWall:
