@@ -4,6 +4,7 @@
 // coordinates are exactly equal, so that the slicer can follow shared edges by index.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -42,6 +43,9 @@ class Welder {
     // path names the file when it has more points than an index can number.
     explicit Welder(size_t expected_points, const std::string& path);
     uint32_t add(double x, double y, double z);
+    // Room for this many points without moving them: a first pass over a large text file
+    // knows the most there can be, and a doubling array would hold two copies at once.
+    void reserve(size_t points) { vertices_.reserve(points); }
     size_t size() const { return vertices_.size(); }
     std::vector<Vec3> take() { return std::move(vertices_); }
 
@@ -70,11 +74,42 @@ struct SoupProof {
 };
 std::optional<SoupProof> binary_stl_soup_corners(std::FILE* file, const std::string& path,
                                                  uint32_t min_facets = kSoupPrepassFacets);
+
+// "not a solid: its T triangles have V distinct corners or more, ..." (without the path).
+std::string soup_corners_message(uint64_t triangles, uint64_t corners);
+
+// What the first pass over a large text file (LoadOptions::text_first_pass_bytes) found: its
+// triangles and the distinct points they use, counted before anything is welded. A soup is
+// refused from those counts, at 8 bytes a corner instead of the welder's 30, and welding then
+// reserves what it needs once instead of doubling its arrays.
+struct TextCounts {
+    uint64_t triangles = 0;
+    uint64_t vertex_lines = 0;  // OBJ: "v" lines, used or not
+    // Distinct hashes of the points triangles use: never more than the distinct points, since
+    // equal points hash alike, so a count past 2.25 a triangle proves a soup as surely.
+    uint64_t corners = 0;
+};
+
+// The welder's hash of a point (after -0 is made +0), which the first pass counts.
+uint64_t hash_point(double x, double y, double z);
+
+// The number of distinct values in hashes, which it sorts.
+uint64_t count_distinct(std::vector<uint64_t>& hashes);
+
 void read_ascii_stl(std::string_view data, const std::string& path, Mesh& mesh, MeshReport& report);
+// The first pass over an ASCII STL file of the given size, at its start.
+TextCounts count_ascii_stl(std::FILE* file, size_t size, const std::string& path);
+// From an open file of the given size at its start, read in blocks. counts, when given
+// (count_ascii_stl on the same file), size the arrays.
+void read_ascii_stl(std::FILE* file, size_t size, const std::string& path, Mesh& mesh,
+                    MeshReport& report, const TextCounts* counts);
 void read_obj(std::string_view data, const std::string& path, Mesh& mesh, MeshReport& report);
-// The same from an open file of the given size, at its start, read in blocks.
-void read_obj(std::FILE* file, size_t size, const std::string& path, Mesh& mesh,
-              MeshReport& report);
+// The first pass over an OBJ file of the given size, at its start.
+TextCounts count_obj(std::FILE* file, size_t size, const std::string& path);
+// The same from an open file of the given size, at its start, read in blocks; counts as for
+// read_ascii_stl.
+void read_obj(std::FILE* file, size_t size, const std::string& path, Mesh& mesh, MeshReport& report,
+              const TextCounts* counts);
 // Frees data once the model part is unpacked.
 void read_3mf(std::string& data, const std::string& path, Mesh& mesh, MeshReport& report);
 

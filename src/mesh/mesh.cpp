@@ -43,20 +43,6 @@ inline uint64_t bits_of(double v) {
     return std::bit_cast<uint64_t>(v);
 }
 
-// Coordinates read from float32 have their low 29 mantissa bits zero, so the bits are first
-// spread by odd multipliers and then folded down by a murmur-style finaliser.
-inline uint64_t hash_point(double x, double y, double z) {
-    uint64_t h = bits_of(x) * 0x9E3779B97F4A7C15ULL;
-    h ^= bits_of(y) * 0xC2B2AE3D27D4EB4FULL;
-    h ^= std::rotl(bits_of(z) * 0x165667B19E3779F9ULL, 31);
-    h ^= h >> 33;
-    h *= 0xFF51AFD7ED558CCDULL;
-    h ^= h >> 33;
-    h *= 0xC4CEB9FE1A85EC53ULL;
-    h ^= h >> 33;
-    return h;
-}
-
 size_t table_size_for(size_t points) {
     return std::bit_ceil(std::max<size_t>(16, 2 * points));
 }
@@ -71,6 +57,20 @@ constexpr uint32_t kEmptySlot = 0xFFFFFFFFu;
 
 inline uint32_t tag_of(uint64_t h) {
     return static_cast<uint32_t>(h >> 58) << 26;
+}
+
+// Coordinates read from float32 have their low 29 mantissa bits zero, so the bits are first
+// spread by odd multipliers and then folded down by a murmur-style finaliser.
+uint64_t hash_point(double x, double y, double z) {
+    uint64_t h = bits_of(x) * 0x9E3779B97F4A7C15ULL;
+    h ^= bits_of(y) * 0xC2B2AE3D27D4EB4FULL;
+    h ^= std::rotl(bits_of(z) * 0x165667B19E3779F9ULL, 31);
+    h ^= h >> 33;
+    h *= 0xFF51AFD7ED558CCDULL;
+    h ^= h >> 33;
+    h *= 0xC4CEB9FE1A85EC53ULL;
+    h ^= h >> 33;
+    return h;
 }
 
 Welder::Welder(size_t expected_points, const std::string& path) : path_(path) {
@@ -181,6 +181,7 @@ bool streams_as_binary_stl(std::FILE* f, long size) {
 // zip, a binary STL of exactly its size, ASCII STL's leading "solid") is read line by line
 // without ever being held whole.
 bool streams_as_obj(std::FILE* f, long size, const std::string& ext);
+bool streams_as_ascii_stl(std::FILE* f, long size);
 
 std::string read_whole_file(std::FILE* f, const std::string& path, long size) {
     std::string data;
@@ -291,6 +292,19 @@ bool streams_as_obj(std::FILE* f, long size, const std::string& ext) {
     return s.size() > 5 && !starts_with_word(s, "solid");
 }
 
+// A file of known size whose first bytes are an ASCII STL's ("solid", a name, then "facet" or
+// "endsolid") and not a binary STL of exactly its size is read word by word without ever being
+// held whole; a name longer than the first 4 kB leaves it to the reader of whole files.
+bool streams_as_ascii_stl(std::FILE* f, long size) {
+    if (size < 84) return false;
+    char head[4096];
+    const size_t got = std::fread(head, 1, sizeof head, f);
+    std::rewind(f);
+    const std::string_view h(head, got);
+    if (got < 84 || is_zip(h) || binary_stl_size(h) == static_cast<uint64_t>(size)) return false;
+    return looks_like_ascii_stl(without_bom(h));
+}
+
 // Tells the format from the content of a file held whole and reads it. The 3MF reader frees the
 // archive's bytes once it has unpacked the model.
 void read_from_memory(std::string& data, const std::string& path, Mesh& mesh, MeshReport& report) {
@@ -339,13 +353,31 @@ std::string triangle_soup_message(const std::string& path, const MeshReport& m) 
            "mesh first";
 }
 
-namespace {
+namespace detail {
 
 std::string soup_corners_message(uint64_t triangles, uint64_t corners) {
     return "not a solid: its " + std::to_string(triangles) + " triangles have " +
            std::to_string(corners) +
            " distinct corners or more, over 2.25 a triangle, so more than half of their edges "
            "are shared with no other triangle (a triangle soup); repair the mesh first";
+}
+
+uint64_t count_distinct(std::vector<uint64_t>& hashes) {
+    std::sort(hashes.begin(), hashes.end());
+    return static_cast<uint64_t>(std::unique(hashes.begin(), hashes.end()) - hashes.begin());
+}
+
+}  // namespace detail
+
+namespace {
+
+// A large text file's first pass: refused here when its counts prove a soup.
+detail::TextCounts first_pass(detail::TextCounts counts, const std::string& path,
+                              const LoadOptions& options) {
+    if (options.refuse_soup && counts.triangles > kSoupMinTriangles &&
+        double(counts.corners) > 2.25 * double(counts.triangles))
+        fail(path, detail::soup_corners_message(counts.triangles, counts.corners));
+    return counts;
 }
 
 }  // namespace
@@ -359,12 +391,28 @@ Mesh load_mesh(const std::string& path, MeshReport& report, const LoadOptions& o
         if (streams_as_binary_stl(file.get(), size)) {
             if (options.refuse_soup) {
                 if (const auto soup = detail::binary_stl_soup_corners(file.get(), path))
-                    fail(path, soup_corners_message(soup->triangles, soup->corners));
+                    fail(path, detail::soup_corners_message(soup->triangles, soup->corners));
                 std::rewind(file.get());
             }
             detail::read_binary_stl(file.get(), path, mesh, report);
         } else if (streams_as_obj(file.get(), size, lower_extension(path))) {
-            detail::read_obj(file.get(), static_cast<size_t>(size), path, mesh, report);
+            const auto bytes = static_cast<size_t>(size);
+            std::optional<detail::TextCounts> counts;
+            if (bytes >= options.text_first_pass_bytes) {
+                counts = first_pass(detail::count_obj(file.get(), bytes, path), path, options);
+                std::rewind(file.get());
+            }
+            detail::read_obj(file.get(), bytes, path, mesh, report, counts ? &*counts : nullptr);
+        } else if (streams_as_ascii_stl(file.get(), size)) {
+            const auto bytes = static_cast<size_t>(size);
+            std::optional<detail::TextCounts> counts;
+            if (bytes >= options.text_first_pass_bytes) {
+                counts =
+                    first_pass(detail::count_ascii_stl(file.get(), bytes, path), path, options);
+                std::rewind(file.get());
+            }
+            detail::read_ascii_stl(file.get(), bytes, path, mesh, report,
+                                   counts ? &*counts : nullptr);
         } else {
             std::string data = read_whole_file(file.get(), path, size);
             file.reset();
@@ -381,7 +429,7 @@ Mesh load_mesh(const std::string& path, MeshReport& report, const LoadOptions& o
             for (uint32_t v : t)
                 if (!used[v]) used[v] = true, ++corners;
         if (double(corners) > 2.25 * double(mesh.triangles.size()))
-            fail(path, soup_corners_message(mesh.triangles.size(), corners));
+            fail(path, detail::soup_corners_message(mesh.triangles.size(), corners));
     }
     const size_t read = report.triangles_read;
     // A soup is refused as soon as its edges are counted: the walk over shells that follows

@@ -54,6 +54,9 @@ struct LoadOptions {
     // A triangle soup (is_triangle_soup), refused as soon as the edges are counted: `carve
     // slice` cannot slice one, and the rest of the repair would cost memory for nothing.
     bool refuse_soup = false;
+    // OBJ and ASCII STL files from this size get a first pass that counts their triangles and
+    // corners (a soup is refused there, before it is welded); tests lower it.
+    size_t text_first_pass_bytes = 64u << 20;
 };
 
 // Reads STL (binary or ASCII, told apart by content), OBJ or 3MF, merges vertices, drops

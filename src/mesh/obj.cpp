@@ -43,8 +43,15 @@ std::string quoted(std::string_view tok) {
 // The reader's state between lines, so that a file can be fed in pieces.
 class ObjReader {
   public:
-    ObjReader(size_t file_bytes, const std::string& path, Mesh& mesh)
-        : path_(path), mesh_(mesh), welder_(file_bytes / 64 + 16, path) {}
+    ObjReader(size_t file_bytes, const std::string& path, Mesh& mesh,
+              const TextCounts* counts = nullptr)
+        : path_(path), mesh_(mesh), welder_(file_bytes / 64 + 16, path) {
+        if (counts) {
+            welder_.reserve(counts->vertex_lines);
+            welded_.reserve(counts->vertex_lines);
+            mesh_.triangles.reserve(counts->triangles);
+        }
+    }
 
     void line(std::string_view line) {
         ++line_no_;
@@ -121,12 +128,13 @@ void read_obj(std::string_view data, const std::string& path, Mesh& mesh, MeshRe
     reader.finish(report);
 }
 
-void read_obj(std::FILE* file, size_t size, const std::string& path, Mesh& mesh,
-              MeshReport& report) {
-    report.format = "OBJ";
-    ObjReader reader(size, path, mesh);
-    // Blocks of 4 MB, up to the size the file had when it was opened (as a file read whole);
-    // a line cut by a block's end waits in `rest` for the next block.
+namespace {
+
+// Calls line(text) for each line of an open file of the given size, from its start, in blocks
+// of 4 MB up to the size the file had when it was opened (as a file read whole); a line cut by
+// a block's end waits in `rest` for the next block.
+template <class Line>
+void for_each_line(std::FILE* file, size_t size, const std::string& path, Line&& line) {
     std::vector<char> block(4 << 20);
     std::string rest;
     bool first = true;
@@ -140,17 +148,67 @@ void read_obj(std::FILE* file, size_t size, const std::string& path, Mesh& mesh,
         size_t pos = 0;
         for (size_t eol; (eol = d.find('\n', pos)) != std::string_view::npos; pos = eol + 1) {
             if (rest.empty()) {
-                reader.line(d.substr(pos, eol - pos));
+                line(d.substr(pos, eol - pos));
             } else {
                 rest.append(d.substr(pos, eol - pos));
-                reader.line(rest);
+                line(std::string_view(rest));
                 rest.clear();
             }
         }
         rest.append(d.substr(pos));
     }
     if (std::ferror(file)) fail(path, std::string("cannot read the file: ") + std::strerror(errno));
-    if (!rest.empty()) reader.line(rest);
+    if (!rest.empty()) line(std::string_view(rest));
+}
+
+}  // namespace
+
+TextCounts count_obj(std::FILE* file, size_t size, const std::string& path) {
+    TextCounts counts;
+    // Each vertex line's hash, then whether a face uses it: faces may refer back relatively,
+    // so the lines are marked as the faces come. What the reading pass would refuse is skipped
+    // here. A vertex line takes 8 bytes or more, as its hash does.
+    std::vector<uint64_t> hashes;
+    hashes.reserve(size / 8);
+    std::vector<bool> used;
+    for_each_line(file, size, path, [&](std::string_view line) {
+        Words words(line.substr(0, line.find('#')));
+        const std::string_view keyword = words.next();
+        if (keyword == "v") {
+            double c[3] = {0, 0, 0};
+            for (double& value : c)
+                if (!parse_double(words.next(), value)) value = 0;
+            hashes.push_back(hash_point(c[0] + 0.0, c[1] + 0.0, c[2] + 0.0));
+        } else if (keyword == "f") {
+            const auto n = static_cast<long long>(hashes.size());
+            if (used.size() < hashes.size()) used.resize(hashes.size());
+            uint64_t corners = 0;
+            for (std::string_view tok = words.next(); !tok.empty(); tok = words.next(), ++corners) {
+                const std::string_view index_text = tok.substr(0, tok.find('/'));
+                long long index = 0;
+                std::from_chars(index_text.data(), index_text.data() + index_text.size(), index);
+                const long long zero_based = index > 0 ? index - 1 : n + index;
+                if (index != 0 && zero_based >= 0 && zero_based < n)
+                    used[static_cast<size_t>(zero_based)] = true;
+            }
+            if (corners >= 3) counts.triangles += corners - 2;
+        }
+    });
+    counts.vertex_lines = hashes.size();
+    // Only the points a face uses count: the unused ones are moved out first.
+    size_t kept = 0;
+    for (size_t i = 0; i < hashes.size() && i < used.size(); ++i)
+        if (used[i]) hashes[kept++] = hashes[i];
+    hashes.resize(kept);
+    counts.corners = count_distinct(hashes);
+    return counts;
+}
+
+void read_obj(std::FILE* file, size_t size, const std::string& path, Mesh& mesh, MeshReport& report,
+              const TextCounts* counts) {
+    report.format = "OBJ";
+    ObjReader reader(size, path, mesh, counts);
+    for_each_line(file, size, path, [&](std::string_view line) { reader.line(line); });
     reader.finish(report);
 }
 

@@ -314,31 +314,81 @@ std::optional<SoupProof> binary_stl_soup_corners(std::FILE* file, const std::str
 
 namespace {
 
+// Whitespace-separated words, from text in memory or from a file read in blocks. From a file,
+// the words already consumed are dropped as the next block comes in, so a word (and the line
+// counted for messages) never spans two blocks; a word stays valid until the next call.
 class Tokens {
   public:
-    Tokens(std::string_view data) : data_(data) {}
+    explicit Tokens(std::string_view data) : data_(data) {}
+    // Reads at most size bytes: the size the file had when it was opened, as a file read whole.
+    Tokens(std::FILE* file, size_t size, const std::string& path)
+        : file_(file), path_(&path), unread_(size) {
+        refill(0);
+        if (data_.substr(0, 3) == std::string_view("\xEF\xBB\xBF", 3)) pos_ = 3;
+    }
 
-    // The next whitespace-separated word, empty at the end.
+    // The next word, empty at the end.
     std::string_view next() {
-        while (pos_ < data_.size() && is_space(data_[pos_])) ++pos_;
+        for (;;) {
+            while (pos_ < data_.size() && is_space(data_[pos_])) ++pos_;
+            if (pos_ < data_.size() || !refill(pos_)) break;
+        }
         size_t start = pos_;
-        while (pos_ < data_.size() && !is_space(data_[pos_])) ++pos_;
+        for (;;) {
+            while (pos_ < data_.size() && !is_space(data_[pos_])) ++pos_;
+            if (pos_ < data_.size() || !refill(start)) break;
+            start = 0;
+        }
         last_ = start;
         return data_.substr(start, pos_ - start);
     }
 
     void skip_line() {
-        while (pos_ < data_.size() && data_[pos_] != '\n' && data_[pos_] != '\r') ++pos_;
+        for (;;) {
+            while (pos_ < data_.size() && data_[pos_] != '\n' && data_[pos_] != '\r') ++pos_;
+            if (pos_ < data_.size() || !refill(pos_)) break;
+        }
     }
 
-    size_t last_position() const { return last_; }
+    // The 1-based line of the last word.
+    size_t last_line() const { return lines_dropped_ + line_of(data_, last_); }
 
   private:
     static bool is_space(char c) {
         return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\f' || c == '\v';
     }
+
+    // Drops the text before keep and appends the next block; false at the end of the file.
+    bool refill(size_t keep) {
+        if (!file_) return false;
+        lines_dropped_ +=
+            static_cast<size_t>(std::count(buffer_.begin(), buffer_.begin() + keep, '\n'));
+        buffer_.erase(0, keep);
+        pos_ -= keep;
+        if (buffer_.size() > kMaxWord)
+            fail(*path_, "malformed ASCII STL at line " + std::to_string(lines_dropped_ + 1) +
+                             ": a word of more than 1 MB");
+        const size_t old = buffer_.size();
+        const size_t want = std::min(kBlock, unread_);
+        buffer_.resize(old + want);
+        const size_t got = want ? std::fread(buffer_.data() + old, 1, want, file_) : 0;
+        buffer_.resize(old + got);
+        unread_ -= got;
+        if (got == 0 && std::ferror(file_))
+            fail(*path_, std::string("cannot read the file: ") + std::strerror(errno));
+        data_ = buffer_;
+        return got > 0;
+    }
+
+    static constexpr size_t kBlock = 4 << 20;
+    static constexpr size_t kMaxWord = 1 << 20;
     std::string_view data_;
     size_t pos_ = 0, last_ = 0;
+    std::FILE* file_ = nullptr;
+    const std::string* path_ = nullptr;
+    size_t unread_ = 0;
+    std::string buffer_;
+    size_t lines_dropped_ = 0;
 };
 
 bool same_word(std::string_view a, std::string_view keyword) {
@@ -350,13 +400,14 @@ bool same_word(std::string_view a, std::string_view keyword) {
 
 }  // namespace
 
-void read_ascii_stl(std::string_view data, const std::string& path, Mesh& mesh,
-                    MeshReport& report) {
+namespace {
+
+void parse_ascii_stl(Tokens& tokens, const std::string& path, Mesh& mesh, MeshReport& report,
+                     Welder& welder) {
     report.format = "ASCII STL";
-    Tokens tokens(data);
     auto malformed = [&](const std::string& what) {
-        fail(path, "malformed ASCII STL at line " +
-                       std::to_string(line_of(data, tokens.last_position())) + ": " + what);
+        fail(path,
+             "malformed ASCII STL at line " + std::to_string(tokens.last_line()) + ": " + what);
     };
     auto describe = [](std::string_view tok) {
         if (tok.empty()) return std::string("the end of the file");
@@ -377,7 +428,6 @@ void read_ascii_stl(std::string_view data, const std::string& path, Mesh& mesh,
         return value;
     };
 
-    Welder welder(data.size() / 400 + 16, path);
     std::vector<uint32_t> loop;
     std::string_view tok = tokens.next();
     if (!same_word(tok, "solid")) malformed("expected 'solid', found " + describe(tok));
@@ -410,10 +460,8 @@ void read_ascii_stl(std::string_view data, const std::string& path, Mesh& mesh,
                 tok = tokens.next();
                 if (!same_word(tok, "vertex")) break;
                 const double x = number(), y = number(), z = number();
-                check_point(path, x, y, z, [&] {
-                    return "vertex at line " +
-                           std::to_string(line_of(data, tokens.last_position()));
-                });
+                check_point(path, x, y, z,
+                            [&] { return "vertex at line " + std::to_string(tokens.last_line()); });
                 loop.push_back(welder.add(x, y, z));
             }
             if (!same_word(tok, "endloop"))
@@ -428,6 +476,53 @@ void read_ascii_stl(std::string_view data, const std::string& path, Mesh& mesh,
     }
     report.triangles_read = mesh.triangles.size();
     mesh.vertices = welder.take();
+}
+
+}  // namespace
+
+void read_ascii_stl(std::string_view data, const std::string& path, Mesh& mesh,
+                    MeshReport& report) {
+    Tokens tokens(data);
+    Welder welder(data.size() / 400 + 16, path);
+    parse_ascii_stl(tokens, path, mesh, report, welder);
+}
+
+TextCounts count_ascii_stl(std::FILE* file, size_t size, const std::string& path) {
+    // The reading pass's words in the same order, with a solid's name skipped as it skips it:
+    // a valid file's triangles are counted exactly, never fewer. Every vertex is a corner of
+    // its facet; "vertex 1 2 3" takes 12 bytes or more, and its hash 8.
+    TextCounts counts;
+    std::vector<uint64_t> hashes;
+    hashes.reserve(size / 12);
+    Tokens tokens(file, size, path);
+    uint64_t corners = 0;
+    for (std::string_view tok = tokens.next(); !tok.empty(); tok = tokens.next()) {
+        if (same_word(tok, "solid") || same_word(tok, "endsolid")) {
+            tokens.skip_line();
+        } else if (same_word(tok, "vertex")) {
+            double c[3] = {0, 0, 0};
+            for (double& value : c)
+                if (!parse_double(tokens.next(), value)) value = 0;
+            hashes.push_back(hash_point(c[0] + 0.0, c[1] + 0.0, c[2] + 0.0));
+            ++corners;
+        } else if (same_word(tok, "endloop")) {
+            if (corners >= 3) counts.triangles += corners - 2;
+            corners = 0;
+        }
+    }
+    counts.corners = count_distinct(hashes);
+    return counts;
+}
+
+void read_ascii_stl(std::FILE* file, size_t size, const std::string& path, Mesh& mesh,
+                    MeshReport& report, const TextCounts* counts) {
+    Tokens tokens(file, size, path);
+    Welder welder(size / 400 + 16, path);
+    if (counts) {
+        welder.reserve(counts->corners + 16);
+        mesh.triangles.reserve(counts->triangles);
+    }
+    parse_ascii_stl(tokens, path, mesh, report, welder);
 }
 
 }  // namespace carve::detail

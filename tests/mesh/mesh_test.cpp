@@ -8,6 +8,7 @@
 #include <unistd.h>
 #include <zip.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -15,6 +16,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <optional>
 #include <random>
 #include <set>
 #include <string>
@@ -79,6 +81,13 @@ std::string binary_stl(const Mesh& m, const std::string& header) {
         out.append(2, '\0');
     }
     return out;
+}
+
+// "word x y z" with every digit a double needs, so that the text reads back to the same point.
+std::string fmt_point(const char* word, const Vec3& p) {
+    char buf[128];
+    std::snprintf(buf, sizeof buf, "%s %.17g %.17g %.17g", word, p.x, p.y, p.z);
+    return buf;
 }
 
 // The 20 mm cube [0,20]^3 as 8 corners and 6 counter-clockwise quads (seen from outside).
@@ -558,6 +567,175 @@ TEST(MeshRepair, ASoupIsProvedFromItsCornersBeforeItIsWelded) {
     MeshReport r;
     const std::string path = temp().file("proof_mixed.stl");
     EXPECT_THROW(load_mesh(path, r, refuse), InputError);
+}
+
+// Every corner of every triangle written out, as an ASCII STL or as an OBJ with three vertex
+// lines a face (both exporters' habit), with the given line end.
+std::string ascii_stl(const Mesh& m, const std::string& eol = "\n") {
+    std::string out = "solid written here" + eol;
+    for (const auto& t : m.triangles) {
+        out += " facet normal 0 0 0" + eol + "  outer loop" + eol;
+        for (uint32_t v : t) {
+            const Vec3& p = m.vertices[v];
+            out += fmt_point("   vertex", p) + eol;
+        }
+        out += "  endloop" + eol + " endfacet" + eol;
+    }
+    return out + "endsolid written here" + eol;
+}
+
+std::string obj_per_face(const Mesh& m, size_t unused_lines = 0) {
+    std::string out;
+    for (size_t i = 0; i < unused_lines; ++i)
+        out += fmt_point("v", {1000.0 + double(i), -5, 0.25 * double(i % 9)}) + "\n";
+    size_t line = unused_lines;
+    for (const auto& t : m.triangles) {
+        for (uint32_t v : t) out += fmt_point("v", m.vertices[v]) + "\n";
+        out += "f " + std::to_string(line + 1) + " " + std::to_string(line + 2) + " -1\n";
+        line += 3;
+    }
+    return out;
+}
+
+// Reads path with the streaming reader of its kind, after the first pass when counted.
+Mesh read_streamed(const std::string& path, bool counted, bool obj) {
+    std::FILE* f = std::fopen(path.c_str(), "rb");
+    const auto size = static_cast<size_t>(fs::file_size(path));
+    Mesh m;
+    MeshReport r;
+    std::optional<detail::TextCounts> counts;
+    try {
+        if (counted) {
+            counts =
+                obj ? detail::count_obj(f, size, path) : detail::count_ascii_stl(f, size, path);
+            std::rewind(f);
+        }
+        if (obj)
+            detail::read_obj(f, size, path, m, r, counts ? &*counts : nullptr);
+        else
+            detail::read_ascii_stl(f, size, path, m, r, counts ? &*counts : nullptr);
+    } catch (...) {
+        std::fclose(f);
+        throw;
+    }
+    std::fclose(f);
+    return m;
+}
+
+detail::TextCounts first_pass(const std::string& path, bool obj) {
+    std::FILE* f = std::fopen(path.c_str(), "rb");
+    const auto size = static_cast<size_t>(fs::file_size(path));
+    const auto counts =
+        obj ? detail::count_obj(f, size, path) : detail::count_ascii_stl(f, size, path);
+    std::fclose(f);
+    return counts;
+}
+
+void expect_same_mesh(const Mesh& a, const Mesh& b) {
+    ASSERT_EQ(a.vertices.size(), b.vertices.size());
+    ASSERT_EQ(a.triangles.size(), b.triangles.size());
+    for (size_t i = 0; i < a.vertices.size(); ++i) {
+        EXPECT_EQ(a.vertices[i].x, b.vertices[i].x);
+        EXPECT_EQ(a.vertices[i].y, b.vertices[i].y);
+        EXPECT_EQ(a.vertices[i].z, b.vertices[i].z);
+    }
+    EXPECT_TRUE(a.triangles == b.triangles);
+}
+
+// 1000 closed boxes: 8 points and 12 triangles each, far from a soup.
+Mesh boxes_mesh(int n = 1000) {
+    Mesh boxes;
+    for (int i = 0; i < n; ++i) {
+        const Mesh c = cube_mesh(1, {2.0 * i + 0.125, 50, 0});
+        const auto first = static_cast<uint32_t>(boxes.vertices.size());
+        boxes.vertices.insert(boxes.vertices.end(), c.vertices.begin(), c.vertices.end());
+        for (auto t : c.triangles)
+            boxes.triangles.push_back({t[0] + first, t[1] + first, t[2] + first});
+    }
+    return boxes;
+}
+
+TEST(MeshLoad, AnAsciiStlReadInBlocksEqualsItReadWhole) {
+    // 50,000 triangles are over 4 MB of text: words and lines fall across a block's end.
+    const Mesh soup = soup_mesh(50000);
+    for (const std::string eol : {"\n", "\r\n", "\r"}) {
+        for (const bool bom : {false, true}) {
+            const std::string text = (bom ? "\xEF\xBB\xBF" : "") + ascii_stl(soup, eol);
+            ASSERT_GT(text.size(), size_t(4 << 20));
+            const std::string path = temp().file("blocks.stl");
+            write_file(path, text);
+            Mesh whole;
+            MeshReport r;
+            const std::string_view d = std::string_view(text).substr(bom ? 3 : 0);
+            detail::read_ascii_stl(d, path, whole, r);
+            expect_same_mesh(read_streamed(path, false, false), whole);
+            if (eol == "\n" && !bom) {
+                expect_same_mesh(read_streamed(path, true, false), whole);
+                // load_mesh streams it too.
+                load_mesh(path, r);
+                EXPECT_EQ(r.format, "ASCII STL");
+                EXPECT_EQ(r.triangles_read, 50000u);
+            }
+        }
+    }
+    // A mistake past the first block is reported at its own line, as when read whole.
+    std::string text = ascii_stl(soup);
+    const size_t at = text.find("vertex", (4u << 20) + 1000);
+    text.replace(at, 6, "vortex");
+    const std::string path = temp().file("blocks_bad.stl");
+    write_file(path, text);
+    const std::string line =
+        std::to_string(1 + std::count(text.begin(), text.begin() + long(at), '\n'));
+    try {
+        read_streamed(path, false, false);
+        ADD_FAILURE() << "the misspelt word was read";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("at line " + line +
+                                             ": expected 'vertex' or 'endloop', found 'vortex'"),
+                  std::string::npos)
+            << e.what();
+    }
+}
+
+TEST(MeshRepair, ATextSoupIsRefusedBeforeItIsWelded) {
+    // 3000 triangles of their own three points, and 1000 closed boxes whose files repeat every
+    // point for every face, the OBJ with 30,000 vertex lines no face uses.
+    const Mesh soup = soup_mesh(3000), boxes = boxes_mesh();
+    const std::string obj = temp().file("text_soup.obj"), stl = temp().file("text_soup.stl");
+    const std::string box_obj = temp().file("boxes.obj"), box_stl = temp().file("boxes.stl");
+    write_file(obj, obj_per_face(soup));
+    write_file(stl, ascii_stl(soup));
+    write_file(box_obj, obj_per_face(boxes, 30000));
+    write_file(box_stl, ascii_stl(boxes));
+    LoadOptions refuse;
+    refuse.refuse_soup = true;
+    refuse.text_first_pass_bytes = 0;
+    for (const auto& [path, is_obj] : {std::pair{obj, true}, std::pair{stl, false}}) {
+        const detail::TextCounts counts = first_pass(path, is_obj);
+        EXPECT_EQ(counts.triangles, 3000u);
+        EXPECT_EQ(counts.corners, 9000u);
+        MeshReport r;
+        try {
+            load_mesh(path, r, refuse);
+            ADD_FAILURE() << path << " was read";
+        } catch (const InputError& e) {
+            EXPECT_NE(std::string(e.what()).find(
+                          "not a solid: its 3000 triangles have 9000 distinct corners or more"),
+                      std::string::npos)
+                << e.what();
+        }
+        // Not refused when it is not asked.
+        EXPECT_EQ(read_streamed(path, true, is_obj).triangles.size(), 3000u);
+    }
+    for (const auto& [path, is_obj] : {std::pair{box_obj, true}, std::pair{box_stl, false}}) {
+        const detail::TextCounts counts = first_pass(path, is_obj);
+        EXPECT_EQ(counts.triangles, 12000u);
+        EXPECT_EQ(counts.corners, 8000u) << "the unused vertex lines are not corners";
+        MeshReport r;
+        EXPECT_EQ(load_mesh(path, r, refuse).triangles.size(), 12000u);
+        // Welded as without the first pass.
+        expect_same_mesh(read_streamed(path, true, is_obj), read_streamed(path, false, is_obj));
+    }
 }
 
 TEST(MeshRepair, Measures) {
