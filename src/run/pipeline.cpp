@@ -264,12 +264,14 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
     auto k_seed = [](int j) { return kLink + 1 + 2 * j; };  // iteration j + 1, parallel half
     auto k_sweep = [](int j) { return kLink + 2 + 2 * j; };
     const int kHold = kLink + 1 + 2 * k, kSupport = kHold + 1, kWork = kSupport + 1;
-    const int kRibs = kWork + 1, kPaths = kRibs + 1, kSink = kPaths + 1;
+    const int kRibLink = kWork + 1, kRibOverlap = kRibLink + 1, kRibs = kRibOverlap + 1;
+    const int kPaths = kRibs + 1, kSink = kPaths + 1;
     const int filter_count = kSink + 1;
     // The slicer's tokens, then c + 1 that flush the window (c layers) and the hold-back.
     SpanLog span(profiling_enabled() ? layer_count + c + 1 : 0, filter_count);
     span.serial.assign(filter_count, true);
     span.serial[kErode] = span.serial[kCovers] = span.serial[kWork] = span.serial[kPaths] = false;
+    span.serial[kRibOverlap] = false;
     for (int j = 0; j < k; ++j) span.serial[k_seed(j)] = false;
 
     // Supports are decided from above too; a layer's support needs the outlines of the z gap's
@@ -437,19 +439,42 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
             return t;
         });
     // Ribs grow down from what would hang: serial top down, each slice's only after the slices
-    // above it (nothing is held back: a rib on slice i depends on slices i and above).
-    RibPlanner ribs(ribbing);
-    auto rib_filter = tbb::make_filter<TokenPtr, TokenPtr>(
+    // above it (nothing is held back: a rib on slice i depends on slices i and above). Around
+    // the serial filter, what reads no rib: the booleans of each slice with the one above (the
+    // link hands that down in order) and, in the paths filter, the pieces' clipping.
+    RibAbove rib_above;
+    auto rib_link = tbb::make_filter<TokenPtr, TokenPtr>(
         tbb::filter_mode::serial_in_order, [&](TokenPtr t) -> TokenPtr {
             if (!t) return t;
-            SpanTimer timer(span, t->seq, kRibs);
-            ribs.add(t->layer, std::move(t->rib_slice));
+            SpanTimer timer(span, t->seq, kRibLink);
+            RibAbove next{t->layer.index > 0,
+                          std::make_shared<const Paths>(std::move(t->rib_slice.printed)),
+                          t->layer.unheld};
+            t->rib_above = std::exchange(rib_above, std::move(next));
             return t;
         });
+    auto rib_overlap_filter = tbb::make_filter<TokenPtr, TokenPtr>(
+        tbb::filter_mode::parallel, [&](TokenPtr t) -> TokenPtr {
+            if (!t) return t;
+            SpanTimer timer(span, t->seq, kRibOverlap);
+            if (ribbing.enabled) rib_overlap(t->rib_slice, t->rib_above);
+            t->rib_above = {};
+            return t;
+        });
+    RibPlanner ribs(ribbing);
+    auto rib_filter = tbb::make_filter<TokenPtr, TokenPtr>(tbb::filter_mode::serial_in_order,
+                                                           [&](TokenPtr t) -> TokenPtr {
+                                                               if (!t) return t;
+                                                               SpanTimer timer(span, t->seq, kRibs);
+                                                               ribs.add(t->layer, t->rib_slice);
+                                                               return t;
+                                                           });
     auto paths = tbb::make_filter<TokenPtr, TokenPtr>(
         tbb::filter_mode::parallel, [&](TokenPtr t) -> TokenPtr {
             if (!t) return t;
             SpanTimer timer(span, t->seq, kPaths);
+            clip_ribs(t->layer, t->rib_slice, ribbing);
+            t->rib_slice = {};
             t->paths = plan_layer(t->layer, settings);
             if (options.in_parallel_stage) options.in_parallel_stage(t->layer.index);
             writer.add_layer(t->paths);  // thread-safe: the spill is indexed by layer
@@ -545,10 +570,11 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
         // this frame's stages and writers are destroyed.
         arena.execute([&] {
             if (supporting)
-                tbb::parallel_pipeline(tokens,
-                                       chain & hold & support & work & rib_filter & paths & sink);
+                tbb::parallel_pipeline(tokens, chain & hold & support & work & rib_link &
+                                                   rib_overlap_filter & rib_filter & paths & sink);
             else
-                tbb::parallel_pipeline(tokens, chain & hold & work & rib_filter & paths & sink);
+                tbb::parallel_pipeline(tokens, chain & hold & work & rib_link & rib_overlap_filter &
+                                                   rib_filter & paths & sink);
         });
     }
     for (double v : result.cavity_volume_mm3)
@@ -606,7 +632,8 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
             names.push_back(fmt::format("seed C{}", j));
             names.push_back(fmt::format("sweep C{}", j));
         }
-        names.insert(names.end(), {"hold back", "supports", "bridges", "ribs", "paths", "writers"});
+        names.insert(names.end(), {"hold back", "supports", "bridges", "rib link", "rib overlap",
+                                   "ribs", "paths", "writers"});
         std::fputs(profile_table().c_str(), stderr);
         std::fputs(span_table(span, names, load_s, finish_s, threads).c_str(), stderr);
     }

@@ -34,6 +34,7 @@ struct Token {
     LayerOverhang overhang;               // of O_i beyond O_{i-1}
     double support_new_mm2 = 0;           // overhang area a support starts under here
     RibSlice rib_slice;                   // what the ribs need of this slice alone
+    RibAbove rib_above;                   // ... and of the slice above, until overlapped
     LayerToolpaths paths;
     std::vector<double> volumes;  // of each extrusion of `paths`, mm^3
     double material = 0;          // their sum

@@ -144,22 +144,52 @@ RibSlice rib_slice(const LayerPartition& layer, const RibOptions& options) {
     return out;
 }
 
-void RibPlanner::add(LayerPartition& layer, RibSlice slice) {
+void rib_overlap(RibSlice& slice, const RibAbove& above) {
+    StageTimer timer(Stage::kBridges);
+    // What the slice above prints deep in this one's empty region (deep lies inside empty: one
+    // boolean, not two).
+    if (above.above && !slice.empty.empty() && above.printed && !above.printed->empty() &&
+        !slice.deep.empty())
+        slice.hang = intersect(*above.printed, slice.deep);
+    slice.unheld_deep.clear();
+    for (const UnheldMinimum& u : above.unheld)
+        slice.unheld_deep.push_back(
+            {slice.empty.empty() ? Paths{} : intersect(u.region, slice.deep), u.ceiling});
+}
+
+void clip_ribs(LayerPartition& layer, const RibSlice& slice, const RibOptions& options) {
+    if (layer.ribs.empty()) return;
+    StageTimer timer(Stage::kBridges);
+    Paths kept;
+    for (Path& l : clip_lines(layer.ribs, slice.empty))
+        if (length(Paths{l}, false) >= double(options.line_width)) kept.push_back(std::move(l));
+    layer.ribs = std::move(kept);
+}
+
+void RibPlanner::add(LayerPartition& layer) {
+    if (!options_.enabled) return;
+    RibSlice slice = rib_slice(layer, options_);
+    rib_overlap(slice, above_);
+    add(layer, slice);
+    clip_ribs(layer, slice, options_);
+    above_.above = layer.index > 0;
+    above_.printed = std::make_shared<const Paths>(std::move(slice.printed));
+    above_.unheld = layer.unheld;
+}
+
+void RibPlanner::add(LayerPartition& layer, const RibSlice& slice) {
     if (!options_.enabled) return;
     StageTimer timer(Stage::kBridges);
     const Coord w = options_.line_width, r = options_.lean;
     const Paths& empty = slice.empty;
-    const Paths& deep = slice.deep;
 
     if (!has_above_) nodes_.clear();
     const Coord rho = static_cast<Coord>(std::llround(double(options_.spacing) / std::sqrt(2.0)));
     const Boundary boundary(empty);
 
     // New ribs under what the slice above prints deep inside this slice's empty region.
-    if (has_above_ && !empty.empty() && !printed_above_.empty()) {
-        // What the slice above prints deep in this one's empty region (deep lies inside
-        // empty: one boolean, not two).
-        Paths hang = deep.empty() ? Paths{} : intersect(printed_above_, deep);
+    if (has_above_ && !empty.empty()) {
+        Paths hang = slice.hang;
         if (!hang.empty()) {
             std::vector<Point> old;
             for (const Node& n : nodes_) old.push_back(n.at);
@@ -285,21 +315,19 @@ void RibPlanner::add(LayerPartition& layer, RibSlice slice) {
         const Coord oy = static_cast<Coord>(std::llround(double(n.dir.Y) * half));
         pieces.push_back(Path{Point(n.at.X - ox, n.at.Y - oy), Point(n.at.X + ox, n.at.Y + oy)});
     }
-    if (!pieces.empty()) {
-        // A piece stops at the walls it nears: it must not double a wall's line.
-        for (Path& l : clip_lines(pieces, empty))
-            if (length(Paths{l}, false) >= double(w)) layer.ribs.push_back(std::move(l));
-    }
+    // clip_ribs() stops them at the walls.
+    layer.ribs.insert(layer.ribs.end(), std::make_move_iterator(pieces.begin()),
+                      std::make_move_iterator(pieces.end()));
 
     // The minima of the slice above that no bridge held: held now if nothing of them deeper
     // than `reach` inside this slice's empty region is further than the lattice's reach from a
     // rib printed here.
-    if (!unheld_above_.empty()) {
+    if (!slice.unheld_deep.empty()) {
         std::vector<Point> at;
         for (const Node& n : nodes_) at.push_back(n.at);
         const Paths covered = disks(at, rho + r);
-        for (const UnheldMinimum& u : unheld_above_) {
-            Paths left = empty.empty() ? Paths{} : intersect(u.region, deep);
+        for (const UnheldMinimum& u : slice.unheld_deep) {
+            Paths left = u.region;
             if (!left.empty() && !covered.empty()) left = subtract(left, covered);
             if (std::abs(area(left)) < 0.5 * double(w) * double(w)) {
                 ++layer.minima_held_by_ribs;
@@ -308,8 +336,6 @@ void RibPlanner::add(LayerPartition& layer, RibSlice slice) {
         }
     }
 
-    printed_above_ = std::move(slice.printed);
-    unheld_above_ = layer.unheld;
     has_above_ = layer.index > 0;
 }
 
