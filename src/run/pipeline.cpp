@@ -15,6 +15,7 @@
 #include <chrono>
 #include <cstdio>
 #include <deque>
+#include <functional>
 #include <map>
 #include <memory>
 #include <optional>
@@ -157,9 +158,10 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
     if (layer_count == 0)
         throw InputError(fmt::format("{}: the model is thinner than one layer ({} mm)",
                                      options.model_path, settings.layer_height));
+    std::function<void(const Slice&)> check_slice;
     if (settings.max_vertices_per_layer > 0 || settings.max_vertices_total > 0) {
-        // Checked as each slice is cut, before covers and carving spend hours on it.
-        slicer.on_slice([&settings, &options, total = 0LL](const Slice& slice) mutable {
+        // Checked as each slice is cut, in order, before covers and carving spend hours on it.
+        check_slice = [&settings, &options, total = 0LL](const Slice& slice) mutable {
             long long vertices = 0;
             for (const Path& p : slice.region) vertices += static_cast<long long>(p.size());
             total += vertices;
@@ -175,7 +177,7 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
                     "{}; simplify the mesh or raise --max-vertices-per-layer (0 = no limit)",
                     options.model_path, slice.index, slice.z, vertices,
                     settings.max_vertices_per_layer));
-        });
+        };
     }
     // Every output of the run is complete under a temporary name before any is renamed into
     // place (group.commit_all() at the end); a run failing at any point leaves none of them,
@@ -260,7 +262,7 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
     // resin images.
     const int k = sweep_iterations(settings);
     const int c = std::max(0, settings.covers);
-    const int kSlice = 0, kErode = 1, kWindow = 2, kCovers = 3, kLink = 4;
+    const int kSlice = 0, kChain = 1, kCheck = 2, kErode = 3, kWindow = 4, kCovers = 5, kLink = 6;
     auto k_seed = [](int j) { return kLink + 1 + 2 * j; };  // iteration j + 1, parallel half
     auto k_sweep = [](int j) { return kLink + 2 + 2 * j; };
     const int kHold = kLink + 1 + 2 * k, kSupport = kHold + 1, kWork = kSupport + 1;
@@ -271,7 +273,7 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
     SpanLog span(profiling_enabled() ? layer_count + c + 1 : 0, filter_count);
     span.serial.assign(filter_count, true);
     span.serial[kErode] = span.serial[kCovers] = span.serial[kWork] = span.serial[kPaths] = false;
-    span.serial[kRibOverlap] = false;
+    span.serial[kRibOverlap] = span.serial[kChain] = false;
     for (int j = 0; j < k; ++j) span.serial[k_seed(j)] = false;
 
     // Supports are decided from above too; a layer's support needs the outlines of the z gap's
@@ -286,8 +288,8 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
                                                        TokenPtr t = pool.make();
                                                        t->seq = next_seq++;
                                                        SpanTimer timer(span, t->seq, kSlice);
-                                                       if (auto slice = slicer.next()) {
-                                                           t->slice = std::move(*slice);
+                                                       if (auto cut = slicer.next_cut()) {
+                                                           t->cut = std::move(*cut);
                                                        } else if (ends_left-- > 0) {
                                                            t->end = true;
                                                        } else {
@@ -296,6 +298,22 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
                                                        }
                                                        return t;
                                                    });
+    // The plane's segments into contours: the slicer's work but for the active set.
+    auto chain_cut = tbb::make_filter<TokenPtr, TokenPtr>(tbb::filter_mode::parallel,
+                                                          [&](TokenPtr t) -> TokenPtr {
+                                                              if (!t->cut) return t;
+                                                              SpanTimer timer(span, t->seq, kChain);
+                                                              t->slice = std::move(*t->cut).chain();
+                                                              t->cut.reset();
+                                                              return t;
+                                                          });
+    auto check = tbb::make_filter<TokenPtr, TokenPtr>(tbb::filter_mode::serial_in_order,
+                                                      [&](TokenPtr t) -> TokenPtr {
+                                                          if (!t->slice || !check_slice) return t;
+                                                          SpanTimer timer(span, t->seq, kCheck);
+                                                          check_slice(*t->slice);
+                                                          return t;
+                                                      });
     auto erode = tbb::make_filter<TokenPtr, TokenPtr>(
         tbb::filter_mode::parallel, [&](TokenPtr t) -> TokenPtr {
             if (!t->slice) return t;
@@ -344,7 +362,7 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
             t->carvable_above = std::exchange(carvable_above, std::move(t->carvable));
             return t;
         });
-    tbb::filter<void, TokenPtr> chain = source & erode & gather & covers & link;
+    tbb::filter<void, TokenPtr> chain = source & chain_cut & check & erode & gather & covers & link;
     // Each iteration in two filters: the half that reads only V^{j-1}_i, on any thread, then
     // the half that needs C^j_{i+1}, in order.
     std::vector<std::unique_ptr<CarvingSweep>> sweeps(k);
@@ -627,7 +645,8 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
     group.commit_all();
     finish_s += double(thread_cpu_ns() - writers_start_ns) * 1e-9;
     if (profiling_enabled()) {
-        std::vector<std::string> names{"slice", "erode", "window", "covers", "link"};
+        std::vector<std::string> names{"slice",  "chain",  "check", "erode",
+                                       "window", "covers", "link"};
         for (int j = 1; j <= k; ++j) {
             names.push_back(fmt::format("seed C{}", j));
             names.push_back(fmt::format("sweep C{}", j));

@@ -22,6 +22,7 @@ namespace carve {
 struct Token {
     int seq = 0;       // place in the stream, 0 for the top slice
     bool end = false;  // after the last slice: flushes the covers' window and the hold-back
+    std::optional<PlaneCut> cut;              // the plane's segments, until chained
     std::optional<Slice> slice;               // as cut, until eroded
     std::shared_ptr<const CoverSlice> cover;  // ... and eroded, until the window takes it
     std::vector<std::shared_ptr<const CoverSlice>> window;  // layer i's 2c+1 slices, top down
