@@ -248,18 +248,21 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
     double sliced_volume = 0;  // what the slices hold: the model's volume if the mesh is open
 
     // The layers flow top down through a oneTBB pipeline. Serial in-order filters for what
-    // carries state from one slice to the next: the slicer's active set; the covers' window
-    // of 2c+1 slices; handing each layer the carvable region of the one above; one filter per
+    // carries state from one slice to the next: the slicer's active set (and the vertex
+    // limits, checked in order); the covers' window of 2c+1 slices; handing each layer the
+    // carvable region of the one above; one filter per
     // carving iteration, so that the k iterations run as a wavefront (C^j at slice i needs C^j
     // at slice i+1 and V^{j-1} at slice i only: iteration j of one slice overlaps iteration
     // j+1 of the slice above); holding a slice back until the one below is carved (the
-    // bridges need it); the writers and sums at the end, in layer order so that every figure
+    // bridges need it); handing each slice what the slice above prints for the ribs, and the
+    // ribs themselves; the writers and sums at the end, in layer order so that every figure
     // and byte is the same whatever the thread count. Between them parallel filters do what
-    // depends on its own slice or window only: the erosions of each slice, the covers of each
+    // depends on its own slice or window only: chaining each plane's segments into its slice,
+    // the erosions of each slice, the covers of each
     // layer, before each carving iteration what it can do from V^{j-1} alone (its medial
     // axis, its whole-width test: most of its work), then bridges (against a copy of the slice
-    // below as the sweep left it), toolpaths, their G-code spill encoding, material, SVG and
-    // resin images.
+    // below as the sweep left it), the ribs' booleans with the slice above, toolpaths (the
+    // ribs' pieces clipped first), their G-code spill encoding, material, SVG and resin images.
     const int k = sweep_iterations(settings);
     const int c = std::max(0, settings.covers);
     const int kSlice = 0, kChain = 1, kCheck = 2, kErode = 3, kWindow = 4, kCovers = 5, kLink = 6;
