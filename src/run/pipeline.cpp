@@ -15,6 +15,7 @@
 #include <chrono>
 #include <cstdio>
 #include <deque>
+#include <functional>
 #include <map>
 #include <memory>
 #include <optional>
@@ -157,9 +158,10 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
     if (layer_count == 0)
         throw InputError(fmt::format("{}: the model is thinner than one layer ({} mm)",
                                      options.model_path, settings.layer_height));
+    std::function<void(const Slice&)> check_slice;
     if (settings.max_vertices_per_layer > 0 || settings.max_vertices_total > 0) {
-        // Checked as each slice is cut, before covers and carving spend hours on it.
-        slicer.on_slice([&settings, &options, total = 0LL](const Slice& slice) mutable {
+        // Checked as each slice is cut, in order, before covers and carving spend hours on it.
+        check_slice = [&settings, &options, total = 0LL](const Slice& slice) mutable {
             long long vertices = 0;
             for (const Path& p : slice.region) vertices += static_cast<long long>(p.size());
             total += vertices;
@@ -175,7 +177,7 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
                     "{}; simplify the mesh or raise --max-vertices-per-layer (0 = no limit)",
                     options.model_path, slice.index, slice.z, vertices,
                     settings.max_vertices_per_layer));
-        });
+        };
     }
     // Every output of the run is complete under a temporary name before any is renamed into
     // place (group.commit_all() at the end); a run failing at any point leaves none of them,
@@ -246,30 +248,35 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
     double sliced_volume = 0;  // what the slices hold: the model's volume if the mesh is open
 
     // The layers flow top down through a oneTBB pipeline. Serial in-order filters for what
-    // carries state from one slice to the next: the slicer's active set; the covers' window
-    // of 2c+1 slices; handing each layer the carvable region of the one above; one filter per
+    // carries state from one slice to the next: the slicer's active set (and the vertex
+    // limits, checked in order); the covers' window of 2c+1 slices; handing each layer the
+    // carvable region of the one above; one filter per
     // carving iteration, so that the k iterations run as a wavefront (C^j at slice i needs C^j
     // at slice i+1 and V^{j-1} at slice i only: iteration j of one slice overlaps iteration
     // j+1 of the slice above); holding a slice back until the one below is carved (the
-    // bridges need it); the writers and sums at the end, in layer order so that every figure
+    // bridges need it); handing each slice what the slice above prints for the ribs, and the
+    // ribs themselves; the writers and sums at the end, in layer order so that every figure
     // and byte is the same whatever the thread count. Between them parallel filters do what
-    // depends on its own slice or window only: the erosions of each slice, the covers of each
+    // depends on its own slice or window only: chaining each plane's segments into its slice,
+    // the erosions of each slice, the covers of each
     // layer, before each carving iteration what it can do from V^{j-1} alone (its medial
     // axis, its whole-width test: most of its work), then bridges (against a copy of the slice
-    // below as the sweep left it), toolpaths, their G-code spill encoding, material, SVG and
-    // resin images.
+    // below as the sweep left it), the ribs' booleans with the slice above, toolpaths (the
+    // ribs' pieces clipped first), their G-code spill encoding, material, SVG and resin images.
     const int k = sweep_iterations(settings);
     const int c = std::max(0, settings.covers);
-    const int kSlice = 0, kErode = 1, kWindow = 2, kCovers = 3, kLink = 4;
+    const int kSlice = 0, kChain = 1, kCheck = 2, kErode = 3, kWindow = 4, kCovers = 5, kLink = 6;
     auto k_seed = [](int j) { return kLink + 1 + 2 * j; };  // iteration j + 1, parallel half
     auto k_sweep = [](int j) { return kLink + 2 + 2 * j; };
     const int kHold = kLink + 1 + 2 * k, kSupport = kHold + 1, kWork = kSupport + 1;
-    const int kRibs = kWork + 1, kPaths = kRibs + 1, kSink = kPaths + 1;
+    const int kRibLink = kWork + 1, kRibOverlap = kRibLink + 1, kRibs = kRibOverlap + 1;
+    const int kPaths = kRibs + 1, kSink = kPaths + 1;
     const int filter_count = kSink + 1;
     // The slicer's tokens, then c + 1 that flush the window (c layers) and the hold-back.
     SpanLog span(profiling_enabled() ? layer_count + c + 1 : 0, filter_count);
     span.serial.assign(filter_count, true);
     span.serial[kErode] = span.serial[kCovers] = span.serial[kWork] = span.serial[kPaths] = false;
+    span.serial[kRibOverlap] = span.serial[kChain] = false;
     for (int j = 0; j < k; ++j) span.serial[k_seed(j)] = false;
 
     // Supports are decided from above too; a layer's support needs the outlines of the z gap's
@@ -284,8 +291,8 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
                                                        TokenPtr t = pool.make();
                                                        t->seq = next_seq++;
                                                        SpanTimer timer(span, t->seq, kSlice);
-                                                       if (auto slice = slicer.next()) {
-                                                           t->slice = std::move(*slice);
+                                                       if (auto cut = slicer.next_cut()) {
+                                                           t->cut = std::move(*cut);
                                                        } else if (ends_left-- > 0) {
                                                            t->end = true;
                                                        } else {
@@ -294,6 +301,22 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
                                                        }
                                                        return t;
                                                    });
+    // The plane's segments into contours: the slicer's work but for the active set.
+    auto chain_cut = tbb::make_filter<TokenPtr, TokenPtr>(tbb::filter_mode::parallel,
+                                                          [&](TokenPtr t) -> TokenPtr {
+                                                              if (!t->cut) return t;
+                                                              SpanTimer timer(span, t->seq, kChain);
+                                                              t->slice = std::move(*t->cut).chain();
+                                                              t->cut.reset();
+                                                              return t;
+                                                          });
+    auto check = tbb::make_filter<TokenPtr, TokenPtr>(tbb::filter_mode::serial_in_order,
+                                                      [&](TokenPtr t) -> TokenPtr {
+                                                          if (!t->slice || !check_slice) return t;
+                                                          SpanTimer timer(span, t->seq, kCheck);
+                                                          check_slice(*t->slice);
+                                                          return t;
+                                                      });
     auto erode = tbb::make_filter<TokenPtr, TokenPtr>(
         tbb::filter_mode::parallel, [&](TokenPtr t) -> TokenPtr {
             if (!t->slice) return t;
@@ -342,7 +365,7 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
             t->carvable_above = std::exchange(carvable_above, std::move(t->carvable));
             return t;
         });
-    tbb::filter<void, TokenPtr> chain = source & erode & gather & covers & link;
+    tbb::filter<void, TokenPtr> chain = source & chain_cut & check & erode & gather & covers & link;
     // Each iteration in two filters: the half that reads only V^{j-1}_i, on any thread, then
     // the half that needs C^j_{i+1}, in order.
     std::vector<std::unique_ptr<CarvingSweep>> sweeps(k);
@@ -433,19 +456,42 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
             return t;
         });
     // Ribs grow down from what would hang: serial top down, each slice's only after the slices
-    // above it (nothing is held back: a rib on slice i depends on slices i and above).
+    // above it (nothing is held back: a rib on slice i depends on slices i and above). Around
+    // the serial filter, what reads no rib: the booleans of each slice with the one above (the
+    // link hands that down in order) and, in the paths filter, the pieces' clipping.
+    RibAbove rib_above;
+    auto rib_link = tbb::make_filter<TokenPtr, TokenPtr>(
+        tbb::filter_mode::serial_in_order, [&](TokenPtr t) -> TokenPtr {
+            if (!t) return t;
+            SpanTimer timer(span, t->seq, kRibLink);
+            RibAbove next{t->record.partition().index > 0,
+                          std::make_shared<const Paths>(std::move(t->rib_slice.printed)),
+                          t->record.bridged.unheld};
+            t->rib_above = std::exchange(rib_above, std::move(next));
+            return t;
+        });
+    auto rib_overlap_filter = tbb::make_filter<TokenPtr, TokenPtr>(
+        tbb::filter_mode::parallel, [&](TokenPtr t) -> TokenPtr {
+            if (!t) return t;
+            SpanTimer timer(span, t->seq, kRibOverlap);
+            if (ribbing.enabled) rib_overlap(t->rib_slice, t->rib_above);
+            t->rib_above = {};
+            return t;
+        });
     RibPlanner ribs(ribbing);
     auto rib_filter = tbb::make_filter<TokenPtr, TokenPtr>(
         tbb::filter_mode::serial_in_order, [&](TokenPtr t) -> TokenPtr {
             if (!t) return t;
             SpanTimer timer(span, t->seq, kRibs);
-            t->record.ribs = ribs.add(t->record, std::move(t->rib_slice));
+            t->record.ribs = ribs.add(t->record, t->rib_slice);
             return t;
         });
     auto paths = tbb::make_filter<TokenPtr, TokenPtr>(
         tbb::filter_mode::parallel, [&](TokenPtr t) -> TokenPtr {
             if (!t) return t;
             SpanTimer timer(span, t->seq, kPaths);
+            t->record.ribs = clip_ribs(std::move(t->record.ribs), t->rib_slice, ribbing);
+            t->rib_slice = {};
             t->paths = plan_layer(t->record, settings);
             if (options.in_parallel_stage) options.in_parallel_stage(t->record.partition().index);
             writer.add_layer(t->paths);  // thread-safe: the spill is indexed by layer
@@ -543,10 +589,11 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
         // this frame's stages and writers are destroyed.
         arena.execute([&] {
             if (supporting)
-                tbb::parallel_pipeline(tokens,
-                                       chain & hold & support & work & rib_filter & paths & sink);
+                tbb::parallel_pipeline(tokens, chain & hold & support & work & rib_link &
+                                                   rib_overlap_filter & rib_filter & paths & sink);
             else
-                tbb::parallel_pipeline(tokens, chain & hold & work & rib_filter & paths & sink);
+                tbb::parallel_pipeline(tokens, chain & hold & work & rib_link & rib_overlap_filter &
+                                                   rib_filter & paths & sink);
         });
     }
     for (double v : result.cavity_volume_mm3)
@@ -599,12 +646,14 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
     group.commit_all();
     finish_s += double(thread_cpu_ns() - writers_start_ns) * 1e-9;
     if (profiling_enabled()) {
-        std::vector<std::string> names{"slice", "erode", "window", "covers", "link"};
+        std::vector<std::string> names{"slice",  "chain",  "check", "erode",
+                                       "window", "covers", "link"};
         for (int j = 1; j <= k; ++j) {
             names.push_back(fmt::format("seed C{}", j));
             names.push_back(fmt::format("sweep C{}", j));
         }
-        names.insert(names.end(), {"hold back", "supports", "bridges", "ribs", "paths", "writers"});
+        names.insert(names.end(), {"hold back", "supports", "bridges", "rib link", "rib overlap",
+                                   "ribs", "paths", "writers"});
         std::fputs(profile_table().c_str(), stderr);
         std::fputs(span_table(span, names, load_s, finish_s, threads).c_str(), stderr);
     }

@@ -23,6 +23,7 @@ namespace carve {
 struct Token {
     int seq = 0;       // place in the stream, 0 for the top slice
     bool end = false;  // after the last slice: flushes the covers' window and the hold-back
+    std::optional<PlaneCut> cut;              // the plane's segments, until chained
     std::optional<Slice> slice;               // as cut, until eroded
     std::shared_ptr<const CoverSlice> cover;  // ... and eroded, until the window takes it
     std::vector<std::shared_ptr<const CoverSlice>> window;  // layer i's 2c+1 slices, top down
@@ -35,6 +36,7 @@ struct Token {
     LayerOverhang overhang;                       // of O_i beyond O_{i-1}
     double support_new_mm2 = 0;                   // overhang area a support starts under here
     RibSlice rib_slice;                           // what the ribs need of this slice alone
+    RibAbove rib_above;                           // ... and of the slice above, until overlapped
     LayerToolpaths paths;
     std::vector<double> volumes;  // of each extrusion of `paths`, mm^3
     double material = 0;          // their sum

@@ -131,6 +131,15 @@ class PlaneSlicer {
         return true;
     }
 
+    // The segments collected so far, for another PlaneSlicer to finish.
+    std::vector<Segment> take_segments() {
+        std::vector<Segment> out;
+        out.reserve(segments_.size());
+        out.swap(segments_);
+        return out;
+    }
+    void give_segments(std::vector<Segment> segments) { segments_ = std::move(segments); }
+
     // Chains the collected segments into loops and unites them (non-zero fill).
     Paths finish() {
         build_table();
@@ -412,14 +421,37 @@ int TopDownSlicer::layer_count() const {
     return impl_->count;
 }
 
-std::optional<Slice> TopDownSlicer::next() {
+struct PlaneCut::Impl {
+    int index = 0;
+    double z = 0;
+    std::vector<Segment> segments;
+};
+
+PlaneCut::PlaneCut() : impl_(std::make_unique<Impl>()) {}
+PlaneCut::~PlaneCut() = default;
+PlaneCut::PlaneCut(PlaneCut&&) noexcept = default;
+PlaneCut& PlaneCut::operator=(PlaneCut&&) noexcept = default;
+
+Slice PlaneCut::chain() && {
+    StageTimer timer(Stage::kSlice);
+    // One per thread, so that chaining plane after plane allocates (almost) nothing.
+    thread_local PlaneSlicer plane;
+    Slice slice;
+    slice.index = impl_->index;
+    slice.z = impl_->z;
+    plane.give_segments(std::move(impl_->segments));
+    slice.region = plane.finish();
+    return slice;
+}
+
+std::optional<PlaneCut> TopDownSlicer::next_cut() {
     StageTimer timer(Stage::kSlice);
     Impl& m = *impl_;
     if (m.next_index < 0) return std::nullopt;
-    Slice slice;
-    slice.index = m.next_index--;
-    slice.z = m.zmin + (slice.index + 0.5) * m.layer_height;
-    const double z = slice.z;
+    PlaneCut cut;
+    cut.impl_->index = m.next_index--;
+    cut.impl_->z = m.zmin + (cut.impl_->index + 0.5) * m.layer_height;
+    const double z = cut.impl_->z;
 
     // Triangles whose top reached the plane join the active set (a key may let one in a float
     // ulp early, which is harmless); those entirely above the plane (vertices on it count as
@@ -436,8 +468,15 @@ std::optional<Slice> TopDownSlicer::next() {
     for (size_t i = 0; i < m.active.size(); ++i)
         if (m.plane.add_triangle(m.active[i], z)) m.active[kept++] = m.active[i];
     m.active.resize(kept);
-    slice.region = m.plane.finish();
-    if (m.on_slice) m.on_slice(slice);
+    cut.impl_->segments = m.plane.take_segments();
+    return cut;
+}
+
+std::optional<Slice> TopDownSlicer::next() {
+    std::optional<PlaneCut> cut = next_cut();
+    if (!cut) return std::nullopt;
+    Slice slice = std::move(*cut).chain();
+    if (impl_->on_slice) impl_->on_slice(slice);
     return slice;
 }
 

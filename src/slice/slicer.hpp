@@ -20,6 +20,23 @@ struct Slice {
     Paths region;   // O_i, outer contours counter-clockwise, holes clockwise
 };
 
+// One plane's crossing segments: gathered going down by TopDownSlicer::next_cut() (the active
+// set is what carries from one plane to the next), chained into the slice by chain() on any
+// thread. Chaining and uniting are most of the slicer's work.
+class PlaneCut {
+  public:
+    PlaneCut();
+    ~PlaneCut();
+    PlaneCut(PlaneCut&&) noexcept;
+    PlaneCut& operator=(PlaneCut&&) noexcept;
+    Slice chain() &&;
+
+  private:
+    friend class TopDownSlicer;
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
+
 class TopDownSlicer {
   public:
     // The mesh must outlive the slicer.
@@ -31,6 +48,9 @@ class TopDownSlicer {
     int layer_count() const;
     // The next slice going down, or nothing after layer 0.
     std::optional<Slice> next();
+    // The same in two halves: the next plane's segments, in order; then PlaneCut::chain(), on
+    // any thread. on_slice() is not called: the caller checks the slices itself.
+    std::optional<PlaneCut> next_cut();
     // Called with every slice before next() returns it; may throw to stop the run (the pipeline
     // uses it for the --max-vertices-per-layer guard).
     void on_slice(std::function<void(const Slice&)> check);

@@ -145,23 +145,54 @@ RibSlice rib_slice(const LayerRecord& layer, const RibOptions& options) {
     return out;
 }
 
-LayerRibs RibPlanner::add(const LayerRecord& layer, RibSlice slice) {
+void rib_overlap(RibSlice& slice, const RibAbove& above) {
+    StageTimer timer(Stage::kBridges);
+    // What the slice above prints deep in this one's empty region (deep lies inside empty: one
+    // boolean, not two).
+    if (above.above && !slice.empty.empty() && above.printed && !above.printed->empty() &&
+        !slice.deep.empty())
+        slice.hang = intersect(*above.printed, slice.deep);
+    slice.unheld_deep.clear();
+    for (const UnheldMinimum& u : above.unheld)
+        slice.unheld_deep.push_back(
+            {slice.empty.empty() ? Paths{} : intersect(u.region, slice.deep), u.ceiling});
+}
+
+LayerRibs clip_ribs(LayerRibs ribs, const RibSlice& slice, const RibOptions& options) {
+    if (ribs.lines.empty()) return ribs;
+    StageTimer timer(Stage::kBridges);
+    Paths kept;
+    for (Path& l : clip_lines(ribs.lines, slice.empty))
+        if (length(Paths{l}, false) >= double(options.line_width)) kept.push_back(std::move(l));
+    ribs.lines = std::move(kept);
+    return ribs;
+}
+
+LayerRibs RibPlanner::add(const LayerRecord& layer) {
+    if (!options_.enabled) return {};
+    RibSlice slice = rib_slice(layer, options_);
+    rib_overlap(slice, above_);
+    LayerRibs out = clip_ribs(add(layer, slice), slice, options_);
+    above_.above = layer.partition().index > 0;
+    above_.printed = std::make_shared<const Paths>(std::move(slice.printed));
+    above_.unheld = layer.bridged.unheld;
+    return out;
+}
+
+LayerRibs RibPlanner::add(const LayerRecord& layer, const RibSlice& slice) {
     LayerRibs out;
     if (!options_.enabled) return out;
     StageTimer timer(Stage::kBridges);
     const Coord w = options_.line_width, r = options_.lean;
     const Paths& empty = slice.empty;
-    const Paths& deep = slice.deep;
 
     if (!has_above_) nodes_.clear();
     const Coord rho = static_cast<Coord>(std::llround(double(options_.spacing) / std::sqrt(2.0)));
     const Boundary boundary(empty);
 
     // New ribs under what the slice above prints deep inside this slice's empty region.
-    if (has_above_ && !empty.empty() && !printed_above_.empty()) {
-        // What the slice above prints deep in this one's empty region (deep lies inside
-        // empty: one boolean, not two).
-        Paths hang = deep.empty() ? Paths{} : intersect(printed_above_, deep);
+    if (has_above_ && !empty.empty()) {
+        Paths hang = slice.hang;
         if (!hang.empty()) {
             std::vector<Point> old;
             for (const Node& n : nodes_) old.push_back(n.at);
@@ -287,21 +318,17 @@ LayerRibs RibPlanner::add(const LayerRecord& layer, RibSlice slice) {
         const Coord oy = static_cast<Coord>(std::llround(double(n.dir.Y) * half));
         pieces.push_back(Path{Point(n.at.X - ox, n.at.Y - oy), Point(n.at.X + ox, n.at.Y + oy)});
     }
-    if (!pieces.empty()) {
-        // A piece stops at the walls it nears: it must not double a wall's line.
-        for (Path& l : clip_lines(pieces, empty))
-            if (length(Paths{l}, false) >= double(w)) out.lines.push_back(std::move(l));
-    }
+    out.lines = std::move(pieces);  // clip_ribs() stops them at the walls
 
     // The minima of the slice above that no bridge held: held now if nothing of them deeper
     // than `reach` inside this slice's empty region is further than the lattice's reach from a
     // rib printed here.
-    if (!unheld_above_.empty()) {
+    if (!slice.unheld_deep.empty()) {
         std::vector<Point> at;
         for (const Node& n : nodes_) at.push_back(n.at);
         const Paths covered = disks(at, rho + r);
-        for (const UnheldMinimum& u : unheld_above_) {
-            Paths left = empty.empty() ? Paths{} : intersect(u.region, deep);
+        for (const UnheldMinimum& u : slice.unheld_deep) {
+            Paths left = u.region;
             if (!left.empty() && !covered.empty()) left = subtract(left, covered);
             if (std::abs(area(left)) < 0.5 * double(w) * double(w)) {
                 ++out.minima_held;
@@ -310,8 +337,6 @@ LayerRibs RibPlanner::add(const LayerRecord& layer, RibSlice slice) {
         }
     }
 
-    printed_above_ = std::move(slice.printed);
-    unheld_above_ = layer.bridged.unheld;
     has_above_ = layer.partition().index > 0;
     return out;
 }

@@ -10,6 +10,7 @@
 // ribs' current positions plus the previous slice's empty region (memory flat in the height).
 #pragma once
 
+#include <memory>
 #include <vector>
 
 #include "carving/layer.hpp"
@@ -35,16 +36,36 @@ struct RibSlice {
     Paths empty;    // nothing is printed in it: the cavities less half a line, less bridge lines
     Paths deep;     // deeper than `reach` inside `empty`
     Paths printed;  // the outline less `empty`: what the slice below's new ribs hold
+    // Filled by rib_overlap(): what the slice above prints, and each of its unheld minima, met
+    // with `deep`. Booleans of two slices' own regions, not of the ribs: they need not wait for
+    // the serial add().
+    Paths hang;
+    std::vector<UnheldMinimum> unheld_deep;
 };
 RibSlice rib_slice(const LayerRecord& layer, const RibOptions& options);
+
+// What a slice hands the one below it for rib_overlap(): a serial link passes it down in
+// order, then the overlap runs on any thread. `above` is false for the top slice.
+struct RibAbove {
+    bool above = false;
+    std::shared_ptr<const Paths> printed;
+    std::vector<UnheldMinimum> unheld;
+};
+void rib_overlap(RibSlice& slice, const RibAbove& above);
+
+// The ribs' pieces as add() placed them, stopped at the walls they near (a piece must not
+// double a wall's line). Reads the slice and the pieces only: run after add(), on any thread.
+LayerRibs clip_ribs(LayerRibs ribs, const RibSlice& slice, const RibOptions& options);
 
 class RibPlanner {
   public:
     explicit RibPlanner(const RibOptions& options);
     // The next slice going down (index one less than the previous call's), its bridges already
-    // placed: its ribs, and the minima of the slice above that they hold.
-    LayerRibs add(const LayerRecord& layer, RibSlice slice);
-    LayerRibs add(const LayerRecord& layer) { return add(layer, rib_slice(layer, options_)); }
+    // placed and `slice` overlapped with the slice above: its ribs' pieces, unclipped
+    // (clip_ribs() finishes them), and the minima of the slice above that they hold.
+    LayerRibs add(const LayerRecord& layer, const RibSlice& slice);
+    // All of it at once, for a caller that walks the slices on one thread.
+    LayerRibs add(const LayerRecord& layer);
     size_t active() const { return nodes_.size(); }  // ribs still to stand on something
 
   private:
@@ -54,8 +75,7 @@ class RibPlanner {
     };
     RibOptions options_;
     std::vector<Node> nodes_;  // where each rib is on the slice last added
-    Paths printed_above_;      // the slice above: what it prints
-    std::vector<UnheldMinimum> unheld_above_;
+    RibAbove above_;           // the slice above, for add(layer) alone
     bool has_above_ = false;
 };
 
