@@ -15,6 +15,7 @@
 #include "base/error.hpp"
 #include "base/numbers.hpp"
 #include "config/bundle.hpp"
+#include "config/config_keys.hpp"
 #include "config/setting_table.hpp"
 
 namespace carve {
@@ -141,27 +142,6 @@ int count(const std::string& key, const std::string& value) {
         throw InputError(
             fmt::format("profile key '{}': '{}' is not a whole number from 0 to 50", key, value));
     return static_cast<int>(d);
-}
-
-std::string unescape(const std::string& v) {
-    std::string out;
-    for (size_t i = 0; i < v.size(); ++i) {
-        if (v[i] == '\\' && i + 1 < v.size()) {
-            char c = v[++i];
-            out += c == 'n' ? '\n' : c == 't' ? '\t' : c;
-        } else {
-            out += v[i];
-        }
-    }
-    if (!out.empty() && out.back() != '\n') out += '\n';
-    return out;
-}
-
-bool flag(const std::string& key, const std::string& value) {
-    const std::string b = trim_whitespace(value.substr(0, value.find(',')));
-    if (b != "0" && b != "1")
-        throw InputError(fmt::format("profile key '{}': '{}' is not 0 or 1", key, value));
-    return b == "1";
 }
 
 // Keys of PrusaSlicer 2.5 that change what is printed. Those carve does not read are named in
@@ -344,41 +324,6 @@ std::vector<std::string> read_prusa_profile(std::istream& in, const std::string&
     using Setter = std::function<void(const std::string&, const std::string&)>;
     int solid[2] = {-1, -1}, perimeters = -1;
     const std::map<std::string, Setter> keys = {
-        {"bed_shape",
-         [&](const std::string& k, const std::string& v) {
-             // "0x0,250x0,250x210,0x210": the bed is the bounding box of the points.
-             double min_x = 1e9, min_y = 1e9, max_x = -1e9, max_y = -1e9;
-             std::stringstream ss(v);
-             std::string pt;
-             int n = 0;
-             while (std::getline(ss, pt, ',')) {
-                 const std::string p = trim_whitespace(pt);
-                 const size_t cross = p.find('x');
-                 const std::optional<double> x = decimal(p.substr(0, cross));
-                 const std::optional<double> y =
-                     cross == std::string::npos ? std::nullopt : decimal(p.substr(cross + 1));
-                 if (!x || !y)
-                     throw InputError(fmt::format("profile key '{}': bad point '{}'", k, pt));
-                 min_x = std::min(min_x, *x), max_x = std::max(max_x, *x);
-                 min_y = std::min(min_y, *y), max_y = std::max(max_y, *y);
-                 ++n;
-             }
-             if (n < 3 || max_x <= min_x || max_y <= min_y)
-                 throw InputError(fmt::format("profile key '{}': '{}' is not a bed outline", k, v));
-             s.bed_x = max_x - min_x, s.bed_y = max_y - min_y;
-         }},
-        {"start_gcode", [&](auto&, auto& v) { s.start_gcode = unescape(v); }},
-        {"thumbnails",
-         [&](auto& k, auto& v) {
-             s.thumbnails = parse_thumbnail_sizes(v, fmt::format("{}: profile key '{}'", path, k));
-         }},
-        {"end_gcode", [&](auto&, auto& v) { s.end_gcode = unescape(v); }},
-        {"start_filament_gcode",
-         [&](auto&, auto& v) { s.start_filament_gcode = unescape(first_quoted(v)); }},
-        {"end_filament_gcode",
-         [&](auto&, auto& v) { s.end_filament_gcode = unescape(first_quoted(v)); }},
-        {"before_layer_gcode", [&](auto&, auto& v) { s.before_layer_gcode = unescape(v); }},
-        {"layer_gcode", [&](auto&, auto& v) { s.layer_gcode = unescape(v); }},
         // Solid layers and perimeters would be carve's covers and shells; read (and checked)
         // here, applied below only with --profile-shells.
         {"top_solid_layers", [&](auto& k, auto& v) { solid[0] = count(k, v); }},
@@ -391,37 +336,6 @@ std::vector<std::string> read_prusa_profile(std::istream& in, const std::string&
                  throw InputError(fmt::format(
                      "profile key '{}': '{}' is out of range; expected from 0 to 21", k, v));
          }},
-        {"use_relative_e_distances", [&](auto& k, auto& v) { s.relative_e = flag(k, v); }},
-        {"wipe", [&](auto& k, auto& v) { s.wipe = flag(k, v); }},
-        {"use_firmware_retraction", [&](auto& k, auto& v) { s.firmware_retraction = flag(k, v); }},
-        {"avoid_crossing_perimeters",
-         [&](auto& k, auto& v) { s.avoid_crossing_perimeters = flag(k, v); }},
-        {"seam_position",
-         [&](auto& k, auto& v) {
-             const std::string m = trim_whitespace(v);
-             if (m == "aligned")
-                 s.seam = SeamMode::Aligned;
-             else if (m == "nearest")
-                 s.seam = SeamMode::Nearest;
-             else if (m == "rear")
-                 s.seam = SeamMode::Rear;
-             else if (m == "random")
-                 s.seam = SeamMode::Random;
-             else
-                 throw InputError(fmt::format("profile key '{}': unknown seam '{}'", k, m));
-         }},
-        {"gcode_flavor",
-         [&](auto& k, auto& v) {
-             const std::string f = trim_whitespace(v);
-             if (f == "klipper")
-                 s.flavor = GcodeFlavor::Klipper;
-             else if (f == "reprap" || f == "reprapfirmware")
-                 s.flavor = GcodeFlavor::RepRap;
-             else if (f.rfind("marlin", 0) == 0)
-                 s.flavor = GcodeFlavor::Marlin;
-             else
-                 throw InputError(fmt::format("profile key '{}': unsupported flavour '{}'", k, f));
-         }},
     };
     const std::set<std::string> widths = {"extrusion_width", "perimeter_extrusion_width",
                                           "external_perimeter_extrusion_width"};
@@ -432,15 +346,26 @@ std::vector<std::string> read_prusa_profile(std::istream& in, const std::string&
         // Kept raw for the placeholders of the profile's custom G-code ([printer_model], ...).
         s.profile_values[key] = value;
         try {
-            // Numeric keys come from the settings table, with its ranges. PrusaSlicer stores
+            // The table's keys, with its ranges and PrusaSlicer's spellings. PrusaSlicer stores
             // per-extruder values as comma lists; the first extruder is ours.
             if (const SettingSpec* spec = find_setting_by_ini_key(key)) {
-                const std::string first = trim_whitespace(value.substr(0, value.find(',')));
+                // A word or a list (bed_shape, thumbnails) is the whole value.
+                const bool whole = spec->text() || spec->prusa;
+                const std::string first =
+                    trim_whitespace(whole ? value : value.substr(0, value.find(',')));
                 if (spec->profile_skips_percent && first.find('%') != std::string::npos) {
                     ignored.push_back(fmt::format("{} ({})", key, first));
                     continue;
                 }
-                spec->set(s, first, where(key, v));
+                spec->set_prusa(s, first, where(key, v));
+                continue;
+            }
+            if (const auto it =
+                    std::find_if(custom_gcode_keys().begin(), custom_gcode_keys().end(),
+                                 [&](const CustomGcodeKey& c) { return key == c.ini_key; });
+                it != custom_gcode_keys().end()) {
+                s.*(it->text) =
+                    unescape_profile_text(it->string_list ? first_quoted(value) : value);
                 continue;
             }
             if (auto it = keys.find(key); it != keys.end()) {

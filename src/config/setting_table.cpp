@@ -9,11 +9,13 @@
 #include <algorithm>
 #include <cmath>
 #include <optional>
+#include <sstream>
 #include <stdexcept>
 #include <type_traits>
 
 #include "base/error.hpp"
 #include "base/numbers.hpp"
+#include "config/bundle.hpp"
 
 namespace carve {
 
@@ -78,6 +80,68 @@ TextField bed_field() {
     return t;
 }
 
+// PrusaSlicer's gcode_flavor: its names for the three firmwares carve writes for. Profiles say
+// "marlin", "marlin2" or "marlinlegacy" and "reprap" or "reprapfirmware"; carve writes marlin2
+// (it writes M204 P/T and Marlin 2's limits) and reprapfirmware.
+TextField flavor_prusa() {
+    TextField t;
+    t.get = [](const Settings& s) {
+        switch (s.flavor) {
+            case GcodeFlavor::RepRap:
+                return std::string("reprapfirmware");
+            case GcodeFlavor::Klipper:
+                return std::string("klipper");
+            case GcodeFlavor::Marlin:
+                break;
+        }
+        return std::string("marlin2");
+    };
+    t.set = [](Settings& s, const std::string& text, const std::string& source) {
+        if (text == "klipper")
+            s.flavor = GcodeFlavor::Klipper;
+        else if (text == "reprap" || text == "reprapfirmware")
+            s.flavor = GcodeFlavor::RepRap;
+        else if (text.rfind("marlin", 0) == 0)
+            s.flavor = GcodeFlavor::Marlin;
+        else
+            throw InputError(fmt::format("{}: unsupported flavour '{}'", source, text));
+    };
+    t.choices = {"marlin2", "reprapfirmware", "klipper"};
+    return t;
+}
+
+// PrusaSlicer's bed_shape: the outline's points "0x0,250x0,250x210,0x210"; the bed is their
+// bounding box.
+TextField bed_shape_field() {
+    TextField t;
+    t.get = [](const Settings& s) {
+        return fmt::format("0x0,{0}x0,{0}x{1},0x{1}", plain_number(s.bed_x), plain_number(s.bed_y));
+    };
+    t.set = [](Settings& s, const std::string& text, const std::string& source) {
+        double min_x = 1e9, min_y = 1e9, max_x = -1e9, max_y = -1e9;
+        std::stringstream ss(text);
+        std::string pt;
+        int n = 0;
+        while (std::getline(ss, pt, ',')) {
+            const std::string p = trim_whitespace(pt);
+            // A plain decimal number each: strtod would read "0x0" as hexadecimal.
+            const size_t cross = p.find('x');
+            const std::optional<double> x = parse_decimal(p.substr(0, cross));
+            const std::optional<double> y =
+                cross == std::string::npos ? std::nullopt : parse_decimal(p.substr(cross + 1));
+            if (!x || !y) throw InputError(fmt::format("{}: bad point '{}'", source, pt));
+            min_x = std::min(min_x, *x), max_x = std::max(max_x, *x);
+            min_y = std::min(min_y, *y), max_y = std::max(max_y, *y);
+            ++n;
+        }
+        if (n < 3 || max_x <= min_x || max_y <= min_y)
+            throw InputError(fmt::format("{}: '{}' is not a bed outline", source, text));
+        s.bed_x = max_x - min_x, s.bed_y = max_y - min_y;
+    };
+    t.type_name = "POINTS";
+    return t;
+}
+
 TextField thumbnails_field() {
     TextField t;
     t.get = [](const Settings& s) {
@@ -128,12 +192,13 @@ std::vector<SettingSpec> make_table() {
         {"extrusion-width", "", "mm", 0.0, 3.0, &S::extrusion_width,
          "Line width w of every wall and cover, mm; a profile's perimeter_extrusion_width or "
          "extrusion_width sets it [0 = the nozzle diameter]"},
-        {"flavor", "", "", 0, 0, words(&S::flavor, {"marlin", "reprap", "klipper"}),
-         "G-code flavour: marlin, reprap or klipper [marlin]"},
-        {"relative-e", "", "0/1", 0, 1, &S::relative_e,
+        {"flavor", "gcode_flavor", "", 0, 0, words(&S::flavor, {"marlin", "reprap", "klipper"}),
+         "G-code flavour: marlin, reprap or klipper [marlin]", false, "", "", flavor_prusa()},
+        {"relative-e", "use_relative_e_distances", "0/1", 0, 1, &S::relative_e,
          "Relative extrusion distances (M83) [off: absolute, M82]"},
-        {"bed", "", "mm", 0, 0, bed_field(),
-         "Bed size WxH, mm; the model is centred on it [250x210]"},
+        {"bed", "bed_shape", "mm", 0, 0, bed_field(),
+         "Bed size WxH, mm; the model is centred on it [250x210]", false, "", "",
+         bed_shape_field()},
         {"bed-check", "", "0/1", 0, 1, &S::bed_check, "Allow a model larger than the bed [off]",
          false, "!--no-bed-check"},
         {"filament-diameter", "filament_diameter", "mm", 0.5, 5.0, &S::filament_diameter,
@@ -216,19 +281,22 @@ std::vector<SettingSpec> make_table() {
         {"combing", "", "", 0, 0, words(&S::combing, {"off", "inside", "all"}),
          "Travel inside the part without retracting: off (straight travels), inside (not over "
          "covers) or all (anywhere in the island) [all]"},
-        {"avoid-crossing-perimeters", "", "0/1", 0, 1, &S::avoid_crossing_perimeters,
+        {"avoid-crossing-perimeters", "avoid_crossing_perimeters", "0/1", 0, 1,
+         &S::avoid_crossing_perimeters,
          "A travel that must leave its island goes inside it to where the next island is "
          "closest, crosses the gap and goes on inside that one, instead of straight [on]",
          false, "!--no-avoid-crossing-perimeters,--avoid-crossing-perimeters"},
-        {"seam", "", "", 0, 0, words(&S::seam, {"aligned", "nearest", "rear", "random"}),
+        {"seam", "seam_position", "", 0, 0,
+         words(&S::seam, {"aligned", "nearest", "rear", "random"}),
          "Where outer wall loops start: aligned (one line, in concave corners where there are "
          "any), nearest, rear or random [aligned]"},
-        {"wipe", "", "0/1", 0, 1, &S::wipe, "Move back along the last path while retracting [off]"},
+        {"wipe", "wipe", "0/1", 0, 1, &S::wipe,
+         "Move back along the last path while retracting [off]"},
         {"retract-before-travel", "retract_before_travel", "mm", 0.0, 1000.0,
          &S::retract_min_travel,
          "Only a travel longer than this retracts (one that stays inside the part with combing "
          "never does), mm [2]"},
-        {"firmware-retraction", "", "0/1", 0, 1, &S::firmware_retraction,
+        {"firmware-retraction", "use_firmware_retraction", "0/1", 0, 1, &S::firmware_retraction,
          "Retract with G10/G11, length and speed set in the firmware [off]"},
         {"wipe-distance", "", "mm", 0.0, 50.0, &S::wipe_distance,
          "With --wipe: how far back, mm [1]"},
@@ -283,9 +351,12 @@ std::vector<SettingSpec> make_table() {
          "Machine limit M205 E (classic jerk), mm/s [4.5]"},
         {"", "machine_max_junction_deviation", "mm", 0.0, 1.0, &S::junction_deviation,
          "Junction deviation M205 J (Marlin 2); 0 = classic jerk, mm [0.013]"},
+        // PrusaSlicer's spelling in the configuration block, but not read from a profile: a
+        // profile turning arcs on could not be overruled, the option having no negation.
         {"arc-fitting", "", "0/1", 0, 1, &S::arc_fitting,
          "Write G2/G3 arcs where a path follows a circle within --arc-tolerance; the firmware "
-         "must accept arcs (Klipper: [gcode_arcs]) [off]"},
+         "must accept arcs (Klipper: [gcode_arcs]) [off]",
+         false, "", "", words(&S::arc_fitting, {"disabled", "emit_center"})},
         {"arc-tolerance", "", "mm", 0.001, 0.2, &S::arc_tolerance,
          "With --arc-fitting, how far an arc may leave the path it replaces, mm [0.02]"},
         // The stats have always called it by its profile key.
@@ -293,7 +364,7 @@ std::vector<SettingSpec> make_table() {
          "Write M73 progress and remaining time for printer screens and hosts; --no-m73: none, "
          "whatever the printer [off; on with --printer mk3s or ender3]",
          false, "!--no-m73,--m73", "remaining_times"},
-        {"thumbnails", "", "", 0, 0, thumbnails_field(),
+        {"thumbnails", "thumbnails", "", 0, 0, thumbnails_field(),
          "PNG previews of the model in the header, PrusaSlicer's format, sizes WxH,WxH (e.g. "
          "16x16,220x124) [none]"},
     };
@@ -344,6 +415,23 @@ std::string SettingSpec::name() const {
     for (char& c : out)
         if (c == '-') c = '_';
     return out;
+}
+
+std::string SettingSpec::config_key() const {
+    return *ini_key ? std::string(ini_key) : name();
+}
+
+std::string SettingSpec::prusa_text(const Settings& s) const {
+    if (prusa) return prusa->get(s);
+    if (text()) return text_field().get(s);
+    return plain_number(get(s));
+}
+
+void SettingSpec::set_prusa(Settings& s, const std::string& text, const std::string& source) const {
+    if (prusa)
+        prusa->set(s, text, source);
+    else
+        set(s, text, source);
 }
 
 std::string SettingSpec::cli_switch_names() const {

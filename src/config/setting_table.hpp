@@ -8,6 +8,7 @@
 #pragma once
 
 #include <functional>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -45,6 +46,10 @@ struct SettingSpec {
     const char* switch_names = "";
     // The identifier when it must differ from the option's (stats keys other tools read).
     const char* key = "";
+    // How PrusaSlicer's files spell the value when carve's own words do not (gcode_flavor =
+    // marlin2, bed_shape = 0x0,250x0,250x210,0x210, arc_fitting = emit_center): the G-code's
+    // configuration block writes it, and the profile reader reads it under `ini_key`.
+    std::optional<TextField> prusa = std::nullopt;
 
     bool text() const { return std::holds_alternative<TextField>(field); }
     const TextField& text_field() const { return std::get<TextField>(field); }
@@ -65,6 +70,13 @@ struct SettingSpec {
     // An identifier for writers that have no options: the key, the option, or the profile key of
     // a profile-only setting, with '_' for '-' ("layer_height", "machine_max_jerk_x").
     std::string name() const;
+    // Its key in the G-code's configuration block: the profile key, else the name.
+    std::string config_key() const;
+    // The value as PrusaSlicer's files spell it: `prusa`, else as text_value() but a switch
+    // 0 or 1 ("marlin2", "0x0,250x0,250x210,0x210", "rear", "1", "0.2").
+    std::string prusa_text(const Settings& s) const;
+    // Reads that spelling, checked as set() checks; throws InputError naming `source`.
+    void set_prusa(Settings& s, const std::string& text, const std::string& source) const;
     // How a person finds it: "--option" when the command line has it, else the name.
     std::string label() const;
     // The CLI11 names of a switch ("--wipe", "!--no-m73,--m73").

@@ -6,10 +6,11 @@
 #include <cerrno>
 #include <cstdlib>
 #include <ctime>
-#include <iterator>
+#include <stdexcept>
 #include <string_view>
 
 #include "base/numbers.hpp"
+#include "config/config_keys.hpp"
 #include "config/setting_table.hpp"
 #include "gcode/gcode.hpp"
 
@@ -32,23 +33,42 @@ std::time_t generation_time() {
     return std::time(nullptr);
 }
 
-// PrusaSlicer's escaping of a multi-line value on one line.
-std::string escaped(const std::string& text) {
-    std::string out;
-    for (char c : text) {
-        if (c == '\n')
-            out += "\\n";
-        else if (c == '\r')
-            continue;
-        else if (c == '\\')
-            out += "\\\\";
-        else
-            out += c;
-    }
-    // The stored G-code ends with a newline that PrusaSlicer's own values do not carry.
-    while (out.size() >= 2 && out.compare(out.size() - 2, 2, "\\n") == 0)
-        out.resize(out.size() - 2);
-    return out;
+// The block's words after its numbers, by key, in the order the block has always had (G-code
+// files are compared byte for byte): table rows that are words or switches, and the values of
+// config_only_values(). covers and shells are numbers written a second time here, as before.
+// The custom G-code texts follow, then the supports.
+constexpr std::string_view kWordOrder[] = {
+    "first_layer_height",
+    "cavities",
+    "covers",
+    "shells",
+    "walls",
+    "restriction_factor",
+    "opening_factor",
+    "wall_extension",
+    "bridge_angle_step",
+    "prune_bridges",
+    "gcode_flavor",
+    "printer_name",
+    "bed_shape",
+    "use_relative_e_distances",
+    "combing",
+    "avoid_crossing_perimeters",
+    "seam_position",
+    "wipe",
+    "arc_fitting",
+    "use_firmware_retraction",
+    "bridge_flow_ratio",
+    "thumbnails",
+};
+
+// A word's value, spelt as the table or config_only_values() spell it.
+std::string word_value(std::string_view key, const Settings& s) {
+    for (const SettingSpec& spec : setting_table())
+        if (spec.config_key() == key) return spec.prusa_text(s);
+    for (const ConfigOnlyValue& v : config_only_values())
+        if (key == v.key) return v.get(s);
+    throw std::logic_error("configuration block word without a declaration: " + std::string(key));
 }
 
 }  // namespace
@@ -103,59 +123,16 @@ std::vector<std::string> config_block(const Settings& s) {
             std::string_view(spec.option).starts_with("support-") &&
             std::string_view(spec.option) != "support-angle")
             continue;
-        std::string key = *spec.ini_key ? spec.ini_key : spec.option;
-        for (char& c : key)
-            if (c == '-') c = '_';
-        kv.emplace_back(key, plain_number(spec.get(s)));
+        kv.emplace_back(spec.config_key(), spec.prusa_text(s));
     }
-    // What the table cannot hold: words, lists and the custom G-code.
-    auto flag = [](bool b) { return std::string(b ? "1" : "0"); };
-    std::string thumbs;
-    for (const auto& [w, h] : s.thumbnails)
-        fmt::format_to(std::back_inserter(thumbs), "{}{}x{}", thumbs.empty() ? "" : ",", w, h);
-    const std::vector<std::pair<std::string, std::string>> words = {
-        {"first_layer_height", plain_number(s.layer_height)},
-        {"cavities", s.cavities_auto ? "auto" : std::to_string(s.cavities)},
-        {"covers", std::to_string(s.covers)},
-        {"shells", std::to_string(s.shells)},
-        {"walls", s.walls == WallMode::Single ? "single" : "double"},
-        {"restriction_factor", plain_number(s.restriction_factor)},
-        {"opening_factor", plain_number(s.opening_factor)},
-        {"wall_extension", plain_number(s.wall_extension)},
-        {"bridge_angle_step", plain_number(s.bridge_angle_step)},
-        {"prune_bridges", flag(s.prune_bridges)},
-        {"gcode_flavor", flavor_name(s.flavor) == "RepRap"    ? "reprapfirmware"
-                         : flavor_name(s.flavor) == "Klipper" ? "klipper"
-                                                              : "marlin2"},
-        {"printer_name", s.printer_name},
-        {"bed_shape",
-         fmt::format("0x0,{0}x0,{0}x{1},0x{1}", plain_number(s.bed_x), plain_number(s.bed_y))},
-        {"use_relative_e_distances", flag(s.relative_e)},
-        {"combing", s.combing == Combing::Off      ? "off"
-                    : s.combing == Combing::Inside ? "inside"
-                                                   : "all"},
-        {"avoid_crossing_perimeters", flag(s.avoid_crossing_perimeters)},
-        {"seam_position", s.seam == SeamMode::Aligned   ? "aligned"
-                          : s.seam == SeamMode::Nearest ? "nearest"
-                          : s.seam == SeamMode::Rear    ? "rear"
-                                                        : "random"},
-        {"wipe", flag(s.wipe)},
-        {"arc_fitting", s.arc_fitting ? "emit_center" : "disabled"},
-        {"use_firmware_retraction", flag(s.firmware_retraction)},
-        {"bridge_flow_ratio", plain_number(s.bridge_flow)},
-        {"thumbnails", thumbs},
-        {"start_gcode", escaped(s.start_gcode)},
-        {"end_gcode", escaped(s.end_gcode)},
-        {"start_filament_gcode", escaped(s.start_filament_gcode)},
-        {"end_filament_gcode", escaped(s.end_filament_gcode)},
-        {"before_layer_gcode", escaped(s.before_layer_gcode)},
-        {"layer_gcode", escaped(s.layer_gcode)},
-    };
-    kv.insert(kv.end(), words.begin(), words.end());
+    for (std::string_view key : kWordOrder) kv.emplace_back(key, word_value(key, s));
+    for (const CustomGcodeKey& c : custom_gcode_keys())
+        kv.emplace_back(c.ini_key, escape_profile_text(s.*(c.text)));
+    // PrusaSlicer has two switches for carve's one word (--support), so it is no table key.
     if (s.support != SupportMode::None) {
         kv.emplace_back("support_material", "1");
         kv.emplace_back("support_material_buildplate_only",
-                        flag(s.support == SupportMode::Buildplate));
+                        s.support == SupportMode::Buildplate ? "1" : "0");
     }
     std::vector<std::string> out{"; prusaslicer_config = begin"};
     for (const auto& [k, v] : kv) out.push_back(fmt::format("; {} = {}", k, v));

@@ -23,8 +23,10 @@ std::string generated_by_line();
 // The figures PrusaSlicer writes after the last move, in its words and units.
 std::vector<std::string> footer_figures(const PrintStats& stats, int layer_count);
 
-// "; key = value" for every setting: the table's (by their profile key, else their option),
-// then the few that are not numbers. Multi-line values are escaped as PrusaSlicer does ("\n").
+// "; key = value" for every setting: the table's numbers (by their profile key, else their
+// name), then its words and switches in PrusaSlicer's spellings with the values of
+// config_only_values(), then the custom G-code (config_keys.hpp). Multi-line values are escaped
+// as PrusaSlicer does ("\n").
 std::vector<std::string> config_block(const Settings& settings);
 
 std::string flavor_name(GcodeFlavor flavor);

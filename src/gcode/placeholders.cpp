@@ -101,7 +101,12 @@ class Context {
         // Carve's own fields first: an option given on the command line overrides the profile.
         // The table's settings under their profile keys, and the few names PrusaSlicer
         // defines that carve fixes (one extruder, no z offset).
-        if (const SettingSpec* spec = find_setting_by_ini_key(name)) return num(spec->get(s_));
+        // A word (gcode_flavor, bed_shape) is the profile's own text, below: carve writes one
+        // spelling for several of PrusaSlicer's ("marlin" and "marlin2" are both marlin2), and
+        // a template tests the profile's. get() reads only numbers and switches.
+        if (const SettingSpec* spec = find_setting_by_ini_key(name);
+            spec && !spec->text() && !spec->prusa)
+            return num(spec->get(s_));
         const std::map<std::string, double> fields = {
             {"first_layer_height", s_.layer_height},
             {"initial_tool", 0},

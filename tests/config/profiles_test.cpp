@@ -15,7 +15,10 @@
 #include <sstream>
 
 #include "base/error.hpp"
+#include "config/config_keys.hpp"
+#include "config/setting_table.hpp"
 #include "config/settings.hpp"
+#include "gcode/header.hpp"
 #include "gcode/placeholders.hpp"
 #include "support/carve_run.hpp"
 #include "support/models.hpp"
@@ -229,6 +232,20 @@ TEST(Placeholders, CommandLineValuesWinOverTheProfile) {
     EXPECT_NE(g.text.find("M221 S100"), std::string::npos);
 }
 
+// Switches that have a profile key come from the table, so an option wins over the profile;
+// words stay the profile's own text (its "marlin", not carve's "marlin2"), and reading them
+// does not ask the table for a number (which a word has not).
+TEST(Placeholders, SwitchesComeFromTheTableAndWordsFromTheProfile) {
+    Settings s = loaded_mk3s();
+    ASSERT_EQ(s.profile_values.at("gcode_flavor"), "marlin");
+    s.wipe = false;  // the profile says 1; --no-wipe would leave this
+    const ExpandedGcode g =
+        expand_custom_gcode("W[wipe] F{gcode_flavor} B{bed_shape} S{seam_position}\n", s);
+    EXPECT_TRUE(g.unresolved.empty());
+    // bed_shape is a list: without an index, its first point.
+    EXPECT_NE(g.text.find("W0 Fmarlin B0x0 Saligned"), std::string::npos) << g.text;
+}
+
 TEST(Placeholders, TheEndGcodeLiftsByTheHeightOfThePrint) {
     const Settings s = loaded_mk3s();
     const ExpandedGcode low = expand_custom_gcode(s.end_gcode, s, {{"max_layer_z", 30}});
@@ -372,4 +389,75 @@ TEST(Precedence, TheRealProfileDrivesTheGcode) {
     EXPECT_EQ(c.at("travel_speed"), ini_value(kMk3s, "travel_speed"));
     EXPECT_EQ(c.at("bed_shape"), "0x0,250x0,250x210,0x210");
     EXPECT_EQ(c.at("use_relative_e_distances"), "1");
+}
+
+// The G-code's configuration block and the profile reader take keys and spellings from the one
+// declaration (the setting table, config_keys.hpp): every row is written under its key in the
+// table's spelling, and what the reader knows reads back to the same setting.
+TEST(ConfigBlock, WritesTheTablesSpellingsAndReadsBack) {
+    Settings s;  // words and switches away from their defaults, so that no spelling is a default
+    s.flavor = GcodeFlavor::Klipper;
+    s.bed_x = 200, s.bed_y = 180;
+    s.seam = SeamMode::Rear;
+    s.combing = Combing::Inside;
+    s.walls = WallMode::Double;
+    s.wipe = s.relative_e = s.firmware_retraction = s.arc_fitting = true;
+    s.avoid_crossing_perimeters = false;
+    s.thumbnails = {{16, 16}, {32, 24}};
+    s.support = SupportMode::Buildplate;  // the support rows are written only with supports
+    s.start_gcode = "G28 ; home\nG1 Z5 \\ done\n";
+    s.start_filament_gcode = "M900 K0\n";
+    s.layer_gcode = "";
+
+    std::map<std::string, std::string> block;
+    std::string ini;
+    for (const std::string& line : config_block(s)) {
+        const size_t eq = line.find(" = ");
+        ASSERT_EQ(line.rfind("; ", 0), 0u) << line;
+        ASSERT_NE(eq, std::string::npos) << line;
+        const std::string key = line.substr(2, eq - 2);
+        if (key == "prusaslicer_config") continue;
+        if (key != "covers" && key != "shells") {  // written twice, as before (header.cpp)
+            EXPECT_EQ(block.count(key), 0u) << "written twice: " << key;
+        }
+        block[key] = line.substr(eq + 3);
+        ini += line.substr(2) + "\n";
+    }
+    for (const SettingSpec& spec : setting_table()) {
+        // Not written: the count shapes nothing, the check is no print setting, and PrusaSlicer
+        // spells the support mode as two switches (below).
+        const std::string option = spec.option;
+        if (option == "threads" || option == "bed-check" || option == "support") continue;
+        ASSERT_EQ(block.count(spec.config_key()), 1u) << spec.config_key();
+        EXPECT_EQ(block.at(spec.config_key()), spec.prusa_text(s)) << spec.config_key();
+        // The PrusaSlicer spelling parses back to the same value.
+        Settings again;
+        spec.set_prusa(again, spec.prusa_text(s), "test");
+        EXPECT_EQ(spec.prusa_text(again), spec.prusa_text(s)) << spec.config_key();
+    }
+    for (const ConfigOnlyValue& v : config_only_values()) EXPECT_EQ(block.at(v.key), v.get(s));
+    for (const CustomGcodeKey& c : custom_gcode_keys())
+        EXPECT_EQ(block.at(c.ini_key), escape_profile_text(s.*(c.text))) << c.ini_key;
+    // PrusaSlicer's words, not carve's.
+    EXPECT_EQ(block.at("gcode_flavor"), "klipper");
+    EXPECT_EQ(block.at("bed_shape"), "0x0,200x0,200x180,0x180");
+    EXPECT_EQ(block.at("arc_fitting"), "emit_center");
+    EXPECT_EQ(block.at("seam_position"), "rear");
+    EXPECT_EQ(block.at("support_material_buildplate_only"), "1");
+
+    // Read as a profile, the block gives back every setting that has a profile key.
+    Settings back;
+    load_prusa_profile(write_ini("block.ini", ini).string(), back);
+    for (const SettingSpec& spec : setting_table()) {
+        if (*spec.ini_key) {
+            EXPECT_EQ(spec.prusa_text(back), spec.prusa_text(s)) << spec.ini_key;
+        }
+    }
+    for (const CustomGcodeKey& c : custom_gcode_keys())
+        EXPECT_EQ(back.*(c.text), s.*(c.text)) << c.ini_key;
+    Settings other = s;
+    other.flavor = GcodeFlavor::RepRap;
+    EXPECT_EQ(find_setting_by_ini_key("gcode_flavor")->prusa_text(other), "reprapfirmware");
+    other.flavor = GcodeFlavor::Marlin;
+    EXPECT_EQ(find_setting_by_ini_key("gcode_flavor")->prusa_text(other), "marlin2");
 }

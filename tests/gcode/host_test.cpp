@@ -396,8 +396,7 @@ TEST(Hosts, MoonrakerIdentifiesCarveAndReadsItsFigures) {
     for (const carve::SettingSpec& spec : carve::setting_table()) {
         // Switches and words are in the block under PrusaSlicer's own names (seam_position).
         if (spec.text() || std::holds_alternative<bool carve::Settings::*>(spec.field)) continue;
-        std::string key = *spec.ini_key ? spec.ini_key : spec.option;
-        std::replace(key.begin(), key.end(), '-', '_');
+        const std::string key = spec.config_key();
         if (key == "threads") continue;  // shapes nothing
         // The support settings shape nothing without --support: left out then, so that the
         // block of a print without supports is the one it was before they existed.
