@@ -12,4 +12,4 @@ bash scripts/build.sh
 ctest --test-dir build --output-on-failure -j "$(nproc)"
 # The same suite under AddressSanitizer + UBSan, then every fuzz target for a short while.
 bash scripts/sanitize.sh
-bash scripts/fuzz.sh "${CARVE_FUZZ_SECONDS:-10}"
+CARVE_FUZZ_BUILD_DIR=build-asan bash scripts/fuzz.sh "${CARVE_FUZZ_SECONDS:-10}"
