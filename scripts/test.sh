@@ -4,12 +4,26 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 export CI=true
+# Each phase's end, seconds since the start and the load average, for bench/results/ci_time.md.
+mark() { echo "test.sh: $1 done at ${SECONDS} s, load $(cut -d' ' -f1-3 /proc/loadavg)"; }
 bash scripts/install-deps.sh
 # The layering drawn in README.md and the formatting: cheap, so before the build.
 python3 scripts/check_layers.py
 bash scripts/check_format.sh
+mark "install-deps, check_layers, check_format"
 bash scripts/build.sh
+mark "Release build"
 ctest --test-dir build --output-on-failure -j "$(nproc)"
-# The same suite under AddressSanitizer + UBSan, then every fuzz target for a short while.
-bash scripts/sanitize.sh
-bash scripts/fuzz.sh "${CARVE_FUZZ_SECONDS:-10}"
+mark "Release ctest"
+# The same suite under AddressSanitizer + UBSan, and every fuzz target for a short while, both
+# from the one clang-14 tree. The fuzz targets run alongside the suite, whose last minute or so
+# runs one or two long tests and would leave a core idle (bench/results/ci_time.md).
+bash scripts/sanitize.sh build
+mark "sanitizer+fuzz build"
+(CARVE_FUZZ_BUILD_DIR=build-asan bash scripts/fuzz.sh "${CARVE_FUZZ_SECONDS:-10}" && mark fuzz) &
+fuzz=$!
+status=0
+bash scripts/sanitize.sh test || status=1
+mark "sanitizer ctest"
+wait "$fuzz" || status=1
+exit $status

@@ -82,23 +82,27 @@ bool contains(const BBox2& outer, const BBox2& inner) {
 // `p` with every run of consecutive vertices beyond one side of `box` (strictly) replaced by
 // the run's first and last vertex. The new edge lies beyond that side with the run, so the
 // winding number of every point inside the box is unchanged; and every edge that reaches the
-// box is kept as it was, so a boolean rounds its crossings with anything inside the box
-// exactly as it would on `p`. A cavity above that spans the slice then brings to each small
-// piece of V only its edges near it, plus a few.
+// box is kept as it was. Clipper's sweep also clamps each crossing it rounds into its scanbeam,
+// whose bounds are the y of every vertex of the pass, wherever it lies: so the vertices level
+// with the box (its band of y, one unit wider for the rounding) stay too, even beyond its left
+// or right side. Then a boolean rounds its crossings with anything inside the box exactly as it
+// would on `p`. A cavity above that spans the slice then brings to each small piece of V only
+// its edges near it and its vertices level with it, plus a few.
 void fold_beyond(const Path& p, const BBox2& box, Path& out) {
     out = p;
     Path next;
+    auto in_band = [&](const Point& q) { return q.Y >= box.min_y - 1 && q.Y <= box.max_y + 1; };
     for (int side = 0; side < 4; ++side) {
         auto beyond = [&](const Point& q) {
             switch (side) {
                 case 0:
-                    return q.X < box.min_x;
+                    return q.X < box.min_x && !in_band(q);
                 case 1:
-                    return q.X > box.max_x;
+                    return q.X > box.max_x && !in_band(q);
                 case 2:
-                    return q.Y < box.min_y;
+                    return q.Y < box.min_y - 1;
                 default:
-                    return q.Y > box.max_y;
+                    return q.Y > box.max_y + 1;
             }
         };
         const size_t n = out.size();
@@ -124,9 +128,10 @@ void fold_beyond(const Path& p, const BBox2& box, Path& out) {
 // operand's contours whose boxes meet the cluster's, folded to its box (fold_beyond): late in
 // the sweep V is dozens of small pieces, and grouping both operands together would join them
 // all through the cavity above that spans them. Folding keeps every edge that reaches the box,
-// so Clipper rounds each crossing the same way in every pass, and the pieces of a partition
-// made by several passes still meet exactly (a Sutherland-Hodgman cut would move the cut
-// edges by the rounding of their new ends).
+// so Clipper rounds each crossing the same way in every pass (the other operand's contours
+// beside the box come folded too when they have vertices level with it: fold_beyond says why),
+// and the pieces of a partition made by several passes still meet exactly (a
+// Sutherland-Hodgman cut would move the cut edges by the rounding of their new ends).
 Paths run_within(ClipType op, const Paths& subject, const Paths& clip, Fills fill,
                  bool anchor_is_subject) {
     const Paths& anchor = anchor_is_subject ? subject : clip;
@@ -147,7 +152,18 @@ Paths run_within(ClipType op, const Paths& subject, const Paths& clip, Fills fil
         bool met = false;
         for (size_t j = 0; j < other.size(); ++j) {
             const BBox2& ob = other_boxes[j];
-            if (!overlap(ob, box)) continue;
+            if (!overlap(ob, box)) {
+                // Beside the box, it cannot change a winding number inside; but its vertices
+                // level with the box bound scanbeams there (see fold_beyond), so those stay.
+                if (ob.max_y >= box.min_y - 1 && ob.min_y <= box.max_y + 1 &&
+                    std::any_of(other[j].begin(), other[j].end(), [&](const Point& q) {
+                        return q.Y >= box.min_y - 1 && q.Y <= box.max_y + 1;
+                    })) {
+                    fold_beyond(other[j], box, folded);
+                    c.AddPath(folded, other_type, true);
+                }
+                continue;
+            }
             met = true;
             if (contains(box, ob)) {
                 c.AddPath(other[j], other_type, true);

@@ -104,8 +104,8 @@ std::vector<Shape> zoo() {
     Rng rng(20170601);
     for (int k = 0; k < 8; ++k) {
         const double big = rng.uniform(2000, 20000);
-        add("star" + std::to_string(k),
-            {star(rng, 0, 0, rng.integer(5, 60), big * rng.uniform(0.2, 0.6), big)});
+        const int n = rng.integer(5, 60);  // one draw per statement: argument order is unspecified
+        add("star" + std::to_string(k), {star(rng, 0, 0, n, big * rng.uniform(0.2, 0.6), big)});
     }
     for (int k = 0; k < 4; ++k) {  // stars with star-shaped holes
         const double big = rng.uniform(6000, 20000);
@@ -493,6 +493,10 @@ TEST(MorphologyProperties, EqualsClipperMinkowskiSumOfTheContours) {
                 }
                 band = unite(band, piece);
             }
+            // The union of those pieces can round its crossings apart into a speck, a hole of
+            // half a square unit (noisy_circle, a=200, in the 7 um of the band nearest the outer
+            // boundary): rounding, no part of the sum, so the reference drops contours under one.
+            std::erase_if(band, [](const Path& p) { return std::abs(area(p)) < 1.0; });
             EXPECT_LE(hausdorff(dilate(s.region, a), unite(band, s.region), 10), 1.5);
             EXPECT_LE(hausdorff(erode(s.region, a), subtract(s.region, band), 10), 1.5);
         }

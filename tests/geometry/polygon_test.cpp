@@ -308,9 +308,11 @@ TEST(Polygon, ContoursNearKeepTheDilationWithinTheOther) {
             const Coord x = rng.integer(0, 40) * spread, y = rng.integer(0, 10) * spread;
             const Coord side = rng.integer(4, 12) * 500;
             out.push_back(square(x, y, side));
-            if (rng.integer(0, 2) > 0)  // a hole, 300 um inside or further in
-                out.push_back(reversed(square(x + 300 + rng.integer(0, 3) * 400,
-                                              y + 300 + rng.integer(0, 3) * 400, 1500)));
+            if (rng.integer(0, 2) > 0) {  // a hole, 300 um inside or further in
+                const Coord hx = x + 300 + rng.integer(0, 3) * 400;
+                const Coord hy = y + 300 + rng.integer(0, 3) * 400;
+                out.push_back(reversed(square(hx, hy, 1500)));
+            }
         }
         return unite(out);
     };
@@ -424,10 +426,14 @@ TEST(Polygon, PiecewiseBooleansUnderALargeContourEqualOneClipperPass) {
     int folded = 0;
     for (int round = 0; round < 30; ++round) {
         Paths pieces;
-        for (int i = 0; i < rng.integer(2, 15); ++i)
-            pieces.push_back(square(rng.integer(0, 60) * 700 + rng.integer(0, 99),
-                                    rng.integer(0, 60) * 700 + rng.integer(0, 99),
-                                    rng.integer(2, 9) * 100 + rng.integer(0, 99)));
+        for (int i = 0; i < rng.integer(2, 15); ++i) {
+            // One coordinate per statement: the order of a call's arguments is unspecified
+            // (GCC and clang differ), and the shapes must be the same with every compiler.
+            const Coord x = rng.integer(0, 60) * 700 + rng.integer(0, 99);
+            const Coord y = rng.integer(0, 60) * 700 + rng.integer(0, 99);
+            const Coord side = rng.integer(2, 9) * 100 + rng.integer(0, 99);
+            pieces.push_back(square(x, y, side));
+        }
         pieces = unite(pieces);
         Path ring, hole;
         const double cx = 21000, cy = 21000;

@@ -88,9 +88,11 @@ TEST(CircleEvents, AgreeWithBoostExactArithmeticOnThinShapes) {
     const Coord off = 3'000'000;
     for (int round = 0; round < 40; ++round) {
         Path line;
-        for (int k = 0; k < rng.integer(2, 8); ++k)
-            line.emplace_back(off + Coord(rng.uniform(0, 30000)),
-                              off + Coord(rng.uniform(0, 30000)));
+        for (int k = 0; k < rng.integer(2, 8); ++k) {
+            // One draw per statement: the order of a call's arguments is unspecified.
+            const Coord x = off + Coord(rng.uniform(0, 30000));
+            line.emplace_back(x, off + Coord(rng.uniform(0, 30000)));
+        }
         build(dilate_lines({line}, Coord(rng.uniform(150, 1500))));
         Path poly;
         const int n = rng.integer(5, 12);

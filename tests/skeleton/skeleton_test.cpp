@@ -55,8 +55,10 @@ Path subdivide(const Path& p, double step, int jitter, Rng& rng) {
         out.push_back(a);
         for (int k = 1; k < n; ++k) {
             const double t = double(k) / n;
-            out.emplace_back(std::llround(a.X + t * (b.X - a.X)) + rng.integer(-jitter, jitter),
-                             std::llround(a.Y + t * (b.Y - a.Y)) + rng.integer(-jitter, jitter));
+            // One draw per statement: the order of a call's arguments is unspecified.
+            const Coord x = std::llround(a.X + t * (b.X - a.X)) + rng.integer(-jitter, jitter);
+            const Coord y = std::llround(a.Y + t * (b.Y - a.Y)) + rng.integer(-jitter, jitter);
+            out.emplace_back(x, y);
         }
     }
     return out;
@@ -66,8 +68,9 @@ Path circle(double cx, double cy, double r, int n, int jitter, Rng& rng, double 
     Path p;
     for (int i = 0; i < n; ++i) {
         const double a = phase + 2 * kPi * i / n;
-        p.emplace_back(std::llround(cx + r * std::cos(a)) + rng.integer(-jitter, jitter),
-                       std::llround(cy + r * std::sin(a)) + rng.integer(-jitter, jitter));
+        const Coord x = std::llround(cx + r * std::cos(a)) + rng.integer(-jitter, jitter);
+        const Coord y = std::llround(cy + r * std::sin(a)) + rng.integer(-jitter, jitter);
+        p.emplace_back(x, y);
     }
     return p;
 }
