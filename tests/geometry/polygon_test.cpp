@@ -427,11 +427,12 @@ TEST(Polygon, PiecewiseBooleansUnderALargeContourEqualOneClipperPass) {
     for (int round = 0; round < 30; ++round) {
         Paths pieces;
         for (int i = 0; i < rng.integer(2, 15); ++i) {
-            // One coordinate per statement: the order of a call's arguments is unspecified
-            // (GCC and clang differ), and the shapes must be the same with every compiler.
-            const Coord x = rng.integer(0, 60) * 700 + rng.integer(0, 99);
-            const Coord y = rng.integer(0, 60) * 700 + rng.integer(0, 99);
-            const Coord side = rng.integer(2, 9) * 100 + rng.integer(0, 99);
+            // One draw per declarator, in reading order: the order of a call's arguments and of
+            // the operands of + is unspecified (GCC and clang differ), and the shapes must be
+            // the same with every compiler.
+            const Coord xc = rng.integer(0, 60) * 700, x = xc + rng.integer(0, 99);
+            const Coord yc = rng.integer(0, 60) * 700, y = yc + rng.integer(0, 99);
+            const Coord sc = rng.integer(2, 9) * 100, side = sc + rng.integer(0, 99);
             pieces.push_back(square(x, y, side));
         }
         pieces = unite(pieces);
