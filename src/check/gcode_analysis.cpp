@@ -4,687 +4,424 @@
 // Deliberately independent of the slicing stages (Clipper, nlohmann-json, the standard library
 // and the trapezoid of gcode/motion.cpp for the stick time): the same measure applies to any
 // slicer's file; the mesh is reached only through GcodeAnalysisOptions::model_slice. The
-// geometry it measures with is in footprint.cpp, the text it reads in gcode_text.cpp.
+// geometry it measures with is in footprint.cpp, the text it reads in gcode_text.cpp. This file
+// is the interpreter (machine state, moves, arcs, travel; the analyser's class in analyser.hpp);
+// what is measured on each layer once read is in layer_analysis.cpp.
 #include "check/gcode_analysis.hpp"
 
 #include <algorithm>
 #include <cctype>
 #include <cmath>
-#include <deque>
-#include <limits>
 #include <numbers>
 
 #include "base/error.hpp"
+#include "check/analyser.hpp"
 #include "check/footprint.hpp"
 #include "check/gcode_text.hpp"
 #include "gcode/motion.hpp"
 
 namespace carve {
 
+namespace check {
+
 namespace {
 
-using namespace check;
-using ClipperLib::Clipper;
-
-using ClipperLib::Clipper;
-using ClipperLib::ClipperOffset;
-
-constexpr double kZTolerance = 1e-4;      // mm: same layer
-constexpr double kMaxLayerMm = 1.0;       // no layer is thicker: how far back recent layers go
 constexpr double kMinMoveMm = 1e-6;       // shorter XY moves draw nothing
 constexpr double kReliableMm = 0.05;      // shorter moves carry too much rounding to judge a width
 constexpr double kWidthTolerance = 0.05;  // relative width change that starts a new polyline
 constexpr double kArcSagittaMm = 0.005;
 
-struct Words {
-    bool has[26] = {};
-    double v[26] = {};
-    bool any(char c) const { return has[c - 'A']; }
-    double get(char c) const { return v[c - 'A']; }
-};
+}  // namespace
 
-class Analyser {
-  public:
-    // scan_only: parse and track the extent of the extrusion, build no footprint.
-    Analyser(const GcodeAnalysisOptions& o, double filament_diameter, bool scan_only = false)
-        : opt_(o), scan_only_(scan_only) {
-        result_.filament_diameter_mm = filament_diameter;
-        filament_area_ = std::numbers::pi * filament_diameter * filament_diameter / 4;
-        r_units_ = to_units(o.support_radius_mm);
-        far_units_ = to_units(o.far_radius_mm);
-    }
+Analyser::Analyser(const GcodeAnalysisOptions& o, double filament_diameter, bool scan_only)
+    : opt_(o), scan_only_(scan_only) {
+    result_.filament_diameter_mm = filament_diameter;
+    filament_area_ = std::numbers::pi * filament_diameter * filament_diameter / 4;
+    r_units_ = to_units(o.support_radius_mm);
+    far_units_ = to_units(o.far_radius_mm);
+}
 
-    void line(std::string_view s) {
-        s = trim(s);
+void Analyser::line(std::string_view s) {
+    s = trim(s);
+    if (s.empty()) return;
+    size_t semi = s.find(';');
+    if (semi != std::string_view::npos) {
+        comment(trim(s.substr(semi + 1)));
+        s = trim(s.substr(0, semi));
         if (s.empty()) return;
-        size_t semi = s.find(';');
-        if (semi != std::string_view::npos) {
-            comment(trim(s.substr(semi + 1)));
-            s = trim(s.substr(0, semi));
-            if (s.empty()) return;
-        }
-        Words w;
-        char command = 0;
-        int code = -1;
-        size_t i = 0;
-        while (i < s.size()) {
-            char c = s[i];
-            if (c == '*') break;  // checksum
-            if (c == ' ' || c == '\t') {
-                ++i;
-                continue;
-            }
-            if (c >= 'a' && c <= 'z') c = static_cast<char>(c - 'a' + 'A');
+    }
+    Words w;
+    char command = 0;
+    int code = -1;
+    size_t i = 0;
+    while (i < s.size()) {
+        char c = s[i];
+        if (c == '*') break;  // checksum
+        if (c == ' ' || c == '\t') {
             ++i;
-            double value = 0;
-            size_t used = 0;
-            if (c < 'A' || c > 'Z' || !parse_number(s.substr(i), value, &used)) {
-                while (i < s.size() && s[i] != ' ' && s[i] != '\t') ++i;
-                continue;
-            }
-            i += used;
-            if (command == 0 && (c == 'G' || c == 'M')) {
-                command = c;
-                code = static_cast<int>(value);
-                if (value != code) code = -1;  // G29.1 and friends: not ours
-            } else if (command != 0) {
-                w.has[c - 'A'] = true;
-                w.v[c - 'A'] = value;
-            }
+            continue;
         }
-        if (command == 'G') g_code(code, w);
-        if (command == 'M') {
-            if (code == 82) rel_e_ = false;
-            if (code == 83) rel_e_ = true;
+        if (c >= 'a' && c <= 'z') c = static_cast<char>(c - 'a' + 'A');
+        ++i;
+        double value = 0;
+        size_t used = 0;
+        if (c < 'A' || c > 'Z' || !parse_number(s.substr(i), value, &used)) {
+            while (i < s.size() && s[i] != ' ' && s[i] != '\t') ++i;
+            continue;
+        }
+        i += used;
+        if (command == 0 && (c == 'G' || c == 'M')) {
+            command = c;
+            code = static_cast<int>(value);
+            if (value != code) code = -1;  // G29.1 and friends: not ours
+        } else if (command != 0) {
+            w.has[c - 'A'] = true;
+            w.v[c - 'A'] = value;
         }
     }
-
-    GcodeAnalysis finish() {
-        // Moves after the last extrusion (retraction, lift, park) belong to the last layer; the
-        // travel path they draw ends nowhere, so it cannot cross the wall.
-        end_travel();
-        if (have_layer_) {
-            take_pending();
-            finish_layer();
-        }
-        GcodeAnalysis& r = result_;
-        r.extruded_volume_mm3 = r.filament_length_mm * filament_area_;
-        r.support_gap_mm = opt_.support_gap_mm;
-        if (r.footprint_area_mm2 > 0) {
-            r.unsupported_fraction = r.unsupported_area_mm2 / r.footprint_area_mm2;
-            r.far_unsupported_fraction = r.far_unsupported_area_mm2 / r.footprint_area_mm2;
-        }
-        if (width_weight_ > 0) r.mean_line_width_mm = width_sum_ / width_weight_;
-        if (r.model_checked && r.layers > 0) r.model_tolerance_mm = tolerance_sum_ / r.layers;
-        return std::move(r);
+    if (command == 'G') g_code(code, w);
+    if (command == 'M') {
+        if (code == 82) rel_e_ = false;
+        if (code == 83) rel_e_ = true;
     }
+}
 
-    ExtrusionBounds bounds() const { return above_first_.any ? above_first_ : all_layers_; }
+GcodeAnalysis Analyser::finish() {
+    // Moves after the last extrusion (retraction, lift, park) belong to the last layer; the
+    // travel path they draw ends nowhere, so it cannot cross the wall.
+    end_travel();
+    if (have_layer_) {
+        take_pending();
+        finish_layer();
+    }
+    GcodeAnalysis& r = result_;
+    r.extruded_volume_mm3 = r.filament_length_mm * filament_area_;
+    r.support_gap_mm = opt_.support_gap_mm;
+    if (r.footprint_area_mm2 > 0) {
+        r.unsupported_fraction = r.unsupported_area_mm2 / r.footprint_area_mm2;
+        r.far_unsupported_fraction = r.far_unsupported_area_mm2 / r.footprint_area_mm2;
+    }
+    if (width_weight_ > 0) r.mean_line_width_mm = width_sum_ / width_weight_;
+    if (r.model_checked && r.layers > 0) r.model_tolerance_mm = tolerance_sum_ / r.layers;
+    return std::move(r);
+}
 
-  private:
-    void comment(std::string_view c) {
-        GcodeAnalysis& r = result_;
-        if (r.generator.empty()) {
-            if (starts_with(c, "generated by ")) {
-                std::string_view g = c.substr(13);
-                r.generator = std::string(g.substr(0, g.find(" on ")));
-            } else if (starts_with(c, "Generated with ")) {
-                r.generator = std::string(trim(c.substr(15)));
-            }
+void Analyser::comment(std::string_view c) {
+    GcodeAnalysis& r = result_;
+    if (r.generator.empty()) {
+        if (starts_with(c, "generated by ")) {
+            std::string_view g = c.substr(13);
+            r.generator = std::string(g.substr(0, g.find(" on ")));
+        } else if (starts_with(c, "Generated with ")) {
+            r.generator = std::string(trim(c.substr(15)));
         }
-        if (starts_with(c, "TYPE:")) {
-            type_ = std::string(trim(c.substr(5)));
-            // PrusaSlicer "Support material", "Support material interface"; CuraEngine
-            // "SUPPORT", "SUPPORT-INTERFACE".
-            std::string lower = type_;
-            for (char& ch : lower)
-                ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
-            support_type_ = lower.find("support") != std::string::npos;
-            return;
-        }
-        if (starts_with(c, "HEIGHT:")) {
-            double v = 0;
-            if (parse_number(trim(c.substr(7)), v) && v > 0 && v < 10) line_height_ = v;
-            return;
-        }
+    }
+    if (starts_with(c, "TYPE:")) {
+        type_ = std::string(trim(c.substr(5)));
+        // PrusaSlicer "Support material", "Support material interface"; CuraEngine
+        // "SUPPORT", "SUPPORT-INTERFACE".
+        std::string lower = type_;
+        for (char& ch : lower) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+        support_type_ = lower.find("support") != std::string::npos;
+        return;
+    }
+    if (starts_with(c, "HEIGHT:")) {
         double v = 0;
-        if (starts_with(c, "TIME:")) {
-            if (r.estimated_time_from_header_s < 0 && parse_number(trim(c.substr(5)), v))
-                r.estimated_time_from_header_s = v;
-        } else if (starts_with(c, "estimated printing time (normal mode) =")) {
-            r.estimated_time_from_header_s = parse_duration_s(c.substr(39));
-        } else if (starts_with(c, "filament used [mm] =")) {
-            if (parse_number(trim(c.substr(20)), v)) r.filament_used_from_header_mm = v;
-        } else if (starts_with(c, "Filament used:")) {
-            // Cura: "Filament used: 1.23456m" (one value per extruder, comma separated).
-            size_t used = 0;
-            std::string_view rest = trim(c.substr(14));
-            if (parse_number(rest, v, &used)) {
-                bool metres = used < rest.size() && rest[used] == 'm' &&
-                              (used + 1 == rest.size() || rest[used + 1] != 'm');
-                r.filament_used_from_header_mm = metres ? v * 1000 : v;
-            }
+        if (parse_number(trim(c.substr(7)), v) && v > 0 && v < 10) line_height_ = v;
+        return;
+    }
+    double v = 0;
+    if (starts_with(c, "TIME:")) {
+        if (r.estimated_time_from_header_s < 0 && parse_number(trim(c.substr(5)), v))
+            r.estimated_time_from_header_s = v;
+    } else if (starts_with(c, "estimated printing time (normal mode) =")) {
+        r.estimated_time_from_header_s = parse_duration_s(c.substr(39));
+    } else if (starts_with(c, "filament used [mm] =")) {
+        if (parse_number(trim(c.substr(20)), v)) r.filament_used_from_header_mm = v;
+    } else if (starts_with(c, "Filament used:")) {
+        // Cura: "Filament used: 1.23456m" (one value per extruder, comma separated).
+        size_t used = 0;
+        std::string_view rest = trim(c.substr(14));
+        if (parse_number(rest, v, &used)) {
+            bool metres = used < rest.size() && rest[used] == 'm' &&
+                          (used + 1 == rest.size() || rest[used + 1] != 'm');
+            r.filament_used_from_header_mm = metres ? v * 1000 : v;
         }
     }
+}
 
-    void g_code(int code, const Words& w) {
-        switch (code) {
-            case 0:
-            case 1:
-                move(w);
-                break;
-            case 2:
-            case 3:
-                arc(w, code == 2);
-                break;
-            case 4:  // dwell: P milliseconds or S seconds
-                add_time(w.any('S') ? w.get('S') : w.any('P') ? w.get('P') / 1000 : 0);
-                break;
-            case 10:  // firmware retraction (RepRap, Klipper, Marlin with FWRETRACT)
-                if (!w.any('P') && !w.any('L')) {  // G10 P/L sets tool offsets on RepRapFirmware
-                    ++result_.retractions;
-                    ++result_.firmware_retractions;
-                    ++pending_.retractions;
-                    add_time(opt_.stick_firmware_retract_s);
-                }
-                break;
-            case 11:
+void Analyser::g_code(int code, const Words& w) {
+    switch (code) {
+        case 0:
+        case 1:
+            move(w);
+            break;
+        case 2:
+        case 3:
+            arc(w, code == 2);
+            break;
+        case 4:  // dwell: P milliseconds or S seconds
+            add_time(w.any('S') ? w.get('S') : w.any('P') ? w.get('P') / 1000 : 0);
+            break;
+        case 10:  // firmware retraction (RepRap, Klipper, Marlin with FWRETRACT)
+            if (!w.any('P') && !w.any('L')) {  // G10 P/L sets tool offsets on RepRapFirmware
+                ++result_.retractions;
+                ++result_.firmware_retractions;
+                ++pending_.retractions;
                 add_time(opt_.stick_firmware_retract_s);
-                break;
-            case 20:
-                unit_ = 25.4;
-                break;
-            case 21:
-                unit_ = 1.0;
-                break;
-            case 28: {
-                bool all = !w.any('X') && !w.any('Y') && !w.any('Z');
-                double* pos[3] = {&x_, &y_, &z_};
-                for (int a = 0; a < 3; ++a) {
-                    if (all || w.any(static_cast<char>('X' + a))) {
-                        *pos[a] = 0;
-                        offset_[a] = 0;
-                    }
-                }
-                drawing_ = false;
-                break;
             }
-            case 90:  // Marlin: G90/G91 switch every axis, E included; M82/M83 then override E
-                rel_xyz_ = rel_e_ = false;
-                break;
-            case 91:
-                rel_xyz_ = rel_e_ = true;
-                break;
-            case 92: {
-                double pos[3] = {x_, y_, z_};
-                for (int a = 0; a < 3; ++a) {
-                    char c = static_cast<char>('X' + a);
-                    if (w.any(c)) offset_[a] = pos[a] - w.get(c) * unit_;
+            break;
+        case 11:
+            add_time(opt_.stick_firmware_retract_s);
+            break;
+        case 20:
+            unit_ = 25.4;
+            break;
+        case 21:
+            unit_ = 1.0;
+            break;
+        case 28: {
+            bool all = !w.any('X') && !w.any('Y') && !w.any('Z');
+            double* pos[3] = {&x_, &y_, &z_};
+            for (int a = 0; a < 3; ++a) {
+                if (all || w.any(static_cast<char>('X' + a))) {
+                    *pos[a] = 0;
+                    offset_[a] = 0;
                 }
-                if (w.any('E')) e_register_ = w.get('E') * unit_;
-                break;
             }
-            default:
-                break;
+            drawing_ = false;
+            break;
         }
+        case 90:  // Marlin: G90/G91 switch every axis, E included; M82/M83 then override E
+            rel_xyz_ = rel_e_ = false;
+            break;
+        case 91:
+            rel_xyz_ = rel_e_ = true;
+            break;
+        case 92: {
+            double pos[3] = {x_, y_, z_};
+            for (int a = 0; a < 3; ++a) {
+                char c = static_cast<char>('X' + a);
+                if (w.any(c)) offset_[a] = pos[a] - w.get(c) * unit_;
+            }
+            if (w.any('E')) e_register_ = w.get('E') * unit_;
+            break;
+        }
+        default:
+            break;
     }
+}
 
-    // Target of an axis word in machine coordinates.
-    double target(const Words& w, char axis, double current) const {
-        if (!w.any(axis)) return current;
-        double v = w.get(axis) * unit_;
-        return rel_xyz_ ? current + v : v + offset_[axis - 'X'];
+// Target of an axis word in machine coordinates.
+double Analyser::target(const Words& w, char axis, double current) const {
+    if (!w.any(axis)) return current;
+    double v = w.get(axis) * unit_;
+    return rel_xyz_ ? current + v : v + offset_[axis - 'X'];
+}
+
+double Analyser::e_delta(const Words& w) {
+    if (!w.any('E')) return 0;
+    double v = w.get('E') * unit_;
+    double d = rel_e_ ? v : v - e_register_;
+    e_register_ = rel_e_ ? e_register_ + v : v;
+    return d;
+}
+
+void Analyser::feed(const Words& w) {
+    if (w.any('F') && w.get('F') > 0) feed_mm_s_ = w.get('F') * unit_ / 60;
+}
+
+// One move of the measuring stick: from rest to rest at its feed rate.
+void Analyser::stick_move(double length, double de, bool extrudes) {
+    if (length > kMinMoveMm) {
+        add_time(trapezoid_time(length, 0, feed_mm_s_, 0,
+                                extrudes ? opt_.stick_print_accel : opt_.stick_travel_accel));
+    } else if (de != 0) {
+        add_time(std::fabs(de) / feed_mm_s_);  // retraction or its recovery, at F
     }
+}
 
-    double e_delta(const Words& w) {
-        if (!w.any('E')) return 0;
-        double v = w.get('E') * unit_;
-        double d = rel_e_ ? v : v - e_register_;
-        e_register_ = rel_e_ ? e_register_ + v : v;
-        return d;
+void Analyser::add_time(double seconds) {
+    result_.stick_time_s += seconds;
+    pending_.stick_time_s += seconds;
+}
+
+void Analyser::count_retraction(double de) {
+    if (de >= 0) return;
+    ++result_.retractions;
+    ++pending_.retractions;
+}
+
+void Analyser::move(const Words& w) {
+    feed(w);
+    double nx = target(w, 'X', x_), ny = target(w, 'Y', y_), nz = target(w, 'Z', z_);
+    double de = e_delta(w);
+    ++result_.moves;
+    count_retraction(de);
+    double xy = std::hypot(nx - x_, ny - y_);
+    stick_move(std::hypot(xy, nz - z_), de, de > 0 && xy > kMinMoveMm);
+    segment(nx, ny, nz, de);
+}
+
+void Analyser::arc(const Words& w, bool clockwise) {
+    ++result_.arcs;
+    ++result_.moves;
+    feed(w);
+    double nx = target(w, 'X', x_), ny = target(w, 'Y', y_), nz = target(w, 'Z', z_);
+    double de = e_delta(w);
+    count_retraction(de);
+    double cx, cy;
+    if (w.any('R')) {
+        // Centre on the chord's bisector; negative R takes the long way round.
+        double rr = w.get('R') * unit_;
+        double mx = (x_ + nx) / 2, my = (y_ + ny) / 2;
+        double dx = nx - x_, dy = ny - y_, d = std::hypot(dx, dy);
+        if (d < kMinMoveMm) {
+            stick_move(std::hypot(d, nz - z_), de, de > 0 && d > kMinMoveMm);
+            return segment(nx, ny, nz, de);
+        }
+        double h = std::sqrt(std::max(0.0, rr * rr - d * d / 4));
+        double side = ((clockwise ? 1 : -1) * (rr < 0 ? -1 : 1));
+        cx = mx + side * h * dy / d;
+        cy = my - side * h * dx / d;
+    } else {
+        cx = x_ + w.get('I') * unit_;
+        cy = y_ + w.get('J') * unit_;
     }
-
-    void feed(const Words& w) {
-        if (w.any('F') && w.get('F') > 0) feed_mm_s_ = w.get('F') * unit_ / 60;
+    double radius = std::hypot(x_ - cx, y_ - cy);
+    double a0 = std::atan2(y_ - cy, x_ - cx), a1 = std::atan2(ny - cy, nx - cx);
+    double sweep = a1 - a0;
+    if (clockwise) {
+        if (sweep >= -1e-12) sweep -= 2 * std::numbers::pi;
+    } else if (sweep <= 1e-12) {
+        sweep += 2 * std::numbers::pi;
     }
+    double step = radius > kArcSagittaMm ? 2 * std::acos(1 - kArcSagittaMm / radius) : 1.0;
+    int n = std::clamp(static_cast<int>(std::ceil(std::fabs(sweep) / step)), 1, 10000);
+    // Each arc becomes up to 10,000 segments held for the layer: 100,000 hostile arcs were
+    // gigabytes. Refused past a budget no real print comes near.
+    arc_segments_ += n;
+    if (arc_segments_ > kMaxArcSegments)
+        throw InputError(
+            "the G-code's arcs (G2/G3) make more than 10 million segments; "
+            "refusing to measure it");
+    double arc_xy = std::fabs(sweep) * radius;
+    stick_move(std::hypot(arc_xy, nz - z_), de, de > 0 && arc_xy > kMinMoveMm);
+    double z0 = z_;
+    for (int k = 1; k <= n; ++k) {
+        double t = static_cast<double>(k) / n;
+        double a = a0 + sweep * t;
+        double px = k == n ? nx : cx + radius * std::cos(a);
+        double py = k == n ? ny : cy + radius * std::sin(a);
+        segment(px, py, z0 + (nz - z0) * t, de / n);
+    }
+}
 
-    // One move of the measuring stick: from rest to rest at its feed rate.
-    void stick_move(double length, double de, bool extrudes) {
+void Analyser::segment(double nx, double ny, double nz, double de) {
+    double length = std::hypot(nx - x_, ny - y_);
+    result_.filament_length_mm += de;
+    if (de > 0 && length > kMinMoveMm) {
+        end_travel();
+        extrude(nx, ny, nz, de, length);
+    } else {
         if (length > kMinMoveMm) {
-            add_time(trapezoid_time(length, 0, feed_mm_s_, 0,
-                                    extrudes ? opt_.stick_print_accel : opt_.stick_travel_accel));
-        } else if (de != 0) {
-            add_time(std::fabs(de) / feed_mm_s_);  // retraction or its recovery, at F
-        }
-    }
-
-    void add_time(double seconds) {
-        result_.stick_time_s += seconds;
-        pending_.stick_time_s += seconds;
-    }
-
-    void count_retraction(double de) {
-        if (de >= 0) return;
-        ++result_.retractions;
-        ++pending_.retractions;
-    }
-
-    void move(const Words& w) {
-        feed(w);
-        double nx = target(w, 'X', x_), ny = target(w, 'Y', y_), nz = target(w, 'Z', z_);
-        double de = e_delta(w);
-        ++result_.moves;
-        count_retraction(de);
-        double xy = std::hypot(nx - x_, ny - y_);
-        stick_move(std::hypot(xy, nz - z_), de, de > 0 && xy > kMinMoveMm);
-        segment(nx, ny, nz, de);
-    }
-
-    void arc(const Words& w, bool clockwise) {
-        ++result_.arcs;
-        ++result_.moves;
-        feed(w);
-        double nx = target(w, 'X', x_), ny = target(w, 'Y', y_), nz = target(w, 'Z', z_);
-        double de = e_delta(w);
-        count_retraction(de);
-        double cx, cy;
-        if (w.any('R')) {
-            // Centre on the chord's bisector; negative R takes the long way round.
-            double rr = w.get('R') * unit_;
-            double mx = (x_ + nx) / 2, my = (y_ + ny) / 2;
-            double dx = nx - x_, dy = ny - y_, d = std::hypot(dx, dy);
-            if (d < kMinMoveMm) {
-                stick_move(std::hypot(d, nz - z_), de, de > 0 && d > kMinMoveMm);
-                return segment(nx, ny, nz, de);
+            result_.travel_length_mm += length;
+            pending_.travel_length_mm += length;
+            if (!scan_only_) {
+                if (travel_.empty()) travel_.push_back(Point(to_units(x_), to_units(y_)));
+                travel_.push_back(Point(to_units(nx), to_units(ny)));
             }
-            double h = std::sqrt(std::max(0.0, rr * rr - d * d / 4));
-            double side = ((clockwise ? 1 : -1) * (rr < 0 ? -1 : 1));
-            cx = mx + side * h * dy / d;
-            cy = my - side * h * dx / d;
-        } else {
-            cx = x_ + w.get('I') * unit_;
-            cy = y_ + w.get('J') * unit_;
-        }
-        double radius = std::hypot(x_ - cx, y_ - cy);
-        double a0 = std::atan2(y_ - cy, x_ - cx), a1 = std::atan2(ny - cy, nx - cx);
-        double sweep = a1 - a0;
-        if (clockwise) {
-            if (sweep >= -1e-12) sweep -= 2 * std::numbers::pi;
-        } else if (sweep <= 1e-12) {
-            sweep += 2 * std::numbers::pi;
-        }
-        double step = radius > kArcSagittaMm ? 2 * std::acos(1 - kArcSagittaMm / radius) : 1.0;
-        int n = std::clamp(static_cast<int>(std::ceil(std::fabs(sweep) / step)), 1, 10000);
-        // Each arc becomes up to 10,000 segments held for the layer: 100,000 hostile arcs were
-        // gigabytes. Refused past a budget no real print comes near.
-        arc_segments_ += n;
-        if (arc_segments_ > kMaxArcSegments)
-            throw InputError(
-                "the G-code's arcs (G2/G3) make more than 10 million segments; "
-                "refusing to measure it");
-        double arc_xy = std::fabs(sweep) * radius;
-        stick_move(std::hypot(arc_xy, nz - z_), de, de > 0 && arc_xy > kMinMoveMm);
-        double z0 = z_;
-        for (int k = 1; k <= n; ++k) {
-            double t = static_cast<double>(k) / n;
-            double a = a0 + sweep * t;
-            double px = k == n ? nx : cx + radius * std::cos(a);
-            double py = k == n ? ny : cy + radius * std::sin(a);
-            segment(px, py, z0 + (nz - z0) * t, de / n);
-        }
-    }
-
-    static constexpr long long kMaxArcSegments = 10'000'000;
-    long long arc_segments_ = 0;
-
-    void segment(double nx, double ny, double nz, double de) {
-        double length = std::hypot(nx - x_, ny - y_);
-        result_.filament_length_mm += de;
-        if (de > 0 && length > kMinMoveMm) {
-            end_travel();
-            extrude(nx, ny, nz, de, length);
-        } else {
-            if (length > kMinMoveMm) {
-                result_.travel_length_mm += length;
-                pending_.travel_length_mm += length;
-                if (!scan_only_) {
-                    if (travel_.empty()) travel_.push_back(Point(to_units(x_), to_units(y_)));
-                    travel_.push_back(Point(to_units(nx), to_units(ny)));
-                }
-                drawing_ = false;
-            }
-            if (std::fabs(nz - z_) > 1e-9) drawing_ = false;
-        }
-        x_ = nx;
-        y_ = ny;
-        z_ = nz;
-    }
-
-    // A travel path is every XY move between two extrusions (z hops included, seen from above).
-    // It belongs with what is pending to the layer of the extrusion that ends it: the way to a
-    // new layer's first line is part of that layer's travel.
-    void end_travel() {
-        if (travel_.size() >= 2) {
-            pending_.travel.push_back(std::move(travel_));
-        }
-        travel_.clear();
-    }
-
-    void take_pending() {
-        layer_.retractions += pending_.retractions;
-        layer_.travel_length_mm += pending_.travel_length_mm;
-        layer_.stick_time_s += pending_.stick_time_s;
-        for (Path& p : pending_.travel) layer_travel_.push_back(std::move(p));
-        pending_ = Pending{};
-    }
-
-    void extrude(double nx, double ny, double nz, double de, double length) {
-        ++result_.extruding_moves;
-        if (!have_layer_ || std::fabs(nz - layer_z_) > kZTolerance) {
-            start_layer(nz);
             drawing_ = false;
         }
-        take_pending();
-        result_.volume_by_type_mm3[type_.empty() ? "none" : type_] += de * filament_area_;
-        auto grow = [&](ExtrusionBounds& box) {
-            for (auto [px, py] : {std::pair{x_, y_}, std::pair{nx, ny}}) {
-                if (!box.any) box = {true, px, py, px, py};
-                box.min_x = std::min(box.min_x, px), box.max_x = std::max(box.max_x, px);
-                box.min_y = std::min(box.min_y, py), box.max_y = std::max(box.max_y, py);
-            }
-        };
-        // Supports stand beside the model: the model is placed by the rest.
-        if (!support_type_) {
-            grow(all_layers_);
-            if (!on_bed_) grow(above_first_);
+        if (std::fabs(nz - z_) > 1e-9) drawing_ = false;
+    }
+    x_ = nx;
+    y_ = ny;
+    z_ = nz;
+}
+
+// A travel path is every XY move between two extrusions (z hops included, seen from above).
+// It belongs with what is pending to the layer of the extrusion that ends it: the way to a
+// new layer's first line is part of that layer's travel.
+void Analyser::end_travel() {
+    if (travel_.size() >= 2) {
+        pending_.travel.push_back(std::move(travel_));
+    }
+    travel_.clear();
+}
+
+void Analyser::take_pending() {
+    layer_.retractions += pending_.retractions;
+    layer_.travel_length_mm += pending_.travel_length_mm;
+    layer_.stick_time_s += pending_.stick_time_s;
+    for (Path& p : pending_.travel) layer_travel_.push_back(std::move(p));
+    pending_ = Pending{};
+}
+
+void Analyser::extrude(double nx, double ny, double nz, double de, double length) {
+    ++result_.extruding_moves;
+    if (!have_layer_ || std::fabs(nz - layer_z_) > kZTolerance) {
+        start_layer(nz);
+        drawing_ = false;
+    }
+    take_pending();
+    result_.volume_by_type_mm3[type_.empty() ? "none" : type_] += de * filament_area_;
+    auto grow = [&](ExtrusionBounds& box) {
+        for (auto [px, py] : {std::pair{x_, y_}, std::pair{nx, ny}}) {
+            if (!box.any) box = {true, px, py, px, py};
+            box.min_x = std::min(box.min_x, px), box.max_x = std::max(box.max_x, px);
+            box.min_y = std::min(box.min_y, py), box.max_y = std::max(box.max_y, py);
         }
-        if (scan_only_) {
-            layer_.extruded_volume_mm3 += de * filament_area_;
-            layer_.path_length_mm += length;
-            drawing_ = true;
-            return;
-        }
-        bool extend = drawing_ && !lines_.empty();
-        if (extend) {
-            const Polyline& p = lines_.back();
-            double pw = p.e / p.length;  // width up to the common factor A_f / h
-            double sw = de / length;
-            if (length >= kReliableMm && p.length >= kReliableMm &&
-                std::fabs(sw - pw) > kWidthTolerance * pw)
-                extend = false;
-        }
-        if (extend && (lines_.back().support != support_type_ ||
-                       (support_type_ && lines_.back().height != line_height_)))
-            extend = false;
-        if (!extend) {
-            lines_.emplace_back();
-            lines_.back().points.push_back(Point(to_units(x_), to_units(y_)));
-            lines_.back().support = support_type_;
-            // Only for support: PrusaSlicer prints its support thicker than the layers (and says
-            // so), while its bridges' ;HEIGHT: is the thread's diameter, not the layer's.
-            lines_.back().height = support_type_ ? line_height_ : 0;
-        }
-        if (support_type_) result_.support_volume_mm3 += de * filament_area_;
-        Polyline& p = lines_.back();
-        p.points.push_back(Point(to_units(nx), to_units(ny)));
-        p.e += de;
-        p.length += length;
+    };
+    // Supports stand beside the model: the model is placed by the rest.
+    if (!support_type_) {
+        grow(all_layers_);
+        if (!on_bed_) grow(above_first_);
+    }
+    if (scan_only_) {
         layer_.extruded_volume_mm3 += de * filament_area_;
         layer_.path_length_mm += length;
         drawing_ = true;
+        return;
     }
-
-    void start_layer(double z) {
-        if (have_layer_) finish_layer();
-        on_bed_ = false;
-        double height;
-        if (!have_prev_) {
-            height = z;
-            on_bed_ = true;
-            first_z_ = z;
-        } else if (z > prev_z_ + kZTolerance) {
-            height = z - prev_z_;
-        } else {
-            // Going down again: a sequential print starting its next object, or odd output.
-            ++result_.z_reversals;
-            if (z <= first_z_ + kZTolerance) {
-                height = z;
-                on_bed_ = true;
-            } else {
-                height = prev_height_;
-            }
-        }
-        have_layer_ = true;
-        layer_z_ = z;
-        layer_ = LayerFigures{};
-        layer_.z_mm = z;
-        layer_.height_mm = height;
+    bool extend = drawing_ && !lines_.empty();
+    if (extend) {
+        const Polyline& p = lines_.back();
+        double pw = p.e / p.length;  // width up to the common factor A_f / h
+        double sw = de / length;
+        if (length >= kReliableMm && p.length >= kReliableMm &&
+            std::fabs(sw - pw) > kWidthTolerance * pw)
+            extend = false;
     }
-
-    void finish_layer() {
-        have_layer_ = false;
-        double h = layer_.height_mm;
-        if (h <= kZTolerance) h = prev_height_ > 0 ? prev_height_ : 0.2;
-        if (scan_only_) {
-            ++result_.layers;
-            have_prev_ = true;
-            prev_z_ = layer_.z_mm;
-            prev_height_ = h;
-            layer_travel_.clear();
-            return;
-        }
-        // A layer holding only support (PrusaSlicer interleaves them between the object's
-        // layers) is not the object's layer below: the object's lines are as thick as the step
-        // from the last layer that held the object, and what lies below them reaches that far.
-        const bool support_only =
-            std::all_of(lines_.begin(), lines_.end(), [](const Polyline& l) { return l.support; });
-        const double model_h =
-            !support_only && have_model_z_ && layer_.z_mm - model_z_ > h + kZTolerance
-                ? layer_.z_mm - model_z_
-                : h;
-        Paths footprint = widen(lines_, model_h, filament_area_, opt_.bead);
-        Paths support_footprint;
-        double thickest = model_h;  // a ;HEIGHT: comment may say support is thicker
-        for (const Polyline& l : lines_) thickest = std::max(thickest, l.height);
-        if (!support_only) {
-            have_model_z_ = true;
-            model_z_ = layer_.z_mm;
-        }
-        if (std::any_of(lines_.begin(), lines_.end(),
-                        [](const Polyline& l) { return l.support; })) {
-            std::vector<Polyline> support_lines;
-            for (const Polyline& l : lines_)
-                if (l.support) support_lines.push_back(l);
-            support_footprint = widen(support_lines, model_h, filament_area_, opt_.bead);
-        }
-        lines_.clear();
-        layer_.footprint_area_mm2 = region_area_mm2(footprint);
-        // What lies below: the layers within the thickness of this one (one layer, unless a
-        // slicer interleaves thinner layers, as PrusaSlicer does between its support's layers
-        // and the object's), and the supports' tops within the gap below that (a support holds
-        // its overhang across a gap of a layer or so).
-        const double reach_z = layer_.z_mm - thickest - kZTolerance;
-        while (!recent_.empty() && recent_.front().z < reach_z - opt_.support_gap_mm - kMaxLayerMm)
-            recent_.pop_front();
-        Paths merged;
-        size_t parts = 0;
-        for (const Recent& r : recent_) {
-            if (r.z > layer_.z_mm - kZTolerance) continue;  // a sequential print's next object
-            const Paths* add = r.z >= reach_z                         ? &r.footprint
-                               : r.z >= reach_z - opt_.support_gap_mm ? &r.support
-                                                                      : nullptr;
-            if (!add || add->empty()) continue;
-            if (add != &recent_.back().footprint) ++parts;
-            merged.insert(merged.end(), add->begin(), add->end());
-        }
-        if (parts > 0) merged.insert(merged.end(), prev_footprint_.begin(), prev_footprint_.end());
-        // Most layers: the previous layer alone, read in place.
-        const Paths& below = parts == 0 ? prev_footprint_ : merged;
-        if (!on_bed_ && have_prev_) {
-            Paths unsupported = difference(footprint, dilate_round(below, r_units_));
-            layer_.unsupported_area_mm2 = region_area_mm2(unsupported);
-            if (!unsupported.empty()) {
-                Paths far = far_region(unsupported, below, far_units_);
-                if (!support_footprint.empty() && !far.empty()) {
-                    // A support standing on the model's top leaves the same gap: support
-                    // extrusion is held by anything printed within the gap below it.
-                    Paths on_model;
-                    for (const Recent& r : recent_)
-                        if (r.z < reach_z && r.z >= reach_z - opt_.support_gap_mm &&
-                            !r.footprint.empty())
-                            on_model.insert(on_model.end(), r.footprint.begin(), r.footprint.end());
-                    Paths far_support = intersection(far, support_footprint);
-                    if (!on_model.empty() && !far_support.empty()) {
-                        on_model.insert(on_model.end(), below.begin(), below.end());
-                        Paths rest = difference(far, support_footprint);
-                        far_support = far_region(far_support, on_model, far_units_);
-                        far = std::move(rest);
-                        far.insert(far.end(), far_support.begin(), far_support.end());
-                    }
-                    layer_.hanging_support_mm2 = region_area_mm2(far_support);
-                }
-                layer_.far_unsupported_area_mm2 = region_area_mm2(far);
-                if (opt_.model_slice && have_prev_model_ && !far.empty()) {
-                    // Over the model's slice one layer down: something inside the object could
-                    // have held it. The rest hangs beyond the model itself.
-                    layer_.hanging_inside_mm2 = region_area_mm2(intersection(far, prev_model_));
-                    layer_.hanging_overhang_mm2 =
-                        std::max(0.0, layer_.far_unsupported_area_mm2 - layer_.hanging_inside_mm2);
-                } else {
-                    layer_.hanging_overhang_mm2 = layer_.far_unsupported_area_mm2;
-                }
-            }
-        }
-        if (layer_.path_length_mm > 0) {
-            double width =
-                line_width(layer_.extruded_volume_mm3 / layer_.path_length_mm, h, opt_.bead);
-            width_sum_ += width * layer_.path_length_mm;
-            width_weight_ += layer_.path_length_mm;
-        }
-        if (opt_.model_slice) check_model(footprint, support_footprint, h);
-        layer_travel_.clear();
-
-        GcodeAnalysis& r = result_;
-        if (r.layers == 0) r.first_z_mm = layer_.z_mm;
-        r.last_z_mm = std::max(r.last_z_mm, layer_.z_mm);
-        ++r.layers;
-        r.path_length_mm += layer_.path_length_mm;
-        r.footprint_area_mm2 += layer_.footprint_area_mm2;
-        r.unsupported_area_mm2 += layer_.unsupported_area_mm2;
-        r.far_unsupported_area_mm2 += layer_.far_unsupported_area_mm2;
-        r.outside_area_mm2 += layer_.outside_area_mm2;
-        r.max_outside_model_mm = std::max(r.max_outside_model_mm, layer_.max_outside_model_mm);
-        r.hanging_inside_mm2 += layer_.hanging_inside_mm2;
-        r.hanging_overhang_mm2 += layer_.hanging_overhang_mm2;
-        r.hanging_support_mm2 += layer_.hanging_support_mm2;
-        r.outside_support_mm2 += layer_.outside_support_mm2;
-        r.travel_inside_mm += layer_.travel_inside_mm;
-        r.travel_outside_mm += layer_.travel_outside_mm;
-        r.wall_crossings += layer_.wall_crossings;
-        if (opt_.keep_layers) r.per_layer.push_back(layer_);
-
-        // The last layer is read from prev_footprint_, the ones before from recent_.
-        if (have_prev_) recent_.back().footprint = prev_footprint_;
-        recent_.push_back({layer_.z_mm, {}, std::move(support_footprint)});
-        prev_footprint_ = std::move(footprint);
-        have_prev_ = true;
-        prev_z_ = layer_.z_mm;
-        prev_height_ = h;
+    if (extend && (lines_.back().support != support_type_ ||
+                   (support_type_ && lines_.back().height != line_height_)))
+        extend = false;
+    if (!extend) {
+        lines_.emplace_back();
+        lines_.back().points.push_back(Point(to_units(x_), to_units(y_)));
+        lines_.back().support = support_type_;
+        // Only for support: PrusaSlicer prints its support thicker than the layers (and says
+        // so), while its bridges' ;HEIGHT: is the thread's diameter, not the layer's.
+        lines_.back().height = support_type_ ? line_height_ : 0;
     }
+    if (support_type_) result_.support_volume_mm3 += de * filament_area_;
+    Polyline& p = lines_.back();
+    p.points.push_back(Point(to_units(nx), to_units(ny)));
+    p.e += de;
+    p.length += length;
+    layer_.extruded_volume_mm3 += de * filament_area_;
+    layer_.path_length_mm += length;
+    drawing_ = true;
+}
 
-    void check_model(const Paths& footprint, const Paths& support_footprint, double h) {
-        result_.model_checked = true;
-        Paths model = opt_.model_slice(layer_.z_mm - h / 2);
-        double tolerance = opt_.model_tolerance_mm;
-        if (tolerance < 0) {
-            tolerance = layer_.path_length_mm > 0
-                            ? 0.5 * line_width(layer_.extruded_volume_mm3 / layer_.path_length_mm,
-                                               h, opt_.bead)
-                            : 0.2;
-        }
-        tolerance_sum_ += tolerance;
-        Paths grown = dilate_round(model, to_units(tolerance));
-        Paths outside_tol = difference(footprint, grown);
-        layer_.outside_area_mm2 = region_area_mm2(outside_tol);
-        if (!support_footprint.empty())
-            layer_.outside_support_mm2 = region_area_mm2(difference(support_footprint, grown));
-        if (!layer_travel_.empty()) {
-            const TravelFigures t = measure_travel(layer_travel_, grown);
-            layer_.travel_inside_mm = t.inside_mm;
-            layer_.travel_outside_mm = t.outside_mm;
-            layer_.wall_crossings += t.wall_crossings;
-        }
-        prev_model_ = model;
-        have_prev_model_ = true;
-        layer_.max_outside_model_mm = max_distance_outside(footprint, model);
-    }
-
-    const GcodeAnalysisOptions& opt_;
-    bool scan_only_ = false;
-    GcodeAnalysis result_;
-    double filament_area_ = 0;
-    Coord r_units_ = 0, far_units_ = 0;
-
-    // Machine state, in machine coordinates (G92 shifts the logical frame by offset_).
-    double x_ = 0, y_ = 0, z_ = 0, e_register_ = 0;
-    double offset_[3] = {0, 0, 0};
-    bool rel_xyz_ = false, rel_e_ = false;
-    double unit_ = 1.0;
-    bool drawing_ = false;  // the last move extruded and ended where the next one starts
-
-    // The layer being read.
-    bool have_layer_ = false, on_bed_ = false;
-    double layer_z_ = 0;
-    LayerFigures layer_;
-    std::vector<Polyline> lines_;
-
-    // The layer below.
-    bool have_prev_ = false;
-    double prev_z_ = 0, prev_height_ = 0, first_z_ = 0;
-    Paths prev_footprint_;
-    // The last layers, bottom up: their z, footprint (empty for the last one, which is
-    // prev_footprint_) and support footprint, for layers interleaved thinner than this one and for
-    // support_gap_mm.
-    struct Recent {
-        double z = 0;
-        Paths footprint, support;
-    };
-    std::deque<Recent> recent_;
-
-    double width_sum_ = 0, width_weight_ = 0, tolerance_sum_ = 0;
-
-    // Model slice of the layer below (for the inside / overhang split).
-    bool have_prev_model_ = false;
-    Paths prev_model_;
-
-    double feed_mm_s_ = 50;      // until the file sets F
-    std::string type_;           // the last ;TYPE: comment
-    bool support_type_ = false;  // it names support
-    double line_height_ = 0;     // the last ;HEIGHT: comment (PrusaSlicer), 0 = none
-    bool have_model_z_ = false;  // a layer with more than support was read
-    double model_z_ = 0;         // the last one's z
-
-    // Moves since the last extrusion, waiting for the layer that the next extrusion opens.
-    struct Pending {
-        long long retractions = 0;
-        double travel_length_mm = 0, stick_time_s = 0;
-        Paths travel;
-    };
-    Pending pending_;
-    Path travel_;  // the travel path being drawn, from the last extrusion's end
-    Paths layer_travel_;
-
-    ExtrusionBounds above_first_, all_layers_;
-};
-
-}  // namespace
+}  // namespace check
 
 GcodeAnalysis analyse_gcode(const std::string& path, const GcodeAnalysisOptions& options) {
     double diameter = 0;
     std::string source;
-    auto file = open_gcode(path, options, diameter, source);
-    Analyser analyser(options, diameter);
-    feed_lines(file.get(), path, [&](std::string_view s) { analyser.line(s); });
+    auto file = check::open_gcode(path, options, diameter, source);
+    check::Analyser analyser(options, diameter);
+    check::feed_lines(file.get(), path, [&](std::string_view s) { analyser.line(s); });
     GcodeAnalysis result = analyser.finish();
     result.filament_diameter_source = source;
     result.bead_model = options.bead == BeadModel::kRounded ? "rounded" : "rectangle";
@@ -694,11 +431,11 @@ GcodeAnalysis analyse_gcode(const std::string& path, const GcodeAnalysisOptions&
 ExtrusionBounds extrusion_bounds(const std::string& path, const GcodeAnalysisOptions& options) {
     double diameter = 0;
     std::string source;
-    auto file = open_gcode(path, options, diameter, source);
+    auto file = check::open_gcode(path, options, diameter, source);
     GcodeAnalysisOptions scan = options;
     scan.model_slice = nullptr;
-    Analyser analyser(scan, diameter, true);
-    feed_lines(file.get(), path, [&](std::string_view s) { analyser.line(s); });
+    check::Analyser analyser(scan, diameter, true);
+    check::feed_lines(file.get(), path, [&](std::string_view s) { analyser.line(s); });
     analyser.finish();
     return analyser.bounds();
 }

@@ -1,6 +1,7 @@
-// Runs the stages in order and gathers the figures of the run: the checks on the mesh before
-// slicing, the writers, the pipeline of filters the layers flow through (their tokens in
-// tokens.hpp, their profile in span_log.hpp), and the figures summed as the layers come out.
+// Runs the stages in order and gathers the figures of the run: the writers, the pipeline of
+// filters the layers flow through (their tokens in tokens.hpp, their profile in span_log.hpp),
+// and what follows the last layer. The mesh and the checks before slicing are in run_setup.cpp,
+// the figures summed as the layers come out in layer_figures.cpp.
 #include "run/pipeline.hpp"
 
 #include <fmt/format.h>
@@ -16,7 +17,6 @@
 #include <cstdio>
 #include <deque>
 #include <functional>
-#include <map>
 #include <memory>
 #include <optional>
 #include <utility>
@@ -26,13 +26,14 @@
 #include "base/error.hpp"
 #include "base/stage_timer.hpp"
 #include "carving/carving.hpp"
-#include "gcode/labels.hpp"
 #include "gcode/thumbnail.hpp"
 #include "geometry/polygon.hpp"
 #include "report/html_report.hpp"
 #include "report/stats.hpp"
 #include "report/svg.hpp"
 #include "resin/raster.hpp"
+#include "run/layer_figures.hpp"
+#include "run/run_setup.hpp"
 #include "run/span_log.hpp"
 #include "run/tokens.hpp"
 #include "slice/slicer.hpp"
@@ -73,17 +74,6 @@ void progress_line(int done, int total, double elapsed_s) {
     std::fflush(stderr);
 }
 
-// The volume of each extrusion of a layer, in print order: the layer's material and the
-// material by feature are both summed from these, so each path's length is taken once.
-std::vector<double> extrusion_volumes_mm3(const LayerToolpaths& paths, const Settings& settings) {
-    std::vector<double> v;
-    v.reserve(paths.extrusions.size());
-    for (const Extrusion& e : paths.extrusions)
-        v.push_back(to_mm(static_cast<Coord>(length(Paths{e.points}, e.closed))) *
-                    settings.width_mm() * settings.layer_height * e.flow);
-    return v;
-}
-
 }  // namespace
 
 int thread_count(const Settings& settings) {
@@ -101,84 +91,18 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
     if (profiling_enabled()) profile_geometry();
     const int64_t load_start_ns = thread_cpu_ns();  // the main thread alone until the pipeline
 
-    // A triangle soup cannot be sliced (see is_triangle_soup); the loader refuses it as soon as
-    // its edges are counted, before the rest of the repair spends memory on it.
-    LoadOptions load_options;
-    load_options.refuse_soup = true;
-    Mesh mesh = load_mesh(options.model_path, result.mesh, load_options);
-    for (const std::string& w : result.mesh.warnings) note(w);
-    const BBox3 loaded_box = result.mesh.bbox;  // before scaling: the 3MF items' frame
-    if (settings.scale != 1.0) {
-        // Scale about the bottom centre so that the model stays on the bed where it was.
-        const BBox3 b = result.mesh.bbox;
-        const Vec3 c{(b.min.x + b.max.x) / 2, (b.min.y + b.max.y) / 2, b.min.z};
-        for (Vec3& v : mesh.vertices)
-            v = {c.x + (v.x - c.x) * settings.scale, c.y + (v.y - c.y) * settings.scale,
-                 c.z + (v.z - c.z) * settings.scale};
-        result.mesh.bbox = bounding_box(mesh);
-        result.mesh.volume_mm3 = signed_volume(mesh);
-    }
-    std::vector<CopyBox> copy_boxes;
-    if (settings.copies > 1) {
-        // The copies are one mesh of disjoint shells: every stage works on them as on islands
-        // of one model; only the G-code labels each copy as its own object.
-        mesh = arrange_copies(mesh, settings.copies, settings.copy_gap, copy_boxes);
-        result.mesh.bbox = bounding_box(mesh);
-        result.mesh.volume_mm3 = signed_volume(mesh);
-    }
+    RunMesh run_mesh = load_run_mesh(settings, options, result, note);
+    Mesh& mesh = run_mesh.mesh;
     const BBox3& box = result.mesh.bbox;
-    const double size_x = box.max.x - box.min.x, size_y = box.max.y - box.min.y;
-    if (settings.bed_check && (size_x > settings.bed_x || size_y > settings.bed_y))
-        throw InputError(fmt::format(
-            "{}: the model{} ({:.1f} x {:.1f} mm) is larger than the bed ({:.0f} x {:.0f} mm); "
-            "{}scale it down, choose a larger --bed, or pass --no-bed-check",
-            options.model_path,
-            settings.copies > 1 ? fmt::format(" in {} copies", settings.copies) : "", size_x,
-            size_y, settings.bed_x, settings.bed_y,
-            settings.copies > 1 ? "print fewer copies, " : ""));
+    check_run_size(settings, options, box);
     const double offset_x = settings.bed_x / 2 - (box.min.x + box.max.x) / 2;
     const double offset_y = settings.bed_y / 2 - (box.min.y + box.max.y) / 2;
-
-    // Scale times size: the work grows with (size / line width)^2 per layer and with the
-    // number of layers. A model 5 m across at 0.05 mm lines, or a million layers, is refused
-    // before slicing starts (with --no-bed-check and --scale 100 nothing else stops it).
-    const double size_z = box.max.z - box.min.z;
-    constexpr double kMaxLinesAcross = 100000, kMaxLayers = 200000;
-    // The line width, not the nozzle: --extrusion-width may be far thinner than the nozzle.
-    const double line_mm = std::min(settings.nozzle, settings.width_mm());
-    if (std::max(size_x, size_y) / line_mm > kMaxLinesAcross ||
-        size_z / settings.layer_height > kMaxLayers)
-        throw InputError(fmt::format(
-            "{}: the model ({:.1f} x {:.1f} x {:.1f} mm) is too large for {} mm lines and "
-            "{} mm layers (limits: {:.0f} line widths across, {:.0f} layers); scale it down",
-            options.model_path, size_x, size_y, size_z, line_mm, settings.layer_height,
-            kMaxLinesAcross, kMaxLayers));
     TopDownSlicer slicer(mesh, settings.layer_height);
     const int layer_count = slicer.layer_count();
     if (layer_count == 0)
         throw InputError(fmt::format("{}: the model is thinner than one layer ({} mm)",
                                      options.model_path, settings.layer_height));
-    std::function<void(const Slice&)> check_slice;
-    if (settings.max_vertices_per_layer > 0 || settings.max_vertices_total > 0) {
-        // Checked as each slice is cut, in order, before covers and carving spend hours on it.
-        check_slice = [&settings, &options, total = 0LL](const Slice& slice) mutable {
-            long long vertices = 0;
-            for (const Path& p : slice.region) vertices += static_cast<long long>(p.size());
-            total += vertices;
-            if (settings.max_vertices_total > 0 && total > settings.max_vertices_total)
-                throw InputError(fmt::format(
-                    "{}: the slices down to layer {} (z = {:.2f} mm) hold {} contour vertices, "
-                    "more than the limit of {}; simplify the mesh or raise --max-vertices "
-                    "(0 = no limit)",
-                    options.model_path, slice.index, slice.z, total, settings.max_vertices_total));
-            if (settings.max_vertices_per_layer > 0 && vertices > settings.max_vertices_per_layer)
-                throw InputError(fmt::format(
-                    "{}: layer {} (z = {:.2f} mm) has {} contour vertices, more than the limit of "
-                    "{}; simplify the mesh or raise --max-vertices-per-layer (0 = no limit)",
-                    options.model_path, slice.index, slice.z, vertices,
-                    settings.max_vertices_per_layer));
-        };
-    }
+    std::function<void(const Slice&)> check_slice = vertex_limits(settings, options);
     // Every output of the run is complete under a temporary name before any is renamed into
     // place (group.commit_all() at the end); a run failing at any point leaves none of them,
     // and the folders of pictures are written into temporary folders moved in at the end.
@@ -187,32 +111,7 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
     OutputGroup group;
     GcodeWriter writer(options.gcode_path, settings, offset_x, offset_y, layer_count);
     writer.commit_with(group);
-    writer.set_object_name(object_label(options.model_path));
-    if (!copy_boxes.empty()) {
-        std::vector<ObjectLabel> objects;
-        for (size_t k = 0; k < copy_boxes.size(); ++k) {
-            const CopyBox& c = copy_boxes[k];
-            objects.push_back({fmt::format("{}_{}", object_label(options.model_path), k + 1),
-                               c.min_x, c.min_y, c.max_x, c.max_y});
-        }
-        writer.set_objects(std::move(objects));
-    } else if (result.mesh.items.size() > 1) {
-        // A 3MF plate of several build items: each labelled as the object it is, scaled as the
-        // mesh was (about its bottom centre), named as the file names it (made safe, and
-        // numbered when two share a name).
-        std::vector<ObjectLabel> objects;
-        const double s = settings.scale;
-        const double cx = (loaded_box.min.x + loaded_box.max.x) / 2;
-        const double cy = (loaded_box.min.y + loaded_box.max.y) / 2;
-        std::map<std::string, int> seen;
-        for (const MeshReport::BuildItem& it : result.mesh.items) {
-            std::string name = object_label(it.name);
-            if (++seen[name] > 1) name += fmt::format("_{}", seen[name]);
-            objects.push_back({name, cx + (it.min_x - cx) * s, cy + (it.min_y - cy) * s,
-                               cx + (it.max_x - cx) * s, cy + (it.max_y - cy) * s});
-        }
-        writer.set_objects(std::move(objects));
-    }
+    label_objects(writer, options, settings, run_mesh, result);
     if (!settings.thumbnails.empty())
         writer.set_thumbnails(thumbnail_blocks(mesh.vertices, mesh.triangles, settings.thumbnails));
     std::unique_ptr<AtomicDir> svg_dir, raster_dir;
@@ -513,53 +412,9 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
             } drop_at_end{pool, t};
             SpanTimer timer(span, t->seq, kSink);
             const LayerPartition& layer = t->record.partition();
-            const BridgedPartition& bridged = t->record.bridged;
             for (const std::string& w : layer.warnings) note(w);
             if (html) html->add_layer(t->record, t->paths);
-
-            sliced_volume += area_mm2(layer.outline) * h;
-            result.carvable_volume_mm3 += area_mm2(layer.carvable) * h;
-            for (size_t j = 0; j < bridged.cavities.size(); ++j)
-                result.cavity_volume_mm3[j] += area_mm2(bridged.cavities[j]) * h;
-            result.remainder_volume_mm3 += area_mm2(bridged.remainder) * h;
-            result.cover_volume_mm3 += area_mm2(layer.covers) * h;
-            result.layer_material_mm3[layer.index] = t->material;
-            overhangs.add(layer.index, (layer.index + 1) * h, t->overhang);  // z as the G-code says
-            result.supported_area_mm2 += t->support_new_mm2;
-            if (const Paths& support = t->record.support.region; !support.empty())
-                result.support_region_volume_mm3 += area_mm2(support) * h;
-            result.minima_found += bridged.minima_found;
-            result.minima_unsupported += bridged.minima_unsupported;
-            result.minima_held_by_wall += bridged.minima_held_by_wall;
-            // Ribs on this slice hold minima of the slice above, already counted unsupported.
-            const LayerRibs& ribbed = t->record.ribs;
-            result.minima_unsupported -= ribbed.minima_held;
-            result.minima_held_by_ribs += ribbed.minima_held;
-            result.ceilings_unsupported -= ribbed.ceilings_held;
-            result.ceilings_held_by_ribs += ribbed.ceilings_held;
-            result.ribs += static_cast<int>(ribbed.lines.size());
-            result.ceilings_found += bridged.ceilings_found;
-            result.ceilings_unsupported += bridged.ceilings_unsupported;
-            for (size_t i = 0; i < t->paths.extrusions.size(); ++i) {
-                const Extrusion& e = t->paths.extrusions[i];
-                const double v = t->volumes[i];
-                int f = static_cast<int>(e.feature);
-                if (e.feature == Feature::CavityWall) {
-                    if (result.cavity_wall_mm3.size() <= size_t(e.cavity))
-                        result.cavity_wall_mm3.resize(e.cavity + 1, 0.0);
-                    result.cavity_wall_mm3[e.cavity] += v;
-                }
-                if (e.feature == Feature::Cover && e.cavity < 0) f = -1;
-                if (f >= 0)
-                    result.feature_mm3[f] += v;
-                else
-                    result.remainder_fill_mm3 += v;
-            }
-            for (const Bridge& b : bridged.bridges) {
-                ++result.bridges;
-                if (b.cover) ++result.cover_bridges;
-                result.bridge_length_mm += to_mm(static_cast<Coord>(length(b.lines, false)));
-            }
+            add_layer_figures(*t, h, result, sliced_volume, overhangs);
             ++done;
             const int tenth = std::max(1, layer_count / 10);
             if (options.progress && options.progress_bar &&

@@ -1,4 +1,4 @@
-// The layers' carriers through the run's oneTBB pipeline (private to run/pipeline.cpp): what
+// The layers' carriers through the run's oneTBB pipeline (private to src/run): what
 // one layer holds between the filters (a carving iteration's prepared half among them, on its
 // way to the serial half) and the pool that owns every token.
 #pragma once

@@ -1,0 +1,203 @@
+// The per-layer half of carve check's analyser: once a layer's moves are read, its footprint
+// against what lies below (the previous layers within its thickness, the supports' tops within
+// the gap) and against the model's slice, summed into the result. Kept apart from the G-code
+// interpreter in gcode_analysis.cpp: this is where the measure is, that is where the file is read.
+#include <algorithm>
+#include <cmath>
+#include <utility>
+
+#include "check/analyser.hpp"
+#include "check/footprint.hpp"
+
+namespace carve::check {
+
+namespace {
+
+constexpr double kMaxLayerMm = 1.0;  // no layer is thicker: how far back recent layers go
+
+}  // namespace
+
+void Analyser::start_layer(double z) {
+    if (have_layer_) finish_layer();
+    on_bed_ = false;
+    double height;
+    if (!have_prev_) {
+        height = z;
+        on_bed_ = true;
+        first_z_ = z;
+    } else if (z > prev_z_ + kZTolerance) {
+        height = z - prev_z_;
+    } else {
+        // Going down again: a sequential print starting its next object, or odd output.
+        ++result_.z_reversals;
+        if (z <= first_z_ + kZTolerance) {
+            height = z;
+            on_bed_ = true;
+        } else {
+            height = prev_height_;
+        }
+    }
+    have_layer_ = true;
+    layer_z_ = z;
+    layer_ = LayerFigures{};
+    layer_.z_mm = z;
+    layer_.height_mm = height;
+}
+
+void Analyser::finish_layer() {
+    have_layer_ = false;
+    double h = layer_.height_mm;
+    if (h <= kZTolerance) h = prev_height_ > 0 ? prev_height_ : 0.2;
+    if (scan_only_) {
+        ++result_.layers;
+        have_prev_ = true;
+        prev_z_ = layer_.z_mm;
+        prev_height_ = h;
+        layer_travel_.clear();
+        return;
+    }
+    // A layer holding only support (PrusaSlicer interleaves them between the object's
+    // layers) is not the object's layer below: the object's lines are as thick as the step
+    // from the last layer that held the object, and what lies below them reaches that far.
+    const bool support_only =
+        std::all_of(lines_.begin(), lines_.end(), [](const Polyline& l) { return l.support; });
+    const double model_h =
+        !support_only && have_model_z_ && layer_.z_mm - model_z_ > h + kZTolerance
+            ? layer_.z_mm - model_z_
+            : h;
+    Paths footprint = widen(lines_, model_h, filament_area_, opt_.bead);
+    Paths support_footprint;
+    double thickest = model_h;  // a ;HEIGHT: comment may say support is thicker
+    for (const Polyline& l : lines_) thickest = std::max(thickest, l.height);
+    if (!support_only) {
+        have_model_z_ = true;
+        model_z_ = layer_.z_mm;
+    }
+    if (std::any_of(lines_.begin(), lines_.end(), [](const Polyline& l) { return l.support; })) {
+        std::vector<Polyline> support_lines;
+        for (const Polyline& l : lines_)
+            if (l.support) support_lines.push_back(l);
+        support_footprint = widen(support_lines, model_h, filament_area_, opt_.bead);
+    }
+    lines_.clear();
+    layer_.footprint_area_mm2 = region_area_mm2(footprint);
+    // What lies below: the layers within the thickness of this one (one layer, unless a
+    // slicer interleaves thinner layers, as PrusaSlicer does between its support's layers
+    // and the object's), and the supports' tops within the gap below that (a support holds
+    // its overhang across a gap of a layer or so).
+    const double reach_z = layer_.z_mm - thickest - kZTolerance;
+    while (!recent_.empty() && recent_.front().z < reach_z - opt_.support_gap_mm - kMaxLayerMm)
+        recent_.pop_front();
+    Paths merged;
+    size_t parts = 0;
+    for (const Recent& r : recent_) {
+        if (r.z > layer_.z_mm - kZTolerance) continue;  // a sequential print's next object
+        const Paths* add = r.z >= reach_z                         ? &r.footprint
+                           : r.z >= reach_z - opt_.support_gap_mm ? &r.support
+                                                                  : nullptr;
+        if (!add || add->empty()) continue;
+        if (add != &recent_.back().footprint) ++parts;
+        merged.insert(merged.end(), add->begin(), add->end());
+    }
+    if (parts > 0) merged.insert(merged.end(), prev_footprint_.begin(), prev_footprint_.end());
+    // Most layers: the previous layer alone, read in place.
+    const Paths& below = parts == 0 ? prev_footprint_ : merged;
+    if (!on_bed_ && have_prev_) {
+        Paths unsupported = difference(footprint, dilate_round(below, r_units_));
+        layer_.unsupported_area_mm2 = region_area_mm2(unsupported);
+        if (!unsupported.empty()) {
+            Paths far = far_region(unsupported, below, far_units_);
+            if (!support_footprint.empty() && !far.empty()) {
+                // A support standing on the model's top leaves the same gap: support
+                // extrusion is held by anything printed within the gap below it.
+                Paths on_model;
+                for (const Recent& r : recent_)
+                    if (r.z < reach_z && r.z >= reach_z - opt_.support_gap_mm &&
+                        !r.footprint.empty())
+                        on_model.insert(on_model.end(), r.footprint.begin(), r.footprint.end());
+                Paths far_support = intersection(far, support_footprint);
+                if (!on_model.empty() && !far_support.empty()) {
+                    on_model.insert(on_model.end(), below.begin(), below.end());
+                    Paths rest = difference(far, support_footprint);
+                    far_support = far_region(far_support, on_model, far_units_);
+                    far = std::move(rest);
+                    far.insert(far.end(), far_support.begin(), far_support.end());
+                }
+                layer_.hanging_support_mm2 = region_area_mm2(far_support);
+            }
+            layer_.far_unsupported_area_mm2 = region_area_mm2(far);
+            if (opt_.model_slice && have_prev_model_ && !far.empty()) {
+                // Over the model's slice one layer down: something inside the object could
+                // have held it. The rest hangs beyond the model itself.
+                layer_.hanging_inside_mm2 = region_area_mm2(intersection(far, prev_model_));
+                layer_.hanging_overhang_mm2 =
+                    std::max(0.0, layer_.far_unsupported_area_mm2 - layer_.hanging_inside_mm2);
+            } else {
+                layer_.hanging_overhang_mm2 = layer_.far_unsupported_area_mm2;
+            }
+        }
+    }
+    if (layer_.path_length_mm > 0) {
+        double width = line_width(layer_.extruded_volume_mm3 / layer_.path_length_mm, h, opt_.bead);
+        width_sum_ += width * layer_.path_length_mm;
+        width_weight_ += layer_.path_length_mm;
+    }
+    if (opt_.model_slice) check_model(footprint, support_footprint, h);
+    layer_travel_.clear();
+
+    GcodeAnalysis& r = result_;
+    if (r.layers == 0) r.first_z_mm = layer_.z_mm;
+    r.last_z_mm = std::max(r.last_z_mm, layer_.z_mm);
+    ++r.layers;
+    r.path_length_mm += layer_.path_length_mm;
+    r.footprint_area_mm2 += layer_.footprint_area_mm2;
+    r.unsupported_area_mm2 += layer_.unsupported_area_mm2;
+    r.far_unsupported_area_mm2 += layer_.far_unsupported_area_mm2;
+    r.outside_area_mm2 += layer_.outside_area_mm2;
+    r.max_outside_model_mm = std::max(r.max_outside_model_mm, layer_.max_outside_model_mm);
+    r.hanging_inside_mm2 += layer_.hanging_inside_mm2;
+    r.hanging_overhang_mm2 += layer_.hanging_overhang_mm2;
+    r.hanging_support_mm2 += layer_.hanging_support_mm2;
+    r.outside_support_mm2 += layer_.outside_support_mm2;
+    r.travel_inside_mm += layer_.travel_inside_mm;
+    r.travel_outside_mm += layer_.travel_outside_mm;
+    r.wall_crossings += layer_.wall_crossings;
+    if (opt_.keep_layers) r.per_layer.push_back(layer_);
+
+    // The last layer is read from prev_footprint_, the ones before from recent_.
+    if (have_prev_) recent_.back().footprint = prev_footprint_;
+    recent_.push_back({layer_.z_mm, {}, std::move(support_footprint)});
+    prev_footprint_ = std::move(footprint);
+    have_prev_ = true;
+    prev_z_ = layer_.z_mm;
+    prev_height_ = h;
+}
+
+void Analyser::check_model(const Paths& footprint, const Paths& support_footprint, double h) {
+    result_.model_checked = true;
+    Paths model = opt_.model_slice(layer_.z_mm - h / 2);
+    double tolerance = opt_.model_tolerance_mm;
+    if (tolerance < 0) {
+        tolerance =
+            layer_.path_length_mm > 0
+                ? 0.5 * line_width(layer_.extruded_volume_mm3 / layer_.path_length_mm, h, opt_.bead)
+                : 0.2;
+    }
+    tolerance_sum_ += tolerance;
+    Paths grown = dilate_round(model, to_units(tolerance));
+    Paths outside_tol = difference(footprint, grown);
+    layer_.outside_area_mm2 = region_area_mm2(outside_tol);
+    if (!support_footprint.empty())
+        layer_.outside_support_mm2 = region_area_mm2(difference(support_footprint, grown));
+    if (!layer_travel_.empty()) {
+        const TravelFigures t = measure_travel(layer_travel_, grown);
+        layer_.travel_inside_mm = t.inside_mm;
+        layer_.travel_outside_mm = t.outside_mm;
+        layer_.wall_crossings += t.wall_crossings;
+    }
+    prev_model_ = model;
+    have_prev_model_ = true;
+    layer_.max_outside_model_mm = max_distance_outside(footprint, model);
+}
+
+}  // namespace carve::check

@@ -1,0 +1,128 @@
+// What the run does before its layers flow: the mesh loaded and placed, the limits checked,
+// the G-code's objects named (see run_setup.hpp).
+#include "run/run_setup.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <map>
+#include <utility>
+
+#include "base/error.hpp"
+#include "gcode/labels.hpp"
+
+namespace carve {
+
+RunMesh load_run_mesh(const Settings& settings, const RunOptions& options, RunResult& result,
+                      const std::function<void(const std::string&)>& note) {
+    RunMesh run;
+    // A triangle soup cannot be sliced (see is_triangle_soup); the loader refuses it as soon as
+    // its edges are counted, before the rest of the repair spends memory on it.
+    LoadOptions load_options;
+    load_options.refuse_soup = true;
+    run.mesh = load_mesh(options.model_path, result.mesh, load_options);
+    for (const std::string& w : result.mesh.warnings) note(w);
+    run.loaded_box = result.mesh.bbox;  // before scaling: the 3MF items' frame
+    if (settings.scale != 1.0) {
+        // Scale about the bottom centre so that the model stays on the bed where it was.
+        const BBox3 b = result.mesh.bbox;
+        const Vec3 c{(b.min.x + b.max.x) / 2, (b.min.y + b.max.y) / 2, b.min.z};
+        for (Vec3& v : run.mesh.vertices)
+            v = {c.x + (v.x - c.x) * settings.scale, c.y + (v.y - c.y) * settings.scale,
+                 c.z + (v.z - c.z) * settings.scale};
+        result.mesh.bbox = bounding_box(run.mesh);
+        result.mesh.volume_mm3 = signed_volume(run.mesh);
+    }
+    if (settings.copies > 1) {
+        // The copies are one mesh of disjoint shells: every stage works on them as on islands
+        // of one model; only the G-code labels each copy as its own object.
+        run.mesh = arrange_copies(run.mesh, settings.copies, settings.copy_gap, run.copy_boxes);
+        result.mesh.bbox = bounding_box(run.mesh);
+        result.mesh.volume_mm3 = signed_volume(run.mesh);
+    }
+    return run;
+}
+
+void check_run_size(const Settings& settings, const RunOptions& options, const BBox3& box) {
+    const double size_x = box.max.x - box.min.x, size_y = box.max.y - box.min.y;
+    if (settings.bed_check && (size_x > settings.bed_x || size_y > settings.bed_y))
+        throw InputError(fmt::format(
+            "{}: the model{} ({:.1f} x {:.1f} mm) is larger than the bed ({:.0f} x {:.0f} mm); "
+            "{}scale it down, choose a larger --bed, or pass --no-bed-check",
+            options.model_path,
+            settings.copies > 1 ? fmt::format(" in {} copies", settings.copies) : "", size_x,
+            size_y, settings.bed_x, settings.bed_y,
+            settings.copies > 1 ? "print fewer copies, " : ""));
+
+    // Scale times size: the work grows with (size / line width)^2 per layer and with the
+    // number of layers. A model 5 m across at 0.05 mm lines, or a million layers, is refused
+    // before slicing starts (with --no-bed-check and --scale 100 nothing else stops it).
+    const double size_z = box.max.z - box.min.z;
+    constexpr double kMaxLinesAcross = 100000, kMaxLayers = 200000;
+    // The line width, not the nozzle: --extrusion-width may be far thinner than the nozzle.
+    const double line_mm = std::min(settings.nozzle, settings.width_mm());
+    if (std::max(size_x, size_y) / line_mm > kMaxLinesAcross ||
+        size_z / settings.layer_height > kMaxLayers)
+        throw InputError(fmt::format(
+            "{}: the model ({:.1f} x {:.1f} x {:.1f} mm) is too large for {} mm lines and "
+            "{} mm layers (limits: {:.0f} line widths across, {:.0f} layers); scale it down",
+            options.model_path, size_x, size_y, size_z, line_mm, settings.layer_height,
+            kMaxLinesAcross, kMaxLayers));
+}
+
+std::function<void(const Slice&)> vertex_limits(const Settings& settings,
+                                                const RunOptions& options) {
+    if (settings.max_vertices_per_layer <= 0 && settings.max_vertices_total <= 0) return {};
+    // Checked as each slice is cut, in order, before covers and carving spend hours on it.
+    return [&settings, &options, total = 0LL](const Slice& slice) mutable {
+        long long vertices = 0;
+        for (const Path& p : slice.region) vertices += static_cast<long long>(p.size());
+        total += vertices;
+        if (settings.max_vertices_total > 0 && total > settings.max_vertices_total)
+            throw InputError(fmt::format(
+                "{}: the slices down to layer {} (z = {:.2f} mm) hold {} contour vertices, "
+                "more than the limit of {}; simplify the mesh or raise --max-vertices "
+                "(0 = no limit)",
+                options.model_path, slice.index, slice.z, total, settings.max_vertices_total));
+        if (settings.max_vertices_per_layer > 0 && vertices > settings.max_vertices_per_layer)
+            throw InputError(fmt::format(
+                "{}: layer {} (z = {:.2f} mm) has {} contour vertices, more than the limit of "
+                "{}; simplify the mesh or raise --max-vertices-per-layer (0 = no limit)",
+                options.model_path, slice.index, slice.z, vertices,
+                settings.max_vertices_per_layer));
+    };
+}
+
+void label_objects(GcodeWriter& writer, const RunOptions& options, const Settings& settings,
+                   const RunMesh& run_mesh, const RunResult& result) {
+    const std::vector<CopyBox>& copy_boxes = run_mesh.copy_boxes;
+    const BBox3& loaded_box = run_mesh.loaded_box;
+    writer.set_object_name(object_label(options.model_path));
+    if (!copy_boxes.empty()) {
+        std::vector<ObjectLabel> objects;
+        for (size_t k = 0; k < copy_boxes.size(); ++k) {
+            const CopyBox& c = copy_boxes[k];
+            objects.push_back({fmt::format("{}_{}", object_label(options.model_path), k + 1),
+                               c.min_x, c.min_y, c.max_x, c.max_y});
+        }
+        writer.set_objects(std::move(objects));
+    } else if (result.mesh.items.size() > 1) {
+        // A 3MF plate of several build items: each labelled as the object it is, scaled as the
+        // mesh was (about its bottom centre), named as the file names it (made safe, and
+        // numbered when two share a name).
+        std::vector<ObjectLabel> objects;
+        const double s = settings.scale;
+        const double cx = (loaded_box.min.x + loaded_box.max.x) / 2;
+        const double cy = (loaded_box.min.y + loaded_box.max.y) / 2;
+        std::map<std::string, int> seen;
+        for (const MeshReport::BuildItem& it : result.mesh.items) {
+            std::string name = object_label(it.name);
+            if (++seen[name] > 1) name += fmt::format("_{}", seen[name]);
+            objects.push_back({name, cx + (it.min_x - cx) * s, cy + (it.min_y - cy) * s,
+                               cx + (it.max_x - cx) * s, cy + (it.max_y - cy) * s});
+        }
+        writer.set_objects(std::move(objects));
+    }
+}
+
+}  // namespace carve
