@@ -362,7 +362,7 @@ std::vector<std::string> read_prusa_profile(std::istream& in, const std::string&
             }
             if (const auto it =
                     std::find_if(custom_gcode_keys().begin(), custom_gcode_keys().end(),
-                                 [&](const CustomGcodeKey& c) { return key == c.ini_key; });
+                                 [&k = key](const CustomGcodeKey& c) { return k == c.ini_key; });
                 it != custom_gcode_keys().end()) {
                 s.*(it->text) =
                     unescape_profile_text(it->string_list ? first_quoted(value) : value);
