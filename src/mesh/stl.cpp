@@ -336,8 +336,12 @@ class Tokens {
         size_t start = pos_;
         for (;;) {
             while (pos_ < data_.size() && !is_space(data_[pos_])) ++pos_;
-            if (pos_ < data_.size() || !refill(start)) break;
+            if (pos_ < data_.size() || !file_) break;
+            // The text before the word is dropped even when the file has nothing more: the
+            // word then ends the file.
+            const bool more = refill(start);
             start = 0;
+            if (!more) break;
         }
         last_ = start;
         return data_.substr(start, pos_ - start);

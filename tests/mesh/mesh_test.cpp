@@ -678,6 +678,27 @@ TEST(MeshLoad, AnAsciiStlReadInBlocksEqualsItReadWhole) {
             }
         }
     }
+    // A file that ends in a word, without a line end (fuzz: the word was cut wrongly).
+    for (const std::string last : {"endsolid", "endsolid name", "endfacet"}) {
+        std::string text = ascii_stl(soup_mesh(3));
+        text.resize(text.rfind("endsolid"));
+        text += last;
+        const std::string path = temp().file("no_eol.stl");
+        write_file(path, text);
+        Mesh whole;
+        MeshReport r;
+        bool whole_ok = true;
+        try {
+            detail::read_ascii_stl(std::string_view(text), path, whole, r);
+        } catch (const InputError&) {
+            whole_ok = false;
+        }
+        EXPECT_EQ(whole_ok, last != "endfacet") << last;
+        if (whole_ok)
+            expect_same_mesh(read_streamed(path, false, false), whole);
+        else
+            EXPECT_THROW(read_streamed(path, false, false), InputError) << last;
+    }
     // A mistake past the first block is reported at its own line, as when read whole.
     std::string text = ascii_stl(soup);
     const size_t at = text.find("vertex", (4u << 20) + 1000);
