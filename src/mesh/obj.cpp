@@ -4,6 +4,7 @@
 #include <cerrno>
 #include <charconv>
 #include <cstring>
+#include <optional>
 #include <string>
 
 #include "mesh/loader.hpp"
@@ -40,6 +41,20 @@ std::string quoted(std::string_view tok) {
     return q;
 }
 
+// The 0-based vertex that a face's word ("7", "7/1", "-2//3") refers to among the n defined so
+// far: OBJ counts from 1, and back from the last with negative numbers. Nothing when the word
+// is no reference (index is then 0) or names a vertex not defined yet (index is as written).
+std::optional<size_t> vertex_ref(std::string_view tok, size_t n, long long& index) {
+    const std::string_view text = tok.substr(0, tok.find('/'));
+    index = 0;
+    const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), index);
+    if (ec != std::errc() || end != text.data() + text.size()) index = 0;
+    if (index == 0) return std::nullopt;
+    const long long zero_based = index > 0 ? index - 1 : static_cast<long long>(n) + index;
+    if (zero_based < 0 || zero_based >= static_cast<long long>(n)) return std::nullopt;
+    return static_cast<size_t>(zero_based);
+}
+
 // The reader's state between lines, so that a file can be fed in pieces.
 class ObjReader {
   public:
@@ -74,18 +89,13 @@ class ObjReader {
         } else if (keyword == "f") {
             polygon_.clear();
             for (std::string_view tok = words.next(); !tok.empty(); tok = words.next()) {
-                std::string_view index_text = tok.substr(0, tok.find('/'));
                 long long index = 0;
-                auto [end, ec] = std::from_chars(index_text.data(),
-                                                 index_text.data() + index_text.size(), index);
-                if (ec != std::errc() || end != index_text.data() + index_text.size() || index == 0)
-                    malformed(quoted(tok) + " is not a vertex reference");
-                const long long n = static_cast<long long>(welded_.size());
-                const long long zero_based = index > 0 ? index - 1 : n + index;
-                if (zero_based < 0 || zero_based >= n)
+                const auto at = vertex_ref(tok, welded_.size(), index);
+                if (index == 0) malformed(quoted(tok) + " is not a vertex reference");
+                if (!at)
                     malformed("a face refers to vertex " + std::to_string(index) + " but " +
-                              std::to_string(n) + " vertices are defined so far");
-                polygon_.push_back(welded_[static_cast<size_t>(zero_based)]);
+                              std::to_string(welded_.size()) + " vertices are defined so far");
+                polygon_.push_back(welded_[*at]);
             }
             if (polygon_.size() < 3)
                 malformed("a face has " + std::to_string(polygon_.size()) +
@@ -180,16 +190,11 @@ TextCounts count_obj(std::FILE* file, size_t size, const std::string& path) {
                 if (!parse_double(words.next(), value)) value = 0;
             hashes.push_back(hash_point(c[0] + 0.0, c[1] + 0.0, c[2] + 0.0));
         } else if (keyword == "f") {
-            const auto n = static_cast<long long>(hashes.size());
             if (used.size() < hashes.size()) used.resize(hashes.size());
             uint64_t corners = 0;
             for (std::string_view tok = words.next(); !tok.empty(); tok = words.next(), ++corners) {
-                const std::string_view index_text = tok.substr(0, tok.find('/'));
                 long long index = 0;
-                std::from_chars(index_text.data(), index_text.data() + index_text.size(), index);
-                const long long zero_based = index > 0 ? index - 1 : n + index;
-                if (index != 0 && zero_based >= 0 && zero_based < n)
-                    used[static_cast<size_t>(zero_based)] = true;
+                if (const auto at = vertex_ref(tok, hashes.size(), index)) used[*at] = true;
             }
             if (corners >= 3) counts.triangles += corners - 2;
         }
