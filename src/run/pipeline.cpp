@@ -35,6 +35,7 @@
 #include "run/layer_figures.hpp"
 #include "run/run_setup.hpp"
 #include "run/span_log.hpp"
+#include "run/thread_arenas.hpp"
 #include "run/tokens.hpp"
 #include "slice/slicer.hpp"
 #include "supports/bridges.hpp"
@@ -439,6 +440,7 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
     {
         tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(threads));
         tbb::task_arena arena(threads);
+        ThreadArenas arenas(arena);
         // An exception in any filter cancels the pipeline; parallel_pipeline waits for the
         // filters still running and rethrows it here, with its type and message, before
         // this frame's stages and writers are destroyed.
