@@ -113,6 +113,7 @@ void Emitter::start() {
     line(st_.relative_e ? "M83 ; relative extrusion" : "M82 ; absolute extrusion");
     line("G92 E0");
     mark_progress(0);
+    close_section();
 }
 
 void Emitter::layer(const LayerToolpaths& layer) {
@@ -148,6 +149,10 @@ void Emitter::layer(const LayerToolpaths& layer) {
     layer_comb_ = nullptr;
     layer_thin_ = nullptr;
     ++stats_.layers;
+    // The next layer starts with a Z move, at rest: its time does not depend on this one's.
+    planner_.stop();
+    reset_e();
+    close_section();
     flush(false);
 }
 
@@ -162,12 +167,85 @@ void Emitter::end() {
                              {"layer_num", std::max(0, layer_)}})
             .text);
     planner_.stop();
-    stats_.estimated_print_time_s = planner_.time();
-    stats_.filament_length_mm = stats_.extruded_volume_mm3 / filament_area_;
-    stats_.filament_weight_g = stats_.extruded_volume_mm3 / 1000.0 * st_.filament_density;
+    close_section();
+    run_stats_.estimated_print_time_s = time_base_;
+    run_stats_.filament_length_mm = run_stats_.extruded_volume_mm3 / filament_area_;
+    run_stats_.filament_weight_g = run_stats_.extruded_volume_mm3 / 1000.0 * st_.filament_density;
     for (ProgressMark& m : marks_)
-        if (m.elapsed_s < 0) m.elapsed_s = stats_.estimated_print_time_s;
+        if (m.elapsed_s < 0) m.elapsed_s = run_stats_.estimated_print_time_s;
     flush(true);
+}
+
+void Emitter::close_section() {
+    sections_.push_back({stats_, planner_.take_done()});
+    add_stats(run_stats_, stats_);
+    time_base_ += sections_.back().time_s;
+    stats_ = {};
+}
+
+void Emitter::add_stats(PrintStats& to, const PrintStats& s) {
+    to.extruded_volume_mm3 += s.extruded_volume_mm3;
+    to.filament_length_mm += s.filament_length_mm;
+    to.filament_weight_g += s.filament_weight_g;
+    to.estimated_print_time_s += s.estimated_print_time_s;
+    to.travel_length_mm += s.travel_length_mm;
+    to.retractions += s.retractions;
+    to.layers += s.layers;
+    to.bridge_length_mm += s.bridge_length_mm;
+    to.arcs += s.arcs;
+    to.lines_saved_by_arcs += s.lines_saved_by_arcs;
+}
+
+// The firmware's E back to 0 after a layer, and carve's count of the filament fed with it (but
+// for what is retracted): the next layer's E words are the same whatever came before. Bounded
+// E values are also what PrusaSlicer's Marlin profiles keep with G92 E0 in their layer G-code
+// (a float's precision in a long print).
+void Emitter::reset_e() {
+    const long long fed = std::llround(e_mm_ * kEScale);
+    if (!st_.relative_e && e_units_ != 0) line("G92 E0");
+    e_mm_ = double(fed - e_units_) / kEScale;
+    e_units_ = 0;
+}
+
+Emitter::Carry Emitter::carry() const {
+    return {pos_,          z_,        layer_z_,     layer_,
+            e_mm_,         e_units_,  feed_,        retracted_,
+            first_travel_, fan_,      type_known_,  type_,
+            width_,        accel_,    wipe_length_, objects_labelled_,
+            planner_,      wipe_path_};
+}
+
+void Emitter::warm_up() {
+    out_ = nullptr;
+    first_travel_ = false;
+    objects_labelled_.assign(objects_.size(), 1);
+}
+
+void Emitter::begin_chunk(std::FILE* out) {
+    out_ = out;
+    buf_.clear();
+    written_ = 0;
+    marks_.clear();
+    sections_.clear();
+    run_stats_ = {};
+    stats_ = {};
+    time_base_ = 0;
+    bounds_ = {};
+    object_bounds_.assign(objects_.size(), Bounds{});
+    custom_bytes_ = 0;
+}
+
+void Emitter::adopt_totals(double time_s, const PrintStats& stats) {
+    time_base_ = time_s;
+    run_stats_ = stats;
+}
+
+void Emitter::check_custom_bytes(size_t bytes) {
+    if (bytes > kMaxCustomBytes)
+        throw InputError(fmt::format(
+            "the profile's custom G-code adds more than {} MB to the file (it is expanded on "
+            "every layer); shorten it",
+            kMaxCustomBytes >> 20));
 }
 
 void Emitter::raw(const std::string& text) {
@@ -219,11 +297,7 @@ void Emitter::custom(const std::string& text) {
                               .text;
     // Bounded in total too: layer_gcode is expanded on every layer.
     custom_bytes_ += g.size();
-    if (custom_bytes_ > kMaxCustomBytes)
-        throw InputError(fmt::format(
-            "the profile's custom G-code adds more than {} MB to the file (it is expanded on "
-            "every layer); shorten it",
-            kMaxCustomBytes >> 20));
+    check_custom_bytes(custom_bytes_);
     raw(g);
     if (resets_e(g)) {
         e_mm_ -= double(e_units_) / kEScale;
@@ -233,7 +307,7 @@ void Emitter::custom(const std::string& text) {
 
 void Emitter::flush(bool force) {
     if (!force && buf_.size() < kFlushBytes) return;
-    if (buf_.size() > 0 && std::fwrite(buf_.data(), 1, buf_.size(), out_) != buf_.size())
+    if (out_ && buf_.size() > 0 && std::fwrite(buf_.data(), 1, buf_.size(), out_) != buf_.size())
         io_error(std::strerror(errno), path_);
     written_ += static_cast<long long>(buf_.size());
     buf_.clear();
@@ -251,10 +325,11 @@ void Emitter::set_fan(int speed) {
         line(fmt::format("M106 S{}", speed));
 }
 
-// An M73 goes here, `elapsed_s` into the print (-1: at the end, the total).
-void Emitter::mark_progress(double elapsed_s) {
+// An M73 goes here, `local_s` into the open section (-1: at the end, the total).
+void Emitter::mark_progress(double local_s) {
     if (!st_.m73) return;
-    marks_.push_back({written_ + static_cast<long long>(buf_.size()), elapsed_s});
+    marks_.push_back({written_ + static_cast<long long>(buf_.size()),
+                      local_s < 0 ? local_s : time_base_ + local_s, sections_.size(), local_s});
 }
 
 Emitter::Snapshot Emitter::save() const {

@@ -55,13 +55,57 @@ class Emitter {
     }
 
     void flush_all() { flush(true); }
-    const PrintStats& stats() const { return stats_; }
+    // The totals, complete after end().
+    const PrintStats& stats() const { return run_stats_; }
     const std::vector<ProgressMark>& progress_marks() const { return marks_; }
     const Bounds& bounds() const { return bounds_; }
     // Several objects: each extrusion labelled as its own object's (the single object's label
     // otherwise); their extents as written.
     void set_objects(std::vector<ObjectLabel> objects);
     const std::vector<Bounds>& object_bounds() const { return object_bounds_; }
+
+    // --- chunks. GcodeWriter::finish writes the layers in chunks on several threads, each
+    // chunk's emitter starting from the state its warm-up (the layers just before the chunk,
+    // written to nowhere) leaves, and checks afterwards that this state is the one the chunk
+    // before ended in (else that chunk's emitter writes the chunk again). Every layer starts
+    // from a state its text depends on (Carry) and adds to the totals (a Section): E is reset
+    // at each layer's end and the motion planner's time taken, so that neither depends on the
+    // length of the print before. The totals are the sections summed in order, by the emitter
+    // as it goes or by the writer over the chunks: the same bits either way.
+    struct Section {
+        PrintStats stats;
+        double time_s = 0;
+    };
+    // What a layer's text depends on from the layers before it.
+    struct Carry {
+        Point pos;
+        Coord z = 0, layer_z = 0;
+        int layer = 0;
+        double e_mm = 0;
+        long long e_units = 0, feed = 0;
+        bool retracted = false, first_travel = false;
+        int fan = 0;
+        bool type_known = false;
+        Feature type = Feature::OuterWall;
+        double width = 0, accel = 0, wipe_length = 0;
+        std::vector<char> objects_labelled;
+        MotionPlanner planner;
+        Path wipe_path;
+        bool operator==(const Carry&) const = default;
+    };
+    Carry carry() const;
+    // A chunk's emitter before its warm-up layers: it writes nowhere, its first travel is not
+    // the print's first, and the objects are already named (on the print's first layer).
+    void warm_up();
+    // The chunk's own text starts here, in `out`; what the warm-up measured is forgotten.
+    void begin_chunk(std::FILE* out);
+    // Before end(): the totals of the sections before this emitter's next one, from all chunks.
+    void adopt_totals(double time_s, const PrintStats& stats);
+    const std::vector<Section>& sections() const { return sections_; }
+    size_t custom_bytes() const { return custom_bytes_; }
+    // Throws InputError when the profile's custom G-code added more than its bound in all.
+    static void check_custom_bytes(size_t bytes);
+    static void add_stats(PrintStats& to, const PrintStats& s);
 
   private:
     static constexpr double kZSpeed = 10.0;          // mm/s for layer changes and z-hops
@@ -115,8 +159,12 @@ class Emitter {
     static int fan_byte(int percent) {
         return static_cast<int>(std::lround(std::clamp(percent, 0, 100) * 2.55));
     }
-    // An M73 goes here, `elapsed_s` into the print (-1: at the end, the total).
-    void mark_progress(double elapsed_s);
+    // An M73 goes here, `local_s` into the open section (-1: at the end, the total).
+    void mark_progress(double local_s);
+    // Ends the open section: its figures and time go to the totals.
+    void close_section();
+    // G92 E0 (with absolute E): the next layer's E does not depend on the filament before it.
+    void reset_e();
 
     // --- moves (emitter_moves.cpp).
     void feed(double mm_per_s);
@@ -204,7 +252,10 @@ class Emitter {
     double width_ = -1;
     MotionPlanner planner_;
     std::vector<Point> path_points_;  // the path being printed, shifted, reused
-    PrintStats stats_;
+    PrintStats stats_;                // of the open section
+    PrintStats run_stats_;            // of the closed sections, summed in order
+    double time_base_ = 0;            // their time, summed in order
+    std::vector<Section> sections_;
     Bounds bounds_;
     const Paths* layer_comb_ = nullptr;  // the comb region of the layer being written
     std::unique_ptr<Comber> comber_;     // built from it on first use

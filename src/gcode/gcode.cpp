@@ -7,11 +7,17 @@
 // trailer go to a temporary name that is renamed onto the output when complete. The figures
 // come from the very moves written, so the header cannot disagree with the body. (A measuring
 // pass before the writing pass did the same in twice the time, all of it after the last layer,
-// when nothing else runs.)
+// when nothing else runs.) That pass runs in chunks of layers on several threads, each from the
+// state the layers before it leave (emitter.hpp, "chunks"): a chunk whose start was not the
+// state the chunk before it ended in is written again after it, so the file is the same bytes
+// whatever the number of threads.
 #include "gcode/gcode.hpp"
 
 #include <fmt/format.h>
 #include <sys/stat.h>
+#include <tbb/global_control.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -63,14 +69,20 @@ struct GcodeWriter::Impl {
     std::FILE* spill = nullptr;
     long long spill_end = 0;
     std::vector<long long> offsets, sizes;
+    // Layers whose order does not depend on where the layer below ended (one island or none):
+    // the state after them is theirs alone, so the chunks start after them where they can.
+    std::vector<char> settled;
     OutputGroup* group = nullptr;         // commit held back until the run's other outputs are done
     std::string object = "object";        // the object's label
     std::vector<ObjectLabel> objects;     // several objects, or none
     std::vector<std::string> thumbnails;  // the header's thumbnail blocks
     bool finished = false;
+    int threads = 1;
+    ChunkCount chunk_count;
     std::mutex mutex;
 
-    LayerToolpaths load(int index) {
+    // Thread-safe: pread, no shared file position.
+    LayerToolpaths load(int index) const {
         if (offsets[index] < 0) {
             LayerToolpaths empty;
             empty.index = index;
@@ -78,16 +90,20 @@ struct GcodeWriter::Impl {
             return empty;
         }
         std::string blob(static_cast<size_t>(sizes[index]), '\0');
-        if (fseeko(spill, offsets[index], SEEK_SET) != 0 ||
-            std::fread(blob.data(), 1, blob.size(), spill) != blob.size())
-            throw std::runtime_error("carve: cannot read back the layer spill file");
+        size_t got = 0;
+        while (got < blob.size()) {
+            const ssize_t n = pread(fileno(spill), blob.data() + got, blob.size() - got,
+                                    offsets[index] + static_cast<long long>(got));
+            if (n <= 0) throw std::runtime_error("carve: cannot read back the layer spill file");
+            got += static_cast<size_t>(n);
+        }
         return decode_layer(blob);
     }
 
-    void run(Emitter& emitter) {
-        emitter.start();
-        for (int i = 0; i < layer_count; ++i) emitter.layer(load(i));
-        emitter.end();
+    std::unique_ptr<Emitter> emitter(std::FILE* out) const {
+        auto e = std::make_unique<Emitter>(settings, off_x, off_y, out, output_path, object);
+        if (!objects.empty()) e->set_objects(objects);
+        return e;
     }
 
     // The comment lines before the body, in PrusaSlicer's order: who made the file first
@@ -154,6 +170,7 @@ GcodeWriter::GcodeWriter(std::string output_path, const Settings& settings, doub
     m.layer_count = std::max(0, layer_count);
     m.offsets.assign(m.layer_count, -1);
     m.sizes.assign(m.layer_count, 0);
+    m.settled.assign(m.layer_count, 1);
     // The spill lives next to the output (same disk, and a bad directory fails early), unlinked
     // at once so that it disappears with the process whatever happens.
     m.spill = unlinked_file(m.output_path, ".spill-XXXXXX");
@@ -196,9 +213,66 @@ void GcodeWriter::add_layer(const LayerToolpaths& layer) {
         std::fwrite(blob.data(), 1, blob.size(), m.spill) != blob.size())
         io_error(std::strerror(errno), m.output_path + " (temporary layer file)");
     m.offsets[layer.index] = m.spill_end;
+    m.settled[layer.index] = layer.island_starts.size() < 3;
     m.sizes[layer.index] = static_cast<long long>(blob.size());
     m.spill_end += static_cast<long long>(blob.size());
 }
+
+void GcodeWriter::set_threads(int threads) {
+    impl_->threads = std::max(1, threads);
+}
+
+GcodeWriter::ChunkCount GcodeWriter::chunk_count() const {
+    return impl_->chunk_count;
+}
+
+namespace {
+
+// Layers before a chunk that its emitter writes to nowhere first. The chunks start two layers
+// after a settled one where they can: the first layer of the warm-up, settled, ends where it
+// ends whatever came before it; the second then starts from where it truly starts, and so its
+// time, which decides its speed when cooling slows it down, is its true time too.
+constexpr int kWarmUpLayers = 2;
+// Fewer layers than this in a chunk, and the warm-up is too large a part of its work.
+constexpr int kMinChunkLayers = 24;
+
+struct ChunkFile {
+    std::FILE* file = nullptr;
+    ~ChunkFile() {
+        if (file) std::fclose(file);
+    }
+};
+
+// One chunk's layers and what its emitter measured of them (copied out, because the emitter
+// of a chunk may go on to write the next one).
+struct Chunk {
+    int first = 0, end = 0;  // layers [first, end)
+    ChunkFile body;
+    std::unique_ptr<Emitter> emitter;
+    Emitter::Carry entry;  // the state its layers started from
+    std::vector<Emitter::Section> sections;
+    std::vector<ProgressMark> marks;
+    Bounds bounds;
+    std::vector<Bounds> object_bounds;
+    size_t custom_bytes = 0;
+
+    void keep_figures() {
+        emitter->flush_all();
+        sections = emitter->sections();
+        marks = emitter->progress_marks();
+        bounds = emitter->bounds();
+        object_bounds = emitter->object_bounds();
+        custom_bytes = emitter->custom_bytes();
+    }
+};
+
+void merge(Bounds& to, const Bounds& b) {
+    to.min_x = std::min(to.min_x, b.min_x), to.max_x = std::max(to.max_x, b.max_x);
+    to.min_y = std::min(to.min_y, b.min_y), to.max_y = std::max(to.max_y, b.max_y);
+    to.min_z = std::min(to.min_z, b.min_z), to.max_z = std::max(to.max_z, b.max_z);
+}
+
+}  // namespace
 
 PrintStats GcodeWriter::finish(const std::vector<std::string>& header_comments) {
     std::lock_guard lock(impl_->mutex);
@@ -206,49 +280,158 @@ PrintStats GcodeWriter::finish(const std::vector<std::string>& header_comments) 
     if (m.finished) throw std::logic_error("GcodeWriter::finish called twice");
     if (std::fflush(m.spill) != 0) io_error(std::strerror(errno), m.output_path);
 
-    // The body, measured as it is written.
-    std::FILE* body = unlinked_file(m.output_path, ".body-XXXXXX");
-    std::FILE* out = nullptr;
-    try {
-        std::setvbuf(body, nullptr, _IOFBF, 1 << 16);
-        Emitter writer(m.settings, m.off_x, m.off_y, body, m.output_path, m.object);
-        if (!m.objects.empty()) writer.set_objects(m.objects);
-        m.run(writer);
-        writer.flush_all();
-        if (std::fflush(body) != 0 || std::ferror(body) || std::fseek(body, 0, SEEK_SET) != 0)
-            io_error(std::strerror(errno), m.output_path);
-        const PrintStats s = writer.stats();
-        const Bounds& b = writer.bounds();
-
-        auto file = std::make_unique<AtomicFile>(m.output_path);
-        out = file->stream();
-        Emitter text(m.settings, m.off_x, m.off_y, out, m.output_path);
-        text.comment_block(m.head(header_comments, s, b, writer.object_bounds()));
-        text.flush_all();
-        copy_with_progress(body, out, writer.progress_marks(), s.estimated_print_time_s,
-                           m.output_path);
-        std::fclose(body);
-        body = nullptr;
-        text.comment_block(m.tail(s));
-        text.flush_all();
-        const PrintStats result = s;
-        out = nullptr;
-        file->close();
-        if (m.group) {
-            m.written = file->temporary();
-            m.group->hold(std::move(file));
-        } else {
-            file->commit();
-            m.written = m.output_path;
+    // The body in chunks, each measured as it is written.
+    const int count =
+        m.threads <= 1 ? 1 : std::clamp(m.layer_count / kMinChunkLayers, 1, 4 * m.threads);
+    std::vector<Chunk> chunks(static_cast<size_t>(count));
+    m.chunk_count.chunks = count;
+    // Even chunks, each moved to start after the nearest settled layer within a quarter chunk.
+    std::vector<int> starts{0};
+    for (int k = 1; k < count; ++k) {
+        const int even = int(int64_t(m.layer_count) * k / count);
+        const int reach = m.layer_count / count / 4;
+        int at = even;
+        for (int d = 0; d <= reach; ++d) {
+            if (even - d - kWarmUpLayers > starts.back() &&
+                m.settled[size_t(even - d - kWarmUpLayers)]) {
+                at = even - d;
+                break;
+            }
+            if (even + d < m.layer_count && even + d - kWarmUpLayers > starts.back() &&
+                m.settled[size_t(even + d - kWarmUpLayers)]) {
+                at = even + d;
+                break;
+            }
         }
-        m.finished = true;
-        std::fclose(m.spill);
-        m.spill = nullptr;
-        return result;
-    } catch (...) {
-        if (body) std::fclose(body);
-        throw;  // the AtomicFile removes its temporary
+        starts.push_back(std::max(at, starts.back() + 1));
     }
+    for (int k = 0; k < count; ++k) {
+        chunks[k].first = starts[size_t(k)];
+        chunks[k].end = k + 1 < count ? starts[size_t(k) + 1] : m.layer_count;
+        chunks[k].body.file = unlinked_file(m.output_path, ".body-XXXXXX");
+        std::setvbuf(chunks[k].body.file, nullptr, _IOFBF, 1 << 16);
+    }
+    auto write_chunk = [&](Chunk& c) {
+        if (c.first == 0) {
+            c.emitter = m.emitter(c.body.file);
+            c.emitter->start();
+        } else {
+            c.emitter = m.emitter(nullptr);
+            const int from = std::max(0, c.first - kWarmUpLayers);
+            if (from == 0)
+                c.emitter->start();  // the whole print before it: the very state
+            else
+                c.emitter->warm_up();
+            for (int i = from; i < c.first; ++i) c.emitter->layer(m.load(i));
+            c.emitter->begin_chunk(c.body.file);
+        }
+        c.entry = c.emitter->carry();
+        for (int i = c.first; i < c.end; ++i) c.emitter->layer(m.load(i));
+        c.keep_figures();
+    };
+    if (count == 1) {
+        write_chunk(chunks[0]);
+    } else {
+        tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(m.threads));
+        tbb::task_arena arena(m.threads);
+        arena.execute(
+            [&] { tbb::parallel_for(0, count, [&](int k) { write_chunk(chunks[size_t(k)]); }); });
+    }
+    // In order: a chunk that did not start where the one before ended is written again by the
+    // emitter of the one before, which goes on from the very state.
+    PrintStats totals;
+    double time = 0;
+    size_t custom_bytes = 0;
+    long long offset = 0;
+    std::vector<double> section_start;  // the time before each section, all chunks through
+    Bounds bounds;
+    std::vector<Bounds> object_bounds;
+    std::vector<ProgressMark> marks;
+    auto add_figures = [&](const Chunk& c, size_t first_section) {
+        for (size_t i = first_section; i < c.sections.size(); ++i) {
+            section_start.push_back(time);
+            Emitter::add_stats(totals, c.sections[i].stats);
+            time += c.sections[i].time_s;
+        }
+        custom_bytes += c.custom_bytes;
+        Emitter::check_custom_bytes(custom_bytes);
+        merge(bounds, c.bounds);
+        object_bounds.resize(std::max(object_bounds.size(), c.object_bounds.size()));
+        for (size_t i = 0; i < c.object_bounds.size(); ++i)
+            merge(object_bounds[i], c.object_bounds[i]);
+    };
+    size_t sections_before = 0;  // of the chunks before this one
+    for (int k = 0; k < count; ++k) {
+        Chunk& c = chunks[size_t(k)];
+        if (k > 0 && !(chunks[size_t(k) - 1].emitter->carry() == c.entry)) {
+            ++m.chunk_count.written_again;
+            c.emitter = std::move(chunks[size_t(k) - 1].emitter);
+            if (std::fflush(c.body.file) != 0 || ftruncate(fileno(c.body.file), 0) != 0 ||
+                std::fseek(c.body.file, 0, SEEK_SET) != 0)
+                io_error(std::strerror(errno), m.output_path);
+            c.emitter->begin_chunk(c.body.file);
+            for (int i = c.first; i < c.end; ++i) c.emitter->layer(m.load(i));
+            c.keep_figures();
+        }
+        if (k + 1 == count) {
+            // The end, on the totals of every layer: its time and figures close them.
+            add_figures(c, 0);
+            c.emitter->adopt_totals(time, totals);
+            c.emitter->end();
+            const size_t own = c.sections.size();
+            const size_t own_bytes = c.custom_bytes;
+            c.keep_figures();
+            custom_bytes += c.custom_bytes - own_bytes;
+            Emitter::check_custom_bytes(custom_bytes);
+            for (size_t i = own; i < c.sections.size(); ++i) section_start.push_back(time);
+            time = c.emitter->stats().estimated_print_time_s;
+            totals = c.emitter->stats();
+            merge(bounds, c.bounds);
+            for (size_t i = 0; i < c.object_bounds.size(); ++i)
+                merge(object_bounds[i], c.object_bounds[i]);
+        } else {
+            add_figures(c, 0);
+        }
+        for (ProgressMark mark : c.marks) {
+            mark.offset += offset;
+            mark.section += sections_before;
+            mark.elapsed_s = mark.local_s < 0 ? time : section_start[mark.section] + mark.local_s;
+            marks.push_back(mark);
+        }
+        sections_before += c.sections.size();
+        if (std::fflush(c.body.file) != 0 || std::ferror(c.body.file))
+            io_error(std::strerror(errno), m.output_path);
+        offset += static_cast<long long>(ftello(c.body.file));
+    }
+    const PrintStats s = totals;
+
+    auto file = std::make_unique<AtomicFile>(m.output_path);
+    std::FILE* out = file->stream();
+    Emitter text(m.settings, m.off_x, m.off_y, out, m.output_path);
+    text.comment_block(m.head(header_comments, s, bounds, object_bounds));
+    text.flush_all();
+    std::vector<std::FILE*> bodies;
+    for (Chunk& c : chunks) {
+        if (std::fseek(c.body.file, 0, SEEK_SET) != 0)
+            io_error(std::strerror(errno), m.output_path);
+        bodies.push_back(c.body.file);
+    }
+    copy_with_progress(bodies, out, marks, s.estimated_print_time_s, m.output_path);
+    chunks.clear();
+    text.comment_block(m.tail(s));
+    text.flush_all();
+    file->close();
+    if (m.group) {
+        m.written = file->temporary();
+        m.group->hold(std::move(file));
+    } else {
+        file->commit();
+        m.written = m.output_path;
+    }
+    m.finished = true;
+    std::fclose(m.spill);
+    m.spill = nullptr;
+    return s;
 }
 
 }  // namespace carve

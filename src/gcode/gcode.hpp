@@ -51,6 +51,14 @@ class GcodeWriter {
     void set_objects(std::vector<ObjectLabel> objects);
     // Comment lines for the header, the thumbnails' blocks (gcode/thumbnail.hpp).
     void set_thumbnails(std::vector<std::string> lines);
+    // Threads for finish() (1 by default); the file is the same for every count.
+    void set_threads(int threads);
+    // How finish() went: the chunks of layers it wrote side by side, and those of them it
+    // wrote again because they had not started where the chunk before them ended.
+    struct ChunkCount {
+        int chunks = 0, written_again = 0;
+    };
+    ChunkCount chunk_count() const;
     // Writes header, layers bottom up and footer, then renames into place.
     PrintStats finish(const std::vector<std::string>& header_comments);
     // Where the complete file is after finish(): its temporary name while `group` holds it back,

@@ -33,6 +33,7 @@ struct MachineLimits {
     double feed_x = kNone, feed_y = kNone;             // mm/s
     double jerk_x = 8, jerk_y = 8;                     // mm/s, with junction_deviation 0 only
     double junction_deviation = kJunctionDeviationMm;  // mm; 0 = classic jerk
+    bool operator==(const MachineLimits&) const = default;
 };
 
 class MotionPlanner {
@@ -50,10 +51,20 @@ class MotionPlanner {
     void dwell(double seconds);
     // Total time so far, including the buffered moves (planned as if stopping after them).
     double time() const;
+    // The time of the moves planned so far, which starts again from 0; the buffered moves stay
+    // (their time depends on the moves still to come). The emitter takes it at each layer's
+    // end, so that a layer's times do not depend on how long the print before it took.
+    double take_done() {
+        const double d = done_;
+        done_ = 0;
+        return d;
+    }
+    bool operator==(const MotionPlanner&) const = default;
 
   private:
     struct Block {
         double length, ux, uy, speed, accel;
+        bool operator==(const Block&) const = default;
     };
     double plan(const std::vector<Block>& blocks) const;
     double junction_speed(const Block& p, const Block& q) const;

@@ -21,8 +21,9 @@ std::string m73_line(double elapsed_s, double total_s) {
     return fmt::format("M73 P{} R{}\n", percent, std::llround(left / 60.0));
 }
 
-void copy_with_progress(std::FILE* body, std::FILE* out, const std::vector<ProgressMark>& marks,
-                        double total_s, const std::string& path) {
+void copy_with_progress(const std::vector<std::FILE*>& bodies, std::FILE* out,
+                        const std::vector<ProgressMark>& marks, double total_s,
+                        const std::string& path) {
     auto fail = [&] { throw OutputError("cannot write " + path + ": " + std::strerror(errno)); };
     std::vector<char> chunk(1 << 20);
     long long at = 0;  // body bytes copied so far
@@ -34,26 +35,28 @@ void copy_with_progress(std::FILE* body, std::FILE* out, const std::vector<Progr
         if (std::fwrite(line.data(), 1, line.size(), out) != line.size()) fail();
         last = line;
     };
-    for (size_t n; (n = std::fread(chunk.data(), 1, chunk.size(), body)) > 0;) {
-        size_t done = 0;
-        while (done < n) {
-            const long long chunk_end = at + static_cast<long long>(n - done);
-            if (next < marks.size() && marks[next].offset < chunk_end) {
-                const size_t upto = static_cast<size_t>(std::max(0LL, marks[next].offset - at));
-                if (upto > 0 && std::fwrite(chunk.data() + done, 1, upto, out) != upto) fail();
-                done += upto;
-                at += static_cast<long long>(upto);
-                progress(marks[next]);
-                ++next;
-                continue;
+    for (std::FILE* body : bodies) {
+        for (size_t n; (n = std::fread(chunk.data(), 1, chunk.size(), body)) > 0;) {
+            size_t done = 0;
+            while (done < n) {
+                const long long chunk_end = at + static_cast<long long>(n - done);
+                if (next < marks.size() && marks[next].offset < chunk_end) {
+                    const size_t upto = static_cast<size_t>(std::max(0LL, marks[next].offset - at));
+                    if (upto > 0 && std::fwrite(chunk.data() + done, 1, upto, out) != upto) fail();
+                    done += upto;
+                    at += static_cast<long long>(upto);
+                    progress(marks[next]);
+                    ++next;
+                    continue;
+                }
+                const size_t rest = n - done;
+                if (std::fwrite(chunk.data() + done, 1, rest, out) != rest) fail();
+                done = n;
+                at = chunk_end;
             }
-            const size_t rest = n - done;
-            if (std::fwrite(chunk.data() + done, 1, rest, out) != rest) fail();
-            done = n;
-            at = chunk_end;
         }
+        if (std::ferror(body)) fail();
     }
-    if (std::ferror(body)) fail();
     for (; next < marks.size(); ++next) progress(marks[next]);  // at the very end
 }
 

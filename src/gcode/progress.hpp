@@ -13,16 +13,22 @@ namespace carve {
 struct ProgressMark {
     long long offset = 0;  // byte offset in the body, before which the line goes
     double elapsed_s = 0;  // estimated time from the start of the body to there
+    // Where elapsed_s comes from: the time into the emitter's section (the start, a layer, the
+    // end) that holds the mark, added to the sections' times before it.
+    size_t section = 0;
+    double local_s = 0;
 };
 
 // "M73 P12 R34": the percentage is rounded down (100 only at the end), so that it never runs
 // ahead of the print; the minutes left are rounded to the nearest.
 std::string m73_line(double elapsed_s, double total_s);
 
-// Copies `body` (from its current position to its end) to `out`, with the M73 line of each
-// mark put before the byte it names; marks must be in increasing order. Throws OutputError
-// naming `path` on a failed write.
-void copy_with_progress(std::FILE* body, std::FILE* out, const std::vector<ProgressMark>& marks,
-                        double total_s, const std::string& path);
+// Copies the `bodies` one after the other (each from its current position to its end) to
+// `out`, with the M73 line of each mark put before the byte it names, counted through the
+// bodies as one; marks must be in increasing order. Throws OutputError naming `path` on a
+// failed write.
+void copy_with_progress(const std::vector<std::FILE*>& bodies, std::FILE* out,
+                        const std::vector<ProgressMark>& marks, double total_s,
+                        const std::string& path);
 
 }  // namespace carve

@@ -476,6 +476,7 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
         fmt::format("cavities = {}", result.cavities),
     };
     const int64_t finish_start_ns = thread_cpu_ns();
+    writer.set_threads(threads);
     result.print = writer.finish(header);
     double finish_s = double(thread_cpu_ns() - finish_start_ns) * 1e-9;
     result.processing_time_s =
@@ -513,6 +514,9 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
                                    "ribs", "paths", "writers"});
         std::fputs(profile_table().c_str(), stderr);
         std::fputs(span_table(span, names, load_s, finish_s, threads).c_str(), stderr);
+        const GcodeWriter::ChunkCount chunks = writer.chunk_count();
+        std::fprintf(stderr, "G-code: %d chunks of layers, %d of them written again\n",
+                     chunks.chunks, chunks.written_again);
     }
     return result;
 }

@@ -316,6 +316,7 @@ TEST(Cli, OuterWallIsCompleteOnEveryLayer) {
     while (std::getline(in, line)) {
         if (line.rfind(";LAYER:", 0) == 0) layer = std::stoi(line.substr(7));
         if (line.rfind(";TYPE:", 0) == 0) type = line.substr(6);
+        if (line.rfind("G92 E0", 0) == 0) e = 0;  // each layer's end
         if (line.rfind("G1 ", 0) != 0 && line.rfind("G0 ", 0) != 0) continue;
         double nx = x, ny = y, ne = e;
         bool has_e = false;

@@ -358,6 +358,7 @@ std::map<int, LayerMoves> read_moves(const fs::path& gcode) {
             type = line.substr(6);
             want_seam = type == "External perimeter";
         }
+        if (line.rfind("G92 E0", 0) == 0) e = 0;  // each layer's end
         if (line.rfind("G0 ", 0) != 0 && line.rfind("G1 ", 0) != 0) continue;
         std::istringstream ss(line.substr(0, line.find(';')).substr(3));
         std::string w;
@@ -595,6 +596,7 @@ TEST(TravelRun, HeaderCountsTheTravelWrittenAndEveryRetraction) {
             }
             if (line.rfind("G10", 0) == 0) ++g10;
             if (line.rfind("G11", 0) == 0) ++g11;
+            if (line.rfind("G92 E0", 0) == 0) e = 0;  // each layer's end
             if (line.rfind("G0 ", 0) != 0 && line.rfind("G1 ", 0) != 0) continue;
             std::istringstream ss(line.substr(0, line.find(';')).substr(3));
             std::string w;
