@@ -21,6 +21,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -279,6 +280,7 @@ PrintStats GcodeWriter::finish(const std::vector<std::string>& header_comments) 
     Impl& m = *impl_;
     if (m.finished) throw std::logic_error("GcodeWriter::finish called twice");
     if (std::fflush(m.spill) != 0) io_error(std::strerror(errno), m.output_path);
+    const int64_t start_ns = thread_cpu_ns();
 
     // The body in chunks, each measured as it is written.
     const int count =
@@ -311,7 +313,9 @@ PrintStats GcodeWriter::finish(const std::vector<std::string>& header_comments) 
         chunks[k].body.file = unlinked_file(m.output_path, ".body-XXXXXX");
         std::setvbuf(chunks[k].body.file, nullptr, _IOFBF, 1 << 16);
     }
+    std::atomic<int64_t> parallel_ns = 0;
     auto write_chunk = [&](Chunk& c) {
+        const int64_t chunk_start_ns = thread_cpu_ns();
         if (c.first == 0) {
             c.emitter = m.emitter(c.body.file);
             c.emitter->start();
@@ -328,7 +332,9 @@ PrintStats GcodeWriter::finish(const std::vector<std::string>& header_comments) 
         c.entry = c.emitter->carry();
         for (int i = c.first; i < c.end; ++i) c.emitter->layer(m.load(i));
         c.keep_figures();
+        parallel_ns += thread_cpu_ns() - chunk_start_ns;
     };
+    const int64_t parallel_start_ns = thread_cpu_ns();
     if (count == 1) {
         write_chunk(chunks[0]);
     } else {
@@ -337,6 +343,7 @@ PrintStats GcodeWriter::finish(const std::vector<std::string>& header_comments) 
         arena.execute(
             [&] { tbb::parallel_for(0, count, [&](int k) { write_chunk(chunks[size_t(k)]); }); });
     }
+    const int64_t parallel_end_ns = thread_cpu_ns();
     // In order: a chunk that did not start where the one before ended is written again by the
     // emitter of the one before, which goes on from the very state.
     PrintStats totals;
@@ -431,6 +438,9 @@ PrintStats GcodeWriter::finish(const std::vector<std::string>& header_comments) 
     m.finished = true;
     std::fclose(m.spill);
     m.spill = nullptr;
+    m.chunk_count.parallel_cpu_s = double(parallel_ns.load()) * 1e-9;
+    m.chunk_count.serial_cpu_s =
+        double(parallel_start_ns - start_ns + thread_cpu_ns() - parallel_end_ns) * 1e-9;
     return s;
 }
 

@@ -8,7 +8,7 @@
 namespace carve {
 
 std::string span_table(const SpanLog& span, const std::vector<std::string>& filter_names,
-                       double load_s, double finish_s, int threads) {
+                       double load_s, double finish_s, double finish_parallel_s, int threads) {
     double pipeline_s = 0;
     std::string out = "pipeline filter CPU s\n";
     for (int f = 0; f < span.filters; ++f) {
@@ -23,16 +23,17 @@ std::string span_table(const SpanLog& span, const std::vector<std::string>& filt
             parts += fmt::format("{}{} {:.3f}", parts.empty() ? "" : ", ", filter_names[f],
                                  on_path[size_t(f)]);
     out += fmt::format("critical path: {}\n", parts.empty() ? "-" : parts);
-    const double work_s = load_s + pipeline_s + finish_s;
+    const double work_s = load_s + pipeline_s + finish_s + finish_parallel_s;
     const double serial_s = load_s + path_s + finish_s;
     const double f = work_s > 0 ? serial_s / work_s : 1;
     auto amdahl = [f](int cores) { return 1 / (f + (1 - f) / cores); };
     out += fmt::format(
+        "assembly: {:.3f} s CPU in chunks of layers side by side\n"
         "serial: load {:.3f} + pipeline critical path {:.3f} + assembly {:.3f} = {:.3f} s "
         "of {:.3f} s CPU: serial fraction {:.1f} %\n"
         "Amdahl: {:.2f}x on 2 cores, {:.2f}x on 8, {:.2f}x on 16 (ran on {} threads)\n",
-        load_s, path_s, finish_s, serial_s, work_s, 100 * f, amdahl(2), amdahl(8), amdahl(16),
-        threads);
+        finish_parallel_s, load_s, path_s, finish_s, serial_s, work_s, 100 * f, amdahl(2),
+        amdahl(8), amdahl(16), threads);
     return out;
 }
 

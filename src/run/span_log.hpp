@@ -80,9 +80,10 @@ class SpanTimer {
 
 // The serial parts (mesh loading before the pipeline; after it the G-code assembly, the resin
 // zip and the HTML report) and the pipeline's critical path against all the CPU the run used,
-// with Amdahl's projection.
+// with Amdahl's projection. The G-code's chunks of layers written side by side
+// (`finish_parallel_s`) are work that more cores share, not serial.
 std::string span_table(const SpanLog& span, const std::vector<std::string>& filter_names,
-                       double load_s, double finish_s, int threads);
+                       double load_s, double finish_s, double finish_parallel_s, int threads);
 
 // Geometry sits below the stage timer and times its booleans and morphology through a probe;
 // the profile shows them as stages of their own.
