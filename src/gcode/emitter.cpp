@@ -11,6 +11,7 @@
 #include <numbers>
 #include <stdexcept>
 #include <string_view>
+#include <utility>
 
 #include "base/error.hpp"
 #include "gcode/cooling.hpp"
@@ -140,7 +141,11 @@ void Emitter::layer(const LayerToolpaths& layer) {
     // plan on the same regions.
     comber_.reset();
     thin_.reset();
-    if (enter_reversed(layer)) {
+    bool reverse = enter_reversed(layer);
+    if (std::exchange(flip_, false) && layer.island_starts.size() >= 3 &&
+        layer.island_starts.back() <= layer.extrusions.size())
+        reverse = !reverse;
+    if (reverse) {
         const LayerToolpaths reversed = with_islands_reversed(layer);
         print_layer_cooled(reversed);
     } else {

@@ -97,6 +97,9 @@ class Emitter {
     // A chunk's emitter before its warm-up layers: it writes nowhere, its first travel is not
     // the print's first, and the objects are already named (on the print's first layer).
     void warm_up();
+    // The next layer of several islands is printed in the other order than the one its entry
+    // picks: the warm-up that guesses the other of the two ways a run of such layers goes.
+    void flip_next_order() { flip_ = true; }
     // The chunk's own text starts here, in `out`; what the warm-up measured is forgotten.
     void begin_chunk(std::FILE* out);
     // Before end(): the totals of the sections before this emitter's next one, from all chunks.
@@ -256,6 +259,7 @@ class Emitter {
     PrintStats run_stats_;            // of the closed sections, summed in order
     double time_base_ = 0;            // their time, summed in order
     std::vector<Section> sections_;
+    bool flip_ = false;  // flip_next_order()
     Bounds bounds_;
     const Paths* layer_comb_ = nullptr;  // the comb region of the layer being written
     std::unique_ptr<Comber> comber_;     // built from it on first use

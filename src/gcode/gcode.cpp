@@ -236,9 +236,17 @@ namespace {
 constexpr int kWarmUpLayers = 2;
 // Fewer layers than this in a chunk, and the warm-up is too large a part of its work.
 constexpr int kMinChunkLayers = 24;
+// From this many threads on, a chunk that starts after layers of several islands is also
+// written from the other guess of their order (see Chunk::other): more CPU side by side for
+// fewer chunks written again one after the other, which is what many cores want. On two the
+// extra work costs about what it saves.
+constexpr int kTwoGuessThreads = 4;
 
 struct ChunkFile {
     std::FILE* file = nullptr;
+    ChunkFile() = default;
+    ChunkFile(const ChunkFile&) = delete;
+    ChunkFile& operator=(const ChunkFile&) = delete;
     ~ChunkFile() {
         if (file) std::fclose(file);
     }
@@ -248,6 +256,12 @@ struct ChunkFile {
 // of a chunk may go on to write the next one).
 struct Chunk {
     int first = 0, end = 0;  // layers [first, end)
+    // In a run of layers of two islands or more, the order of each follows from where the one
+    // below ended, so the run goes one of two ways (on man's legs, left-right or right-left on
+    // even layers), and a warm-up from nowhere picks one at random: the other is this, written
+    // from a warm-up whose first layer takes the other order.
+    std::unique_ptr<Chunk> other;
+    bool flipped = false;
     ChunkFile body;
     std::unique_ptr<Emitter> emitter;
     Emitter::Carry entry;  // the state its layers started from
@@ -264,6 +278,17 @@ struct Chunk {
         bounds = emitter->bounds();
         object_bounds = emitter->object_bounds();
         custom_bytes = emitter->custom_bytes();
+    }
+    // This chunk written as `o` was (its other guess, which held).
+    void take(Chunk& o) {
+        std::swap(body.file, o.body.file);
+        emitter = std::move(o.emitter);
+        entry = std::move(o.entry);
+        sections = std::move(o.sections);
+        marks = std::move(o.marks);
+        bounds = o.bounds;
+        object_bounds = std::move(o.object_bounds);
+        custom_bytes = o.custom_bytes;
     }
 };
 
@@ -307,11 +332,23 @@ PrintStats GcodeWriter::finish(const std::vector<std::string>& header_comments) 
         }
         starts.push_back(std::max(at, starts.back() + 1));
     }
+    std::vector<Chunk*> tasks;
+    auto open_chunk = [&](Chunk& c, int first, int end) {
+        c.first = first;
+        c.end = end;
+        c.body.file = unlinked_file(m.output_path, ".body-XXXXXX");
+        std::setvbuf(c.body.file, nullptr, _IOFBF, 1 << 16);
+        tasks.push_back(&c);
+    };
     for (int k = 0; k < count; ++k) {
-        chunks[k].first = starts[size_t(k)];
-        chunks[k].end = k + 1 < count ? starts[size_t(k) + 1] : m.layer_count;
-        chunks[k].body.file = unlinked_file(m.output_path, ".body-XXXXXX");
-        std::setvbuf(chunks[k].body.file, nullptr, _IOFBF, 1 << 16);
+        Chunk& c = chunks[size_t(k)];
+        open_chunk(c, starts[size_t(k)], k + 1 < count ? starts[size_t(k) + 1] : m.layer_count);
+        if (m.threads >= kTwoGuessThreads && c.first >= kWarmUpLayers &&
+            !m.settled[size_t(c.first - kWarmUpLayers)]) {
+            c.other = std::make_unique<Chunk>();
+            c.other->flipped = true;
+            open_chunk(*c.other, c.first, c.end);
+        }
     }
     std::atomic<int64_t> parallel_ns = 0;
     auto write_chunk = [&](Chunk& c) {
@@ -326,6 +363,7 @@ PrintStats GcodeWriter::finish(const std::vector<std::string>& header_comments) 
                 c.emitter->start();  // the whole print before it: the very state
             else
                 c.emitter->warm_up();
+            if (c.flipped) c.emitter->flip_next_order();
             for (int i = from; i < c.first; ++i) c.emitter->layer(m.load(i));
             c.emitter->begin_chunk(c.body.file);
         }
@@ -335,13 +373,14 @@ PrintStats GcodeWriter::finish(const std::vector<std::string>& header_comments) 
         parallel_ns += thread_cpu_ns() - chunk_start_ns;
     };
     const int64_t parallel_start_ns = thread_cpu_ns();
-    if (count == 1) {
+    if (tasks.size() == 1) {
         write_chunk(chunks[0]);
     } else {
         tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(m.threads));
         tbb::task_arena arena(m.threads);
-        arena.execute(
-            [&] { tbb::parallel_for(0, count, [&](int k) { write_chunk(chunks[size_t(k)]); }); });
+        arena.execute([&] {
+            tbb::parallel_for(size_t(0), tasks.size(), [&](size_t t) { write_chunk(*tasks[t]); });
+        });
     }
     const int64_t parallel_end_ns = thread_cpu_ns();
     // In order: a chunk that did not start where the one before ended is written again by the
@@ -370,6 +409,12 @@ PrintStats GcodeWriter::finish(const std::vector<std::string>& header_comments) 
     size_t sections_before = 0;  // of the chunks before this one
     for (int k = 0; k < count; ++k) {
         Chunk& c = chunks[size_t(k)];
+        if (k > 0 && c.other && !(chunks[size_t(k) - 1].emitter->carry() == c.entry) &&
+            chunks[size_t(k) - 1].emitter->carry() == c.other->entry) {
+            c.take(*c.other);
+            ++m.chunk_count.second_guesses;
+        }
+        c.other.reset();
         if (k > 0 && !(chunks[size_t(k) - 1].emitter->carry() == c.entry)) {
             ++m.chunk_count.written_again;
             c.emitter = std::move(chunks[size_t(k) - 1].emitter);

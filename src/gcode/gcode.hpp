@@ -53,11 +53,12 @@ class GcodeWriter {
     void set_thumbnails(std::vector<std::string> lines);
     // Threads for finish() (1 by default); the file is the same for every count.
     void set_threads(int threads);
-    // How finish() went: the chunks of layers it wrote side by side, those of them it wrote
-    // again because they had not started where the chunk before them ended, the thread CPU of
-    // the chunks written side by side, and the rest of finish() (on the calling thread alone).
+    // How finish() went: the chunks of layers it wrote side by side, those of them whose
+    // second guess of the state before them held, those it wrote again because neither guess
+    // did, the thread CPU of the chunks written side by side, and the rest of finish() (on the
+    // calling thread alone).
     struct ChunkCount {
-        int chunks = 0, written_again = 0;
+        int chunks = 0, second_guesses = 0, written_again = 0;
         double parallel_cpu_s = 0, serial_cpu_s = 0;
     };
     ChunkCount chunk_count() const;

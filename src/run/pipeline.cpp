@@ -519,8 +519,10 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
         std::fputs(
             span_table(span, names, load_s, finish_s, chunks.parallel_cpu_s, threads).c_str(),
             stderr);
-        std::fprintf(stderr, "G-code: %d chunks of layers, %d of them written again\n",
-                     chunks.chunks, chunks.written_again);
+        std::fprintf(stderr,
+                     "G-code: %d chunks of layers, %d of them from their second guess, %d "
+                     "written again\n",
+                     chunks.chunks, chunks.second_guesses, chunks.written_again);
     }
     return result;
 }
