@@ -333,7 +333,29 @@ void CarvingSweep::carve(LayerPartition& layer, IterationPrep prep, size_t j) {
     Paths& above = previous_[j];  // C^j_{i+1}, replaced by C^j_i
     Paths remainder = std::move(prep.remainder);
     Paths cavity;
-    if (!remainder.empty()) {
+    // Every component of V narrower than the whole width (the default: all of them), and none
+    // under what this iteration left solid in the slice above: the seeds are V itself wherever
+    // G leaves it open, and where G covers a component the cavity is that component anyway. So
+    // C = (G ∪ S) ∩ V is V and nothing is left, whatever G: no boolean with G at all. (The
+    // booleans gave V up to Clipper's rounding where G's edges cross V's boundary.) Most of the
+    // serial half of the first iteration, and so of the sweep's critical path.
+    // (From the guess when prepare() made it, else here: the result may not depend on it.)
+    const Paths& left_above = left_previous_[j];
+    auto every_component_whole = [&] {
+        if (prep.guessed) return prep.all_whole;
+        for (const Paths& comp : prep.comps)
+            if (!carved_whole(comp, p.whole, p.longest, prep.carvable_above)) return false;
+        return true;
+    };
+    const bool carved_whole_here =
+        p.tear <= 0 && p.whole > 0 && prep.seed && !remainder.empty() &&
+        (left_above.empty() || contours_near(left_above, remainder, p.r).empty()) &&
+        every_component_whole();
+    if (carved_whole_here) {
+        covered_.store(2 * int64_t(layer.index), std::memory_order_relaxed);
+        cavity = std::move(remainder);
+        remainder.clear();
+    } else if (!remainder.empty()) {
         // G, from the contours of C^j_{i+1} that come near V: G matters only within V (the
         // tear's reach too). Late iterations have a V of a few specks under a cavity above
         // that is most of the slice. G is used unresolved (its convolution, read with the
