@@ -55,6 +55,13 @@ class Emitter {
     }
 
     void flush_all() { flush(true); }
+    // Flushes and gives back the text buffer's memory (it grows to kFlushBytes): a chunk's
+    // emitter waits, written, until the chunks are put together.
+    void release_text() {
+        flush(true);
+        fmt::memory_buffer empty;
+        buf_ = std::move(empty);
+    }
     // The totals, complete after end().
     const PrintStats& stats() const { return run_stats_; }
     const std::vector<ProgressMark>& progress_marks() const { return marks_; }

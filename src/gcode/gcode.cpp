@@ -272,7 +272,7 @@ struct Chunk {
     size_t custom_bytes = 0;
 
     void keep_figures() {
-        emitter->flush_all();
+        emitter->release_text();
         sections = emitter->sections();
         marks = emitter->progress_marks();
         bounds = emitter->bounds();
