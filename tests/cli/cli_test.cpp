@@ -241,21 +241,36 @@ TEST(Cli, SameInputSameBytesForEveryThreadCount) {
     EXPECT_NE(many.err.find("--threads"), std::string::npos) << many.err;
 }
 
+// Killed once its first progress line is out (a tenth of the layers through the pipeline), so
+// that the kill lands mid-run however fast the machine: a fixed delay of 1.5 s came after the
+// end of the run once skull sliced in about one second on two cores.
 TEST(Cli, KilledMidRunLeavesNoOutput) {
     CARVE_NEED_MODEL("skull.stl");
     const fs::path gcode = scratch() / "killed.gcode";
+    int err[2];
+    ASSERT_EQ(pipe(err), 0);
     const pid_t pid = fork();
     if (pid == 0) {
         freopen("/dev/null", "w", stdout);
-        freopen("/dev/null", "w", stderr);
+        dup2(err[1], 2);
+        close(err[0]);
+        close(err[1]);
         execl(CARVE_BINARY, CARVE_BINARY, "slice", model("skull.stl").c_str(), "-o",
               gcode.string().c_str(), (char*)nullptr);
         _exit(127);
     }
-    std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+    close(err[1]);
+    std::string seen;
+    char buf[256];
+    for (ssize_t n;
+         seen.find(" layers") == std::string::npos && (n = read(err[0], buf, sizeof buf)) > 0;)
+        seen.append(buf, size_t(n));
     kill(pid, SIGKILL);
+    close(err[0]);
     int status = 0;
     waitpid(pid, &status, 0);
+    EXPECT_NE(seen.find(" layers"), std::string::npos) << seen;
+    EXPECT_TRUE(WIFSIGNALED(status)) << "the run ended before it was killed: " << status;
     EXPECT_FALSE(fs::exists(gcode));
     // No temporary file left next to the output either.
     for (const auto& entry : fs::directory_iterator(scratch()))
