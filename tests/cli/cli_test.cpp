@@ -266,9 +266,9 @@ TEST(Cli, KilledMidRunLeavesNoOutput) {
          seen.find(" layers") == std::string::npos && (n = read(err[0], buf, sizeof buf)) > 0;)
         seen.append(buf, size_t(n));
     kill(pid, SIGKILL);
-    close(err[0]);
     int status = 0;
     waitpid(pid, &status, 0);
+    close(err[0]);
     EXPECT_NE(seen.find(" layers"), std::string::npos) << seen;
     EXPECT_TRUE(WIFSIGNALED(status)) << "the run ended before it was killed: " << status;
     EXPECT_FALSE(fs::exists(gcode));
