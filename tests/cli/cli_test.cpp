@@ -247,29 +247,12 @@ TEST(Cli, SameInputSameBytesForEveryThreadCount) {
 TEST(Cli, KilledMidRunLeavesNoOutput) {
     CARVE_NEED_MODEL("skull.stl");
     const fs::path gcode = scratch() / "killed.gcode";
-    int err[2];
-    ASSERT_EQ(pipe(err), 0);
-    const pid_t pid = fork();
-    if (pid == 0) {
-        freopen("/dev/null", "w", stdout);
-        dup2(err[1], 2);
-        close(err[0]);
-        close(err[1]);
-        execl(CARVE_BINARY, CARVE_BINARY, "slice", model("skull.stl").c_str(), "-o",
-              gcode.string().c_str(), (char*)nullptr);
-        _exit(127);
-    }
-    close(err[1]);
-    std::string seen;
-    char buf[256];
-    for (ssize_t n;
-         seen.find(" layers") == std::string::npos && (n = read(err[0], buf, sizeof buf)) > 0;)
-        seen.append(buf, size_t(n));
-    kill(pid, SIGKILL);
-    int status = 0;
-    waitpid(pid, &status, 0);
-    close(err[0]);
-    EXPECT_NE(seen.find(" layers"), std::string::npos) << seen;
+    carve::test::RunningCarve run =
+        carve::test::start_carve({"slice", model("skull.stl"), "-o", gcode.string()});
+    ASSERT_GT(run.pid, 0);
+    kill(run.pid, SIGKILL);
+    const int status = run.wait();
+    EXPECT_NE(run.seen.find(" layers"), std::string::npos) << run.seen;
     EXPECT_TRUE(WIFSIGNALED(status)) << "the run ended before it was killed: " << status;
     EXPECT_FALSE(fs::exists(gcode));
     // No temporary file left next to the output either.

@@ -563,51 +563,19 @@ pid_t spawn_carve(const std::vector<std::string>& args) {
     return pid;
 }
 
-// Starts carve and returns once its first progress line is out (a tenth of the layers through
-// the pipeline): a signal sent then lands mid-run however fast the machine. `progress` is the
-// read end of carve's stderr, to be closed only after carve has ended (a write to a closed pipe
-// would end it first, with SIGPIPE).
-pid_t spawn_carve_running(const std::vector<std::string>& args, int& progress) {
-    int err[2];
-    if (pipe(err) != 0) return -1;
-    const pid_t pid = fork();
-    if (pid == 0) {
-        if (!std::freopen("/dev/null", "w", stdout) || dup2(err[1], 2) < 0) _exit(126);
-        close(err[0]);
-        close(err[1]);
-        std::vector<char*> argv{const_cast<char*>(CARVE_BINARY)};
-        for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-        argv.push_back(nullptr);
-        execv(CARVE_BINARY, argv.data());
-        _exit(127);
-    }
-    close(err[1]);
-    std::string seen;
-    char buf[256];
-    for (ssize_t n;
-         seen.find(" layers") == std::string::npos && (n = read(err[0], buf, sizeof buf)) > 0;)
-        seen.append(buf, size_t(n));
-    progress = err[0];
-    return pid;
-}
-
 }  // namespace
 
 TEST(HostileInterruption, SignalsRemoveEveryOutputAndTemporary) {
     for (const int sig : {SIGINT, SIGTERM, SIGHUP}) {
         const fs::path d = folder("signal");
         const std::string model = repo_model("elephant.stl");
-        int progress = -1;
-        const pid_t pid = spawn_carve_running(
+        test::RunningCarve run = test::start_carve(
             {"slice", model, "-o", (d / "o.gcode").string(), "--stats", (d / "o.json").string(),
              "--report", (d / "r.html").string(), "--svg-layers", (d / "svg").string(),
-             "--svg-every", "20", "--raster", (d / "raster").string(), "--raster-pixel", "0.5"},
-            progress);
-        ASSERT_GT(pid, 0);
-        kill(pid, sig);
-        int status = 0;
-        waitpid(pid, &status, 0);
-        close(progress);
+             "--svg-every", "20", "--raster", (d / "raster").string(), "--raster-pixel", "0.5"});
+        ASSERT_GT(run.pid, 0);
+        kill(run.pid, sig);
+        const int status = run.wait();
         if (WIFEXITED(status)) GTEST_SKIP() << "carve finished before the signal";
         EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == sig) << status;
         EXPECT_EQ(extra_files(d, {}), std::vector<std::string>{}) << "signal " << sig;

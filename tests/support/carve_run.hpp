@@ -10,6 +10,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 namespace carve::test {
 
@@ -47,6 +48,46 @@ inline CarveRun run_carve(const std::string& args, const std::string& prefix = "
     r.out = read(out);
     r.err = read(err);
     return r;
+}
+
+// A carve run started in the background, once its first progress line is out (a tenth of the
+// layers through the pipeline): a signal sent then lands mid-run however fast the machine. Its
+// stderr stays open until wait(), which reaps it: a write to a closed pipe would end it first.
+struct RunningCarve {
+    pid_t pid = -1;
+    int progress = -1;  // the read end of carve's stderr
+    std::string seen;   // what it printed before it was handed back
+    int wait() {
+        int status = 0;
+        if (pid > 0) ::waitpid(pid, &status, 0);
+        if (progress >= 0) ::close(progress);
+        pid = -1, progress = -1;
+        return status;
+    }
+};
+
+inline RunningCarve start_carve(const std::vector<std::string>& args) {
+    RunningCarve run;
+    int err[2];
+    if (::pipe(err) != 0) return run;
+    run.pid = ::fork();
+    if (run.pid == 0) {
+        if (!std::freopen("/dev/null", "w", stdout) || ::dup2(err[1], 2) < 0) ::_exit(126);
+        ::close(err[0]);
+        ::close(err[1]);
+        std::vector<char*> argv{const_cast<char*>(CARVE_BINARY)};
+        for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+        argv.push_back(nullptr);
+        ::execv(CARVE_BINARY, argv.data());
+        ::_exit(127);
+    }
+    ::close(err[1]);
+    run.progress = err[0];
+    char buf[256];
+    for (ssize_t n; run.seen.find(" layers") == std::string::npos &&
+                    (n = ::read(run.progress, buf, sizeof buf)) > 0;)
+        run.seen.append(buf, size_t(n));
+    return run;
 }
 
 inline int lines(const std::string& s) {
