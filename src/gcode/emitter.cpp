@@ -338,36 +338,22 @@ void Emitter::mark_progress(double local_s) {
 }
 
 Emitter::Snapshot Emitter::save() const {
-    return {buf_.size(),
-            pos_,
-            z_,
-            e_mm_,
-            e_units_,
-            feed_,
-            retracted_,
-            first_travel_,
-            type_known_,
-            objects_labelled_,
-            object_bounds_,
-            fan_,
-            type_,
-            width_,
-            accel_,
-            wipe_length_,
-            planner_,
-            stats_,
-            bounds_,
-            wipe_path_};
+    return {buf_.size(), carry(), object_bounds_, stats_, bounds_};
 }
 
 void Emitter::restore(const Snapshot& k) {
     buf_.resize(k.text);
-    pos_ = k.pos, z_ = k.z, e_mm_ = k.e_mm, e_units_ = k.e_units, feed_ = k.feed;
-    retracted_ = k.retracted, first_travel_ = k.first_travel, type_known_ = k.type_known;
-    fan_ = k.fan, type_ = k.type, width_ = k.width, accel_ = k.accel;
-    objects_labelled_ = k.objects_labelled, object_bounds_ = k.object_bounds;
-    wipe_length_ = k.wipe_length, planner_ = k.planner, stats_ = k.stats, bounds_ = k.bounds;
-    wipe_path_ = k.wipe_path;
+    restore_carry(k.carry);
+    object_bounds_ = k.object_bounds, stats_ = k.stats, bounds_ = k.bounds;
+}
+
+void Emitter::restore_carry(const Carry& c) {
+    pos_ = c.pos, z_ = c.z, layer_z_ = c.layer_z, layer_ = c.layer;
+    e_mm_ = c.e_mm, e_units_ = c.e_units, feed_ = c.feed;
+    retracted_ = c.retracted, first_travel_ = c.first_travel, fan_ = c.fan;
+    type_known_ = c.type_known, type_ = c.type, width_ = c.width, accel_ = c.accel;
+    wipe_length_ = c.wipe_length, objects_labelled_ = c.objects_labelled;
+    planner_ = c.planner, wipe_path_ = c.wipe_path;
 }
 
 // The layer's paths as the cooling wants them: written at full speed and timed; written

@@ -201,24 +201,16 @@ class Emitter {
     void use_acceleration(double a);
 
     // --- cooling (emitter.cpp).
-    // Everything a layer's paths change, to write the layer again slower.
+    // Everything a layer's paths change, to write the layer again slower: the state the next
+    // layer starts from, and the open section's text and figures.
     struct Snapshot {
         size_t text = 0;
-        Point pos;
-        Coord z = 0;
-        double e_mm = 0;
-        long long e_units = 0, feed = 0;
-        bool retracted = false, first_travel = false, type_known = false;
-        std::vector<char> objects_labelled;
+        Carry carry;
         std::vector<Bounds> object_bounds;
-        int fan = 0;
-        Feature type = Feature::OuterWall;
-        double width = 0, accel = 0, wipe_length = 0;
-        MotionPlanner planner;
         PrintStats stats;
         Bounds bounds;
-        Path wipe_path;
     };
+    void restore_carry(const Carry& c);
     Snapshot save() const;
     void restore(const Snapshot& k);
     void print_layer_cooled(const LayerToolpaths& layer);

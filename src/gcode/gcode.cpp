@@ -27,6 +27,7 @@
 #include <cstring>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <stdexcept>
 
 #include "base/atomic_file.hpp"
@@ -393,12 +394,14 @@ PrintStats GcodeWriter::finish(const std::vector<std::string>& header_comments) 
     Bounds bounds;
     std::vector<Bounds> object_bounds;
     std::vector<ProgressMark> marks;
-    auto add_figures = [&](const Chunk& c, size_t first_section) {
-        for (size_t i = first_section; i < c.sections.size(); ++i) {
+    auto add_sections = [&](const Chunk& c, size_t first) {
+        for (size_t i = first; i < c.sections.size(); ++i) {
             section_start.push_back(time);
             Emitter::add_stats(totals, c.sections[i].stats);
             time += c.sections[i].time_s;
         }
+    };
+    auto add_extent = [&](const Chunk& c) {
         custom_bytes += c.custom_bytes;
         Emitter::check_custom_bytes(custom_bytes);
         merge(bounds, c.bounds);
@@ -409,13 +412,14 @@ PrintStats GcodeWriter::finish(const std::vector<std::string>& header_comments) 
     size_t sections_before = 0;  // of the chunks before this one
     for (int k = 0; k < count; ++k) {
         Chunk& c = chunks[size_t(k)];
-        if (k > 0 && c.other && !(chunks[size_t(k) - 1].emitter->carry() == c.entry) &&
-            chunks[size_t(k) - 1].emitter->carry() == c.other->entry) {
+        const std::optional<Emitter::Carry> before =
+            k > 0 ? std::optional(chunks[size_t(k) - 1].emitter->carry()) : std::nullopt;
+        if (before && c.other && !(*before == c.entry) && *before == c.other->entry) {
             c.take(*c.other);
             ++m.chunk_count.second_guesses;
         }
         c.other.reset();
-        if (k > 0 && !(chunks[size_t(k) - 1].emitter->carry() == c.entry)) {
+        if (before && !(*before == c.entry)) {
             ++m.chunk_count.written_again;
             c.emitter = std::move(chunks[size_t(k) - 1].emitter);
             if (std::fflush(c.body.file) != 0 || ftruncate(fileno(c.body.file), 0) != 0 ||
@@ -425,25 +429,19 @@ PrintStats GcodeWriter::finish(const std::vector<std::string>& header_comments) 
             for (int i = c.first; i < c.end; ++i) c.emitter->layer(m.load(i));
             c.keep_figures();
         }
+        add_sections(c, 0);
         if (k + 1 == count) {
-            // The end, on the totals of every layer: its time and figures close them.
-            add_figures(c, 0);
+            // The end, on the totals of every layer: its time and figures close them (the
+            // emitter adds the end's section as the loop above does, and derives the filament
+            // and the estimate from the sum).
             c.emitter->adopt_totals(time, totals);
             c.emitter->end();
             const size_t own = c.sections.size();
-            const size_t own_bytes = c.custom_bytes;
             c.keep_figures();
-            custom_bytes += c.custom_bytes - own_bytes;
-            Emitter::check_custom_bytes(custom_bytes);
-            for (size_t i = own; i < c.sections.size(); ++i) section_start.push_back(time);
-            time = c.emitter->stats().estimated_print_time_s;
+            add_sections(c, own);
             totals = c.emitter->stats();
-            merge(bounds, c.bounds);
-            for (size_t i = 0; i < c.object_bounds.size(); ++i)
-                merge(object_bounds[i], c.object_bounds[i]);
-        } else {
-            add_figures(c, 0);
         }
+        add_extent(c);
         for (ProgressMark mark : c.marks) {
             mark.offset += offset;
             mark.section += sections_before;

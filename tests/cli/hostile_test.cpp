@@ -554,11 +554,7 @@ pid_t spawn_carve(const std::vector<std::string>& args) {
     if (pid == 0) {
         if (!std::freopen("/dev/null", "w", stdout) || !std::freopen("/dev/null", "w", stderr))
             _exit(126);
-        std::vector<char*> argv{const_cast<char*>(CARVE_BINARY)};
-        for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-        argv.push_back(nullptr);
-        execv(CARVE_BINARY, argv.data());
-        _exit(127);
+        exec_carve(args);
     }
     return pid;
 }

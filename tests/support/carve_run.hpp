@@ -50,6 +50,15 @@ inline CarveRun run_carve(const std::string& args, const std::string& prefix = "
     return r;
 }
 
+// In a forked child: becomes `carve ARGS`.
+[[noreturn]] inline void exec_carve(const std::vector<std::string>& args) {
+    std::vector<char*> argv{const_cast<char*>(CARVE_BINARY)};
+    for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+    argv.push_back(nullptr);
+    ::execv(CARVE_BINARY, argv.data());
+    ::_exit(127);
+}
+
 // A carve run started in the background, once its first progress line is out (a tenth of the
 // layers through the pipeline): a signal sent then lands mid-run however fast the machine. Its
 // stderr stays open until wait(), which reaps it: a write to a closed pipe would end it first.
@@ -75,11 +84,7 @@ inline RunningCarve start_carve(const std::vector<std::string>& args) {
         if (!std::freopen("/dev/null", "w", stdout) || ::dup2(err[1], 2) < 0) ::_exit(126);
         ::close(err[0]);
         ::close(err[1]);
-        std::vector<char*> argv{const_cast<char*>(CARVE_BINARY)};
-        for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-        argv.push_back(nullptr);
-        ::execv(CARVE_BINARY, argv.data());
-        ::_exit(127);
+        exec_carve(args);
     }
     ::close(err[1]);
     run.progress = err[0];
