@@ -13,6 +13,7 @@
 
 #include "base/error.hpp"
 #include "run/span_log.hpp"
+#include "support/scratch.hpp"
 
 namespace fs = std::filesystem;
 
@@ -20,10 +21,8 @@ namespace carve {
 namespace {
 
 fs::path scratch() {
-    const fs::path d =
-        fs::temp_directory_path() / ("carve_pipeline_test_" + std::to_string(getpid()));
-    fs::create_directories(d);
-    return d;
+    static const test::ScratchDir dir("carve_pipeline_test_");
+    return dir.path();
 }
 
 RunOptions options_for(const fs::path& gcode) {

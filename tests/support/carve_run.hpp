@@ -12,6 +12,8 @@
 #include <string>
 #include <vector>
 
+#include "support/scratch.hpp"
+
 namespace carve::test {
 
 struct CarveRun {
@@ -19,15 +21,11 @@ struct CarveRun {
     std::string out, err;
 };
 
-// A folder of this test program's own (its process id in the name), made on first use.
+// A folder of this test program's own (its process id in the name), made on first use and
+// removed at its end.
 inline std::filesystem::path scratch() {
-    static const std::filesystem::path dir = [] {
-        const auto d =
-            std::filesystem::temp_directory_path() / ("carve_test_" + std::to_string(getpid()));
-        std::filesystem::create_directories(d);
-        return d;
-    }();
-    return dir;
+    static const ScratchDir dir("carve_test_");
+    return dir.path();
 }
 
 inline std::string read(const std::filesystem::path& p) {
