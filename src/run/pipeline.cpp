@@ -89,10 +89,18 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
         if (options.note) options.note(s);
     };
     RunResult result;
-    if (profiling_enabled()) profile_geometry();
+    std::optional<WallPhases> wall;
+    if (profiling_enabled()) {
+        profile_geometry();
+        wall.emplace();
+    }
+    auto phase_ends = [&](const char* name) {
+        if (wall) wall->mark(name);
+    };
     const int64_t load_start_ns = thread_cpu_ns();  // the main thread alone until the pipeline
 
     RunMesh run_mesh = load_run_mesh(settings, options, result, note);
+    phase_ends("load");
     Mesh& mesh = run_mesh.mesh;
     const BBox3& box = result.mesh.bbox;
     check_run_size(settings, options, box);
@@ -437,6 +445,7 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
     // the thread count: room for one layer in each serial filter plus two per thread for the
     // parallel one, whose layers vary tenfold in cost (fandisk's face tops).
     const size_t tokens = size_t(filter_count) + 2 * size_t(threads) + size_t(support_lag);
+    phase_ends("setup");
     {
         tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(threads));
         tbb::task_arena arena(threads);
@@ -453,6 +462,7 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
                                                    rib_filter & paths & sink);
         });
     }
+    phase_ends("pipeline");
     for (double v : result.cavity_volume_mm3)
         if (v > 0) ++result.cavities;
     result.external_overhang_mm2 = overhangs.area_mm2();
@@ -478,6 +488,7 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
     const int64_t finish_start_ns = thread_cpu_ns();
     writer.set_threads(threads);
     result.print = writer.finish(header);
+    phase_ends("G-code");
     // The G-code's chunks written side by side are parallel work; the rest of finish() serial.
     const GcodeWriter::ChunkCount chunks = writer.chunk_count();
     double finish_s = double(thread_cpu_ns() - finish_start_ns) * 1e-9;
@@ -494,6 +505,7 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
                                              Vec3{offset_x, offset_y, -box.min.z});
         result.check_time_s =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - check_start).count();
+        phase_ends("check");
     }
     const int64_t writers_start_ns = thread_cpu_ns();  // the resin zip and the HTML: serial too
     if (raster) raster->finish();
@@ -505,6 +517,7 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
     if (svg_dir) group.hold(std::move(svg_dir));
     if (raster_dir) group.hold(std::move(raster_dir));
     group.commit_all();
+    phase_ends("outputs");
     finish_s += double(thread_cpu_ns() - writers_start_ns) * 1e-9;
     if (profiling_enabled()) {
         std::vector<std::string> names{"slice",  "chain",  "check", "erode",
@@ -523,6 +536,7 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
                      "G-code: %d chunks of layers, %d of them from their second guess, %d "
                      "written again\n",
                      chunks.chunks, chunks.second_guesses, chunks.written_again);
+        std::fputs(wall->table().c_str(), stderr);
     }
     return result;
 }

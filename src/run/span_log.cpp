@@ -3,6 +3,8 @@
 
 #include <fmt/format.h>
 
+#include <ctime>
+
 #include "geometry/probe.hpp"
 
 namespace carve {
@@ -35,6 +37,36 @@ std::string span_table(const SpanLog& span, const std::vector<std::string>& filt
         finish_parallel_s, load_s, path_s, finish_s, serial_s, work_s, 100 * f, amdahl(2),
         amdahl(8), amdahl(16), threads);
     return out;
+}
+
+namespace {
+double process_cpu_ms() {
+    timespec ts{};
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+    return double(ts.tv_sec) * 1e3 + double(ts.tv_nsec) * 1e-6;
+}
+}  // namespace
+
+WallPhases::WallPhases()
+    : process_cpu_ms_at_start_(process_cpu_ms()), last_(std::chrono::steady_clock::now()) {}
+
+void WallPhases::mark(const char* phase) {
+    const auto now = std::chrono::steady_clock::now();
+    phases_.emplace_back(phase, std::chrono::duration<double, std::milli>(now - last_).count());
+    last_ = now;
+}
+
+std::string WallPhases::table() const {
+    std::string parts;
+    double total = 0;
+    for (const auto& [name, ms] : phases_) {
+        parts += fmt::format("{}{} {:.1f}", parts.empty() ? "" : ", ", name, ms);
+        total += ms;
+    }
+    return fmt::format(
+        "wall ms: {} = {:.1f} in the run, after {:.1f} ms of CPU starting the "
+        "process\n",
+        parts.empty() ? "-" : parts, total, process_cpu_ms_at_start_);
 }
 
 void profile_geometry() {

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <algorithm>
+#include <chrono>
 #include <cstddef>
 #include <cstdint>
 #include <string>
@@ -84,6 +85,22 @@ class SpanTimer {
 // (`finish_parallel_s`) are work that more cores share, not serial.
 std::string span_table(const SpanLog& span, const std::vector<std::string>& filter_names,
                        double load_s, double finish_s, double finish_parallel_s, int threads);
+
+// Under CARVE_PROFILE, where the run's wall time went, phase by phase, and the process CPU
+// spent before the run began (starting the process: loading its shared libraries, on a VM
+// where each page fault costs some 10 us, and parsing the options). On a run of a quarter
+// second these fixed parts, which no core shortens, are what keeps 2 cores from 2x.
+class WallPhases {
+  public:
+    WallPhases();                  // at the run's start
+    void mark(const char* phase);  // the phase that ends now
+    std::string table() const;
+
+  private:
+    double process_cpu_ms_at_start_ = 0;
+    std::chrono::steady_clock::time_point last_;
+    std::vector<std::pair<const char*, double>> phases_;  // name, ms
+};
 
 // Geometry sits below the stage timer and times its booleans and morphology through a probe;
 // the profile shows them as stages of their own.

@@ -9,6 +9,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -381,4 +382,37 @@ TEST(Cli, ProgressIsPlainLinesWithoutATerminalAndABarOnOne) {
     EXPECT_NE(tty.find("\r["), std::string::npos) << tty;
     EXPECT_NE(tty.find("] 100/100 layers"), std::string::npos) << tty;
     EXPECT_EQ(tty.find(" layers (10 %)"), std::string::npos);
+}
+
+// CARVE_PROFILE's account of where a run went: the serial fraction with its projection, and
+// the wall time phase by phase, whose parts add up to the total it states.
+TEST(Cli, ProfileStatesTheSerialFractionAndTheWallPhasesAddUp) {
+    CARVE_NEED_MODEL("man.stl");
+    const std::string gcode = (scratch() / "profiled.gcode").string();
+    const CarveRun r =
+        run_carve("slice " + model("man.stl") + " --scale 0.5 -q -o " + gcode + " --threads 2",
+                  "CARVE_PROFILE=1");
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_NE(r.err.find("serial fraction"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("Amdahl: "), std::string::npos) << r.err;
+    const size_t at = r.err.find("wall ms: ");
+    ASSERT_NE(at, std::string::npos) << r.err;
+    const std::string line = r.err.substr(at, r.err.find('\n', at) - at);
+    double sum = 0;
+    int phases = 0;
+    for (const char* phase : {"load ", "setup ", "pipeline ", "G-code ", "outputs "}) {
+        const size_t p = line.find(std::string(phase));
+        ASSERT_NE(p, std::string::npos) << phase << " in " << line;
+        const double ms = std::stod(line.substr(p + std::strlen(phase)));
+        EXPECT_GE(ms, 0) << line;
+        sum += ms;
+        ++phases;
+    }
+    const size_t eq = line.find(" = ");
+    ASSERT_NE(eq, std::string::npos) << line;
+    const double total = std::stod(line.substr(eq + 3));
+    EXPECT_EQ(phases, 5);
+    EXPECT_GT(total, 0) << line;
+    EXPECT_NEAR(sum, total, 0.05 * phases) << line;  // each part rounded to 0.1 ms
+    EXPECT_NE(line.find("ms of CPU starting the process"), std::string::npos) << line;
 }
