@@ -2,7 +2,7 @@
 """carve's data-parallel pipeline (#21): wall time against CuraEngine's grid 15 %, the speed-up
 from one core to two, and the serial fraction from CARVE_PROFILE, in one run.
 
-    /usr/bin/python3 bench/parallel_bench.py               # every shared model + skull x1.43
+    /usr/bin/python3 bench/parallel_bench.py               # every shared model, + Table 1 sizes
     /usr/bin/python3 bench/parallel_bench.py --repeat 1 --models fandisk
 
 Writes bench/results/parallel.md and parallel.json. Per model, carve (default threads: every
@@ -99,7 +99,9 @@ def profile_figures(out):
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split('\n')[0])
     ap.add_argument('--carve', default=os.path.join(bl.ROOT, 'build', 'carve'))
-    ap.add_argument('--models', default=','.join(MODELS + ['skull_x1.43']))
+    # The shared models, then those the report's Table 1 prints at another size, at that size.
+    table1 = [f'{m}_x{scale:g}' for m, (scale, _) in sorted(TABLE1.items())]
+    ap.add_argument('--models', default=','.join(MODELS + table1))
     ap.add_argument('--repeat', type=int, default=3)
     ap.add_argument('--work', default='/tmp/carve_parallel_bench')
     ap.add_argument('--no-cura', action='store_true')
