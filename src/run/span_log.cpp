@@ -2,6 +2,7 @@
 #include "run/span_log.hpp"
 
 #include <fmt/format.h>
+#include <sys/resource.h>
 
 #include <ctime>
 
@@ -45,28 +46,43 @@ double process_cpu_ms() {
     clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
     return double(ts.tv_sec) * 1e3 + double(ts.tv_nsec) * 1e-6;
 }
+long page_faults() {
+    rusage u{};
+    getrusage(RUSAGE_SELF, &u);
+    return u.ru_minflt + u.ru_majflt;
+}
 }  // namespace
 
 WallPhases::WallPhases()
-    : process_cpu_ms_at_start_(process_cpu_ms()), last_(std::chrono::steady_clock::now()) {}
+    : process_cpu_ms_at_start_(process_cpu_ms()),
+      faults_at_start_(page_faults()),
+      last_faults_(faults_at_start_),
+      last_(std::chrono::steady_clock::now()) {}
 
 void WallPhases::mark(const char* phase) {
     const auto now = std::chrono::steady_clock::now();
-    phases_.emplace_back(phase, std::chrono::duration<double, std::milli>(now - last_).count());
+    const long faults = page_faults();
+    phases_.push_back({phase, std::chrono::duration<double, std::milli>(now - last_).count(),
+                       faults - last_faults_});
     last_ = now;
+    last_faults_ = faults;
 }
 
 std::string WallPhases::table() const {
-    std::string parts;
-    double total = 0;
-    for (const auto& [name, ms] : phases_) {
-        parts += fmt::format("{}{} {:.1f}", parts.empty() ? "" : ", ", name, ms);
-        total += ms;
+    std::string ms, faults;
+    double total_ms = 0;
+    long total_faults = 0;
+    for (const Phase& p : phases_) {
+        ms += fmt::format("{}{} {:.1f}", ms.empty() ? "" : ", ", p.name, p.ms);
+        faults += fmt::format("{}{} {}", faults.empty() ? "" : ", ", p.name, p.faults);
+        total_ms += p.ms;
+        total_faults += p.faults;
     }
     return fmt::format(
-        "wall ms: {} = {:.1f} in the run, after {:.1f} ms of CPU starting the "
-        "process\n",
-        parts.empty() ? "-" : parts, total, process_cpu_ms_at_start_);
+        "wall ms: {} = {:.1f} in the run, after {:.1f} ms of CPU starting the process\n"
+        "page faults: {} = {} in the run, after {} starting the process\n",
+        ms.empty() ? "-" : ms, total_ms, process_cpu_ms_at_start_, faults.empty() ? "-" : faults,
+        total_faults, faults_at_start_);
 }
 
 void profile_geometry() {

@@ -384,8 +384,8 @@ TEST(Cli, ProgressIsPlainLinesWithoutATerminalAndABarOnOne) {
     EXPECT_EQ(tty.find(" layers (10 %)"), std::string::npos);
 }
 
-// CARVE_PROFILE's account of where a run went: the serial fraction with its projection, and
-// the wall time phase by phase, whose parts add up to the total it states.
+// CARVE_PROFILE's account of where a run went: the serial fraction with its projection, the
+// wall time phase by phase, whose parts add up to the total it states, and the page faults.
 TEST(Cli, ProfileStatesTheSerialFractionAndTheWallPhasesAddUp) {
     CARVE_NEED_MODEL("man.stl");
     const std::string gcode = (scratch() / "profiled.gcode").string();
@@ -415,4 +415,12 @@ TEST(Cli, ProfileStatesTheSerialFractionAndTheWallPhasesAddUp) {
     EXPECT_GT(total, 0) << line;
     EXPECT_NEAR(sum, total, 0.05 * phases) << line;  // each part rounded to 0.1 ms
     EXPECT_NE(line.find("ms of CPU starting the process"), std::string::npos) << line;
+    // The page faults of the same phases, each a count.
+    const size_t faults_at = r.err.find("page faults: load ");
+    ASSERT_NE(faults_at, std::string::npos) << r.err;
+    const std::string faults = r.err.substr(faults_at, r.err.find('\n', faults_at) - faults_at);
+    for (const char* phase :
+         {"setup ", "pipeline ", "G-code ", "outputs ", " starting the process"})
+        EXPECT_NE(faults.find(phase), std::string::npos) << phase << " in " << faults;
+    EXPECT_GT(std::stol(faults.substr(faults.find(" = ") + 3)), 0) << faults;
 }
