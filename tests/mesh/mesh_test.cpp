@@ -26,6 +26,7 @@
 #include "mesh/loader.hpp"
 #include "report/mesh_info.hpp"
 #include "support/models.hpp"
+#include "support/scratch.hpp"
 
 using namespace carve;
 namespace fs = std::filesystem;
@@ -41,19 +42,11 @@ std::string bad(const std::string& name) {
 // A fresh directory for the files the tests write, removed at the end of the program.
 class TempDir {
   public:
-    TempDir() {
-        dir_ = fs::temp_directory_path() / ("carve_mesh_test_" + std::to_string(::getpid()));
-        fs::create_directories(dir_);
-    }
-    ~TempDir() {
-        std::error_code ec;
-        fs::remove_all(dir_, ec);
-    }
-    std::string file(const std::string& name) const { return (dir_ / name).string(); }
-    std::string dir() const { return dir_.string(); }
+    std::string file(const std::string& name) const { return (dir_.path() / name).string(); }
+    std::string dir() const { return dir_.path().string(); }
 
   private:
-    fs::path dir_;
+    test::ScratchDir dir_{"carve_mesh_test_"};
 };
 
 const TempDir& temp() {
