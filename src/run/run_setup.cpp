@@ -1,5 +1,5 @@
 // What the run does before its layers flow: the mesh loaded and placed, the limits checked,
-// the G-code's objects named (see run_setup.hpp).
+// the G-code's objects named, the outputs opened (see run_setup.hpp).
 #include "run/run_setup.hpp"
 
 #include <fmt/format.h>
@@ -10,6 +10,9 @@
 
 #include "base/error.hpp"
 #include "gcode/labels.hpp"
+#include "gcode/thumbnail.hpp"
+#include "geometry/polygon.hpp"
+#include "report/stats.hpp"
 
 namespace carve {
 
@@ -41,6 +44,14 @@ RunMesh load_run_mesh(const Settings& settings, const RunOptions& options, RunRe
         result.mesh.volume_mm3 = signed_volume(run.mesh);
     }
     return run;
+}
+
+Placement centre_on_bed(const Settings& settings, const BBox3& box) {
+    Placement place;
+    place.offset_x = settings.bed_x / 2 - (box.min.x + box.max.x) / 2;
+    place.offset_y = settings.bed_y / 2 - (box.min.y + box.max.y) / 2;
+    place.z0 = box.min.z;
+    return place;
 }
 
 void check_run_size(const Settings& settings, const RunOptions& options, const BBox3& box) {
@@ -123,6 +134,58 @@ void label_objects(GcodeWriter& writer, const RunOptions& options, const Setting
         }
         writer.set_objects(std::move(objects));
     }
+}
+
+int checked_layer_count(const TopDownSlicer& slicer, const Settings& settings,
+                        const RunOptions& options) {
+    const int layer_count = slicer.layer_count();
+    if (layer_count == 0)
+        throw InputError(fmt::format("{}: the model is thinner than one layer ({} mm)",
+                                     options.model_path, settings.layer_height));
+    return layer_count;
+}
+
+RunOutputs::RunOutputs(const Settings& settings, const RunOptions& options, const RunMesh& run_mesh,
+                       RunResult& result, int layer_count, const Placement& place)
+    : writer(options.gcode_path, settings, place.offset_x, place.offset_y, layer_count) {
+    const Mesh& mesh = run_mesh.mesh;
+    const BBox3& box = result.mesh.bbox;
+    writer.commit_with(group);
+    label_objects(writer, options, settings, run_mesh, result);
+    if (!settings.thumbnails.empty())
+        writer.set_thumbnails(thumbnail_blocks(mesh.vertices, mesh.triangles, settings.thumbnails));
+    if (!options.svg_dir.empty()) {
+        svg_dir = std::make_unique<AtomicDir>(options.svg_dir);
+        svg = std::make_unique<SvgLayerWriter>(
+            options.svg_every > 0
+                ? SvgLayerWriter::every(svg_dir->folder(), options.svg_every)
+                : SvgLayerWriter(svg_dir->folder(), SvgLayerWriter::spread(layer_count, 8)));
+    }
+    if (!options.report_path.empty()) {
+        html = std::make_unique<HtmlReportWriter>(options.report_path, settings);
+        html->commit_with(group);
+    }
+    if (html) html->set_model_name(options.model_path);
+    if (!options.raster_dir.empty()) {
+        raster_dir = std::make_unique<AtomicDir>(options.raster_dir);
+        const BBox2 footprint{to_units(box.min.x), to_units(box.min.y), to_units(box.max.x),
+                              to_units(box.max.y), false};
+        raster =
+            std::make_unique<RasterWriter>(raster_dir->folder(), settings, footprint,
+                                           options.raster_pixel_mm, options.raster_min_wall_mm);
+    }
+}
+
+void RunOutputs::finish(RunResult& result, const Settings& settings, const RunOptions& options) {
+    if (raster) raster->finish();
+    result.peak_memory_mb = peak_memory_mb();
+    if (html) html->finish(result, stats_json(result, settings));
+    if (!options.stats_path.empty())
+        write_file_atomically(options.stats_path, stats_json(result, settings).dump(2) + "\n",
+                              &group);
+    if (svg_dir) group.hold(std::move(svg_dir));
+    if (raster_dir) group.hold(std::move(raster_dir));
+    group.commit_all();
 }
 
 }  // namespace carve

@@ -1,16 +1,22 @@
 // What the run does before its layers flow (private to src/run): the mesh as it is sliced
 // (loaded, scaled, copied), the limits that refuse a run before slicing starts or as its slices
-// are cut, and the objects the G-code labels. Kept out of pipeline.cpp, which wires the filters.
+// are cut, the objects the G-code labels, and the run's output files. Kept out of pipeline.cpp,
+// which calls the stages in order.
 #pragma once
 
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
+#include "base/atomic_file.hpp"
 #include "config/settings.hpp"
 #include "gcode/gcode.hpp"
 #include "mesh/mesh.hpp"
+#include "report/html_report.hpp"
 #include "report/run_result.hpp"
+#include "report/svg.hpp"
+#include "resin/raster.hpp"
 #include "run/pipeline.hpp"
 #include "slice/slicer.hpp"
 
@@ -26,6 +32,13 @@ struct RunMesh {
 RunMesh load_run_mesh(const Settings& settings, const RunOptions& options, RunResult& result,
                       const std::function<void(const std::string&)>& note);
 
+// Where the model sits: the offset that centres it on the bed, and its lowest point.
+struct Placement {
+    double offset_x = 0, offset_y = 0;  // mm, added to the model's x and y
+    double z0 = 0;                      // the model's lowest z, mm
+};
+Placement centre_on_bed(const Settings& settings, const BBox3& box);
+
 // Refuses a model larger than the bed (unless --no-bed-check), or too large for the line width
 // and layer height.
 void check_run_size(const Settings& settings, const RunOptions& options, const BBox3& box);
@@ -37,5 +50,31 @@ std::function<void(const Slice&)> vertex_limits(const Settings& settings,
 // Names the G-code's objects: the model, each copy, or each item of a 3MF plate.
 void label_objects(GcodeWriter& writer, const RunOptions& options, const Settings& settings,
                    const RunMesh& run_mesh, const RunResult& result);
+
+// The layer count of the model, refused if it is thinner than one layer.
+int checked_layer_count(const TopDownSlicer& slicer, const Settings& settings,
+                        const RunOptions& options);
+
+// Every output of the run is complete under a temporary name before any is renamed into
+// place (finish(): group.commit_all()); a run failing at any point leaves none of them,
+// and the folders of pictures are written into temporary folders moved in at the end.
+struct RunOutputs {
+    // Opens the G-code writer (its objects named, its thumbnails drawn) and whichever of the
+    // SVG pictures, the HTML report and the resin images `options` asks for.
+    RunOutputs(const Settings& settings, const RunOptions& options, const RunMesh& run_mesh,
+               RunResult& result, int layer_count, const Placement& place);
+    // Finishes the resin images and the HTML report, writes the stats JSON, and renames every
+    // output into place; sets result.peak_memory_mb. The G-code is finished before.
+    void finish(RunResult& result, const Settings& settings, const RunOptions& options);
+
+    // The group is declared first so that it is destroyed last: the writers it holds back
+    // remove their temporaries when an error unwinds the run.
+    OutputGroup group;
+    GcodeWriter writer;
+    std::unique_ptr<AtomicDir> svg_dir, raster_dir;
+    std::unique_ptr<SvgLayerWriter> svg;
+    std::unique_ptr<HtmlReportWriter> html;
+    std::unique_ptr<RasterWriter> raster;
+};
 
 }  // namespace carve

@@ -1,0 +1,375 @@
+// The filters the layers flow through, one member function each in pipeline order, and run(),
+// which chains them (see layer_pipeline.hpp).
+#include "run/layer_pipeline.hpp"
+
+#include <fmt/format.h>
+#include <tbb/global_control.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <utility>
+
+#include "base/stage_timer.hpp"
+#include "report/html_report.hpp"
+#include "report/svg.hpp"
+#include "resin/raster.hpp"
+#include "run/layer_figures.hpp"
+#include "run/thread_arenas.hpp"
+#include "toolpath/toolpath.hpp"
+
+namespace carve {
+
+namespace {
+
+void progress_bar(int done, int total, double elapsed_s) {
+    const int width = 30;
+    const double f = total > 0 ? double(done) / total : 1.0;
+    const int filled = static_cast<int>(f * width);
+    const double left = f > 0 ? elapsed_s * (1 - f) / f : 0;
+    std::fprintf(stderr, "\r[%.*s%*s] %d/%d layers, %.0f s left ", filled,
+                 "##############################", width - filled, "", done, total, left);
+    if (done == total) std::fputc('\n', stderr);
+    std::fflush(stderr);
+}
+
+// Without a terminal (a log file, a pipe, a CI job) a redrawn bar would be one long line full
+// of carriage returns: plain lines instead.
+void progress_line(int done, int total, double elapsed_s) {
+    const double f = total > 0 ? double(done) / total : 1.0;
+    const double left = f > 0 ? elapsed_s * (1 - f) / f : 0;
+    std::fprintf(stderr, "carve: %d/%d layers (%.0f %%), %.0f s left\n", done, total, 100 * f,
+                 left);
+    std::fflush(stderr);
+}
+
+// The progress after `done` layers of `layer_count`: every 10 layers on a terminal's bar, every
+// tenth of the layers as plain lines.
+void report_progress(const RunOptions& options, int done, int layer_count,
+                     std::chrono::steady_clock::time_point start) {
+    const int tenth = std::max(1, layer_count / 10);
+    if (options.progress && options.progress_bar && (done % 10 == 0 || done == layer_count)) {
+        const double t_s =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        progress_bar(done, layer_count, t_s);
+    } else if (options.progress && !options.progress_bar &&
+               (done % tenth == 0 || done == layer_count)) {
+        const double t_s =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        progress_line(done, layer_count, t_s);
+    }
+}
+
+std::vector<std::unique_ptr<CarvingSweep>> make_sweeps(const Settings& settings, int k) {
+    std::vector<std::unique_ptr<CarvingSweep>> sweeps(k);
+    for (int j = 0; j < k; ++j) sweeps[j] = std::make_unique<CarvingSweep>(settings, j, 1);
+    return sweeps;
+}
+
+std::unique_ptr<ModelShadow> make_shadow(const Settings& settings, const Mesh& mesh) {
+    if (settings.support != SupportMode::Buildplate) return nullptr;
+    return std::make_unique<ModelShadow>(mesh.vertices, mesh.triangles, 0.5);
+}
+
+}  // namespace
+
+LayerPipeline::LayerPipeline(const Settings& settings, const RunOptions& options, const Mesh& mesh,
+                             double z0, TopDownSlicer& slicer,
+                             std::function<void(const Slice&)> check_slice, RunOutputs& outputs,
+                             RunResult& result, std::chrono::steady_clock::time_point start,
+                             std::function<void(const std::string&)> note)
+    : settings_(settings),
+      options_(options),
+      slicer_(slicer),
+      check_slice_(std::move(check_slice)),
+      outputs_(outputs),
+      result_(result),
+      start_(start),
+      note_(std::move(note)),
+      layer_count_(slicer.layer_count()),
+      h_(settings.layer_height),
+      k_(sweep_iterations(settings)),
+      c_(std::max(0, settings.covers)),
+      supporting_(settings.support != SupportMode::None),
+      support_lag_(supporting_ ? std::max(0, settings.support_gap_layers()) : 0),
+      // The slicer's tokens, then c + 1 that flush the window (c layers) and the hold-back.
+      span_(profiling_enabled() ? layer_count_ + c_ + 1 : 0, filter_count()),
+      ends_left_(c_ + 1 + support_lag_),
+      next_layer_(layer_count_ - 1),
+      sweeps_(make_sweeps(settings, k_)),
+      shadow_(make_shadow(settings, mesh)),
+      planner_(support_options(settings, z0), shadow_.get()),
+      bridging_(bridge_options(settings)),
+      ribbing_(rib_options(settings)),
+      overhang_reach_(settings.support_reach()),
+      ribs_(ribbing_) {
+    result_.layers = layer_count_;
+    result_.cavity_volume_mm3.assign(sweep_iterations(settings), 0.0);
+    result_.layer_material_mm3.assign(layer_count_, 0.0);
+    span_.serial.assign(filter_count(), true);
+    span_.serial[kErode] = span_.serial[kCovers] = span_.serial[k_work()] =
+        span_.serial[k_paths()] = false;
+    span_.serial[k_rib_overlap()] = span_.serial[kChain] = false;
+    for (int j = 0; j < k_; ++j) span_.serial[k_seed(j)] = false;
+}
+
+std::vector<std::string> LayerPipeline::filter_names() const {
+    std::vector<std::string> names{"slice", "chain", "check", "erode", "window", "covers", "link"};
+    for (int j = 1; j <= k_; ++j) {
+        names.push_back(fmt::format("seed C{}", j));
+        names.push_back(fmt::format("sweep C{}", j));
+    }
+    names.insert(names.end(), {"hold back", "supports", "bridges", "rib link", "rib overlap",
+                               "ribs", "paths", "writers"});
+    return names;
+}
+
+TokenPtr LayerPipeline::cut_slice(tbb::flow_control& fc) {
+    TokenPtr t = pool_.make();
+    t->seq = next_seq_++;
+    SpanTimer timer(span_, t->seq, kSlice);
+    if (auto cut = slicer_.next_cut()) {
+        t->cut = std::move(*cut);
+    } else if (ends_left_-- > 0) {
+        t->end = true;
+    } else {
+        fc.stop();
+        return pool_.drop(t);
+    }
+    return t;
+}
+
+// The plane's segments into contours: the slicer's work but for the active set.
+TokenPtr LayerPipeline::chain_cut(TokenPtr t) {
+    if (!t->cut) return t;
+    SpanTimer timer(span_, t->seq, kChain);
+    t->slice = std::move(*t->cut).chain();
+    t->cut.reset();
+    return t;
+}
+
+TokenPtr LayerPipeline::check_limits(TokenPtr t) {
+    if (!t->slice || !check_slice_) return t;
+    SpanTimer timer(span_, t->seq, kCheck);
+    check_slice_(*t->slice);
+    return t;
+}
+
+TokenPtr LayerPipeline::erode_slice(TokenPtr t) {
+    if (!t->slice) return t;
+    SpanTimer timer(span_, t->seq, kErode);
+    t->cover = std::make_shared<const CoverSlice>(cover_slice(std::move(*t->slice), settings_));
+    t->slice.reset();
+    return t;
+}
+
+TokenPtr LayerPipeline::gather_window(TokenPtr t) {
+    SpanTimer timer(span_, t->seq, kWindow);
+    if (t->cover) window_.push_back(std::move(t->cover));
+    const bool ready =
+        next_layer_ >= 0 && (t->end || window_.back()->slice.index <= next_layer_ - c_);
+    if (!ready) return t->end ? t : pool_.drop(t);
+    const int i = next_layer_--;
+    while (!window_.empty() && window_.front()->slice.index > i + c_) window_.pop_front();
+    t->end = false;
+    t->layer.index = i;
+    t->window.assign(window_.begin(), window_.end());
+    return t;
+}
+
+TokenPtr LayerPipeline::find_covers(TokenPtr t) {
+    if (!t || t->end) return t;
+    SpanTimer timer(span_, t->seq, kCovers);
+    std::vector<const CoverSlice*> slices;
+    for (const auto& e : t->window) slices.push_back(e.get());
+    t->layer = carvable_layer(t->layer.index, slices, settings_);
+    t->window.clear();
+    if (k_ > 0) t->carvable = std::make_shared<const Paths>(t->layer.carvable);
+    return t;
+}
+
+TokenPtr LayerPipeline::link_carvable(TokenPtr t) {
+    if (!t || t->end) return t;
+    SpanTimer timer(span_, t->seq, kLink);
+    t->carvable_above = std::exchange(carvable_above_, std::move(t->carvable));
+    return t;
+}
+
+// Each iteration in two filters: the half that reads only V^{j-1}_i, on any thread, then
+// the half that needs C^j_{i+1}, in order.
+TokenPtr LayerPipeline::seed_iteration(int j, TokenPtr t) {
+    if (!t || t->end) return t;
+    SpanTimer timer(span_, t->seq, k_seed(j));
+    t->prep = sweeps_[j]->prepare(t->layer, t->carvable_above.get());
+    return t;
+}
+
+TokenPtr LayerPipeline::sweep_iteration(int j, TokenPtr t) {
+    if (!t || t->end) return t;
+    SpanTimer timer(span_, t->seq, k_sweep(j));
+    sweeps_[j]->carve(t->layer, std::move(*t->prep));
+    t->prep.reset();
+    if (j == k_ - 1) t->carvable_above.reset();
+    return t;
+}
+
+TokenPtr LayerPipeline::hold_back(TokenPtr t) {
+    if (!t) return t;
+    TokenPtr out = std::exchange(held_, nullptr);
+    SpanTimer timer(span_, out ? out->seq : t->seq, k_hold());
+    // Slice i is carved: from here on its partition is only read, by its own later
+    // stages and, at once, by the bridges of slice i + 1.
+    if (!t->end) t->record.carved = std::make_shared<const LayerPartition>(std::move(t->layer));
+    if (out && !t->end) out->below = t->record.carved;
+    // The end tokens after the first flush the support filter's hold-back (there are
+    // none more without supports).
+    if (t->end && !out) return t;
+    held_ = t->end ? pool_.drop(t) : t;
+    return out;  // null for the top slice's token: nothing to release yet
+}
+
+TokenPtr LayerPipeline::plan_supports(TokenPtr t) {
+    if (!t) return t;
+    SpanTimer timer(span_, t->seq, k_support());
+    const bool finished = t->end;
+    if (finished) {
+        pool_.drop(t);
+    } else {
+        planner_.add_outline(t->record.partition().index, t->record.partition().outline);
+        support_held_.push_back(t);
+    }
+    if (support_held_.empty() ||
+        planner_.ready(finished) != support_held_.front()->record.partition().index)
+        return nullptr;
+    TokenPtr out = support_held_.front();
+    support_held_.pop_front();
+    SupportLayer s = planner_.plan(out->record.partition().index);
+    out->record.support = {std::move(s.region), std::move(s.interface), std::move(s.walls)};
+    out->support_new_mm2 = s.new_mm2;
+    return out;
+}
+
+TokenPtr LayerPipeline::bridge_layer_below(TokenPtr t) {
+    if (!t) return t;
+    SpanTimer timer(span_, t->seq, k_work());
+    // The bottom slice has no slice below: it stands on the bed.
+    t->overhang =
+        measure_overhang(t->record.partition().outline, t->below ? &t->below->outline : nullptr,
+                         overhang_reach_, to_units(2.0));
+    {
+        StageTimer bridges_timer(Stage::kBridges);
+        t->record.bridged = bridge_layer(t->record.partition(), t->below.get(), bridging_);
+    }
+    // The ribs' per-slice regions here, in parallel: the serial rib filter then only
+    // carries the ribs down.
+    t->rib_slice = rib_slice(t->record, ribbing_);
+    t->below.reset();
+    return t;
+}
+
+TokenPtr LayerPipeline::link_ribs(TokenPtr t) {
+    if (!t) return t;
+    SpanTimer timer(span_, t->seq, k_rib_link());
+    RibAbove next{t->record.partition().index > 0,
+                  std::make_shared<const Paths>(std::move(t->rib_slice.printed)),
+                  t->record.bridged.unheld};
+    t->rib_above = std::exchange(rib_above_, std::move(next));
+    return t;
+}
+
+TokenPtr LayerPipeline::overlap_ribs(TokenPtr t) {
+    if (!t) return t;
+    SpanTimer timer(span_, t->seq, k_rib_overlap());
+    if (ribbing_.enabled) rib_overlap(t->rib_slice, t->rib_above);
+    t->rib_above = {};
+    return t;
+}
+
+TokenPtr LayerPipeline::grow_ribs(TokenPtr t) {
+    if (!t) return t;
+    SpanTimer timer(span_, t->seq, k_ribs());
+    t->record.ribs = ribs_.add(t->record, t->rib_slice);
+    return t;
+}
+
+TokenPtr LayerPipeline::plan_paths(TokenPtr t) {
+    if (!t) return t;
+    SpanTimer timer(span_, t->seq, k_paths());
+    t->record.ribs = clip_ribs(std::move(t->record.ribs), t->rib_slice, ribbing_);
+    t->rib_slice = {};
+    t->paths = plan_layer(t->record, settings_);
+    if (options_.in_parallel_stage) options_.in_parallel_stage(t->record.partition().index);
+    outputs_.writer.add_layer(t->paths);  // thread-safe: the spill is indexed by layer
+    // Pictures of one layer each, to files of their own (the HTML report stays in the
+    // serial filter: it shares a size budget between the layers in the order they come).
+    if (outputs_.svg) outputs_.svg->add(t->record, &t->paths);
+    if (outputs_.raster) outputs_.raster->add_layer(t->record);
+    t->volumes = extrusion_volumes_mm3(t->paths, settings_);
+    for (double v : t->volumes) t->material += v;
+    return t;
+}
+
+void LayerPipeline::write_layer(TokenPtr t) {
+    if (!t) return;
+    struct DropAtEnd {
+        TokenPool& pool;
+        Token* t;
+        ~DropAtEnd() { pool.drop(t); }
+    } drop_at_end{pool_, t};
+    SpanTimer timer(span_, t->seq, k_sink());
+    const LayerPartition& layer = t->record.partition();
+    for (const std::string& w : layer.warnings)
+        if (note_) note_(w);
+    if (outputs_.html) outputs_.html->add_layer(t->record, t->paths);
+    add_layer_figures(*t, h_, result_, sliced_volume_, overhangs_);
+    ++done_;
+    report_progress(options_, done_, layer_count_, start_);
+}
+
+void LayerPipeline::run(int threads) {
+    using tbb::filter_mode;
+    auto filter = [this](filter_mode mode, TokenPtr (LayerPipeline::*f)(TokenPtr)) {
+        return tbb::make_filter<TokenPtr, TokenPtr>(
+            mode, [this, f](TokenPtr t) { return (this->*f)(t); });
+    };
+    tbb::filter<void, TokenPtr> chain =
+        tbb::make_filter<void, TokenPtr>(filter_mode::serial_in_order,
+                                         [this](tbb::flow_control& fc) { return cut_slice(fc); }) &
+        filter(filter_mode::parallel, &LayerPipeline::chain_cut) &
+        filter(filter_mode::serial_in_order, &LayerPipeline::check_limits) &
+        filter(filter_mode::parallel, &LayerPipeline::erode_slice) &
+        filter(filter_mode::serial_in_order, &LayerPipeline::gather_window) &
+        filter(filter_mode::parallel, &LayerPipeline::find_covers) &
+        filter(filter_mode::serial_in_order, &LayerPipeline::link_carvable);
+    for (int j = 0; j < k_; ++j)
+        chain = chain &
+                tbb::make_filter<TokenPtr, TokenPtr>(
+                    filter_mode::parallel, [this, j](TokenPtr t) { return seed_iteration(j, t); }) &
+                tbb::make_filter<TokenPtr, TokenPtr>(
+                    filter_mode::serial_in_order,
+                    [this, j](TokenPtr t) { return sweep_iteration(j, t); });
+    chain = chain & filter(filter_mode::serial_in_order, &LayerPipeline::hold_back);
+    if (supporting_)
+        chain = chain & filter(filter_mode::serial_in_order, &LayerPipeline::plan_supports);
+    const tbb::filter<void, void> all =
+        chain & filter(filter_mode::parallel, &LayerPipeline::bridge_layer_below) &
+        filter(filter_mode::serial_in_order, &LayerPipeline::link_ribs) &
+        filter(filter_mode::parallel, &LayerPipeline::overlap_ribs) &
+        filter(filter_mode::serial_in_order, &LayerPipeline::grow_ribs) &
+        filter(filter_mode::parallel, &LayerPipeline::plan_paths) &
+        tbb::make_filter<TokenPtr, void>(filter_mode::serial_in_order,
+                                         [this](TokenPtr t) { write_layer(t); });
+
+    // Tokens bound the layers in flight, so memory stays flat in the model's height whatever
+    // the thread count: room for one layer in each serial filter plus two per thread for the
+    // parallel one, whose layers vary tenfold in cost (fandisk's face tops).
+    const size_t tokens = size_t(filter_count()) + 2 * size_t(threads) + size_t(support_lag_);
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(threads));
+    tbb::task_arena arena(threads);
+    ThreadArenas arenas(arena);
+    // parallel_pipeline waits for the filters still running and rethrows an exception of any
+    // of them here, before the run's stages and writers are destroyed.
+    arena.execute([&] { tbb::parallel_pipeline(tokens, all); });
+}
+
+}  // namespace carve
