@@ -37,6 +37,7 @@
 #include "gcode/header.hpp"
 #include "gcode/labels.hpp"
 #include "gcode/progress.hpp"
+#include "gcode/safe_text.hpp"
 #include "gcode/spill.hpp"
 
 namespace carve {
@@ -115,8 +116,10 @@ struct GcodeWriter::Impl {
     std::vector<std::string> head(const std::vector<std::string>& comments, const PrintStats& s,
                                   const Bounds& b, const std::vector<Bounds>& each) const {
         std::vector<std::string> lines{generated_by_line(), ";"};
-        lines.insert(lines.end(), thumbnails.begin(), thumbnails.end());
-        for (const std::string& c : comments) lines.push_back(c.rfind(';', 0) == 0 ? c : "; " + c);
+        for (const std::string& t : thumbnails) lines.push_back(comment_text(t));
+        // The comments hold the model's name, which whoever named the file chose.
+        for (const std::string& c : comments)
+            lines.push_back(comment_text(c.rfind(';', 0) == 0 ? c : "; " + c));
         lines.push_back(fmt::format(";FLAVOR:{}", flavor_name(settings.flavor)));
         lines.push_back(fmt::format(";TIME:{}", std::llround(s.estimated_print_time_s)));
         lines.push_back(fmt::format(";Filament used: {:.5f}m", s.filament_length_mm / 1000.0));

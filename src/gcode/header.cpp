@@ -13,6 +13,7 @@
 #include "config/config_keys.hpp"
 #include "config/setting_table.hpp"
 #include "gcode/gcode.hpp"
+#include "gcode/safe_text.hpp"
 
 #ifndef CARVE_VERSION
 #define CARVE_VERSION "0.0.0"
@@ -135,7 +136,9 @@ std::vector<std::string> config_block(const Settings& s) {
                         s.support == SupportMode::Buildplate ? "1" : "0");
     }
     std::vector<std::string> out{"; prusaslicer_config = begin"};
-    for (const auto& [k, v] : kv) out.push_back(fmt::format("; {} = {}", k, v));
+    // Values come from profiles (a printer's name, custom G-code): one line each, whatever they
+    // hold.
+    for (const auto& [k, v] : kv) out.push_back(comment_text(fmt::format("; {} = {}", k, v)));
     out.push_back("; prusaslicer_config = end");
     return out;
 }

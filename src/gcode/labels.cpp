@@ -3,22 +3,19 @@
 
 #include <fmt/format.h>
 
-#include <cctype>
+#include "gcode/safe_text.hpp"
 
 namespace carve {
 
 std::string object_label(const std::string& model_path) {
     std::string stem = model_path.substr(model_path.find_last_of('/') + 1);
     if (const size_t dot = stem.rfind('.'); dot != std::string::npos && dot > 0) stem.resize(dot);
-    for (char& c : stem) {
-        const unsigned char u = static_cast<unsigned char>(c);
-        if (!(std::isalnum(u) || c == '_' || c == '-' || c == '.')) c = '_';
-    }
-    return stem.empty() ? "object" : stem;
+    return label_text(stem);
 }
 
-std::vector<std::string> object_definition(const Settings& s, const std::string& name, double x0,
+std::vector<std::string> object_definition(const Settings& s, const std::string& given, double x0,
                                            double y0, double x1, double y1, int count) {
+    const std::string name = label_text(given);
     if (s.flavor == GcodeFlavor::Klipper)
         return {
             fmt::format("EXCLUDE_OBJECT_DEFINE NAME={} CENTER={:.3f},{:.3f} "
@@ -28,8 +25,9 @@ std::vector<std::string> object_definition(const Settings& s, const std::string&
     return {fmt::format("M486 T{} ; objects to label", count)};
 }
 
-std::vector<std::string> object_start(const Settings& s, const std::string& name, int id,
+std::vector<std::string> object_start(const Settings& s, const std::string& given, int id,
                                       bool first) {
+    const std::string name = label_text(given);
     std::vector<std::string> out{fmt::format("; printing object {}", name)};
     if (s.flavor == GcodeFlavor::Klipper) {
         out.push_back(fmt::format("EXCLUDE_OBJECT_START NAME={}", name));
@@ -40,7 +38,8 @@ std::vector<std::string> object_start(const Settings& s, const std::string& name
     return out;
 }
 
-std::vector<std::string> object_end(const Settings& s, const std::string& name) {
+std::vector<std::string> object_end(const Settings& s, const std::string& given) {
+    const std::string name = label_text(given);
     std::vector<std::string> out;
     if (s.flavor == GcodeFlavor::Klipper)
         out.push_back(fmt::format("EXCLUDE_OBJECT_END NAME={}", name));

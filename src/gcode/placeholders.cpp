@@ -21,6 +21,7 @@
 #include "base/linear_regex.hpp"
 #include "base/numbers.hpp"
 #include "config/setting_table.hpp"
+#include "gcode/safe_text.hpp"
 
 namespace carve {
 
@@ -481,7 +482,8 @@ ExpandedGcode expand_custom_gcode(const std::string& text, const Settings& setti
     while (std::getline(lines, line)) {
         if (line.find(kBad) != std::string::npos) {
             std::erase(line, kBad);
-            result.text += "; carve: could not expand: " + line + "\n";
+            // A carriage return inside the line would end the comment on the firmware.
+            result.text += comment_text("; carve: could not expand: " + line) + "\n";
         } else {
             result.text += line + "\n";
         }

@@ -12,6 +12,7 @@
 #include <chrono>
 #include <cstdint>
 #include <cstdio>
+#include <filesystem>
 #include <functional>
 #include <optional>
 #include <string>
@@ -94,7 +95,9 @@ void refuse_empty_print(const RunResult& result, const Settings& settings,
 PrintStats finish_gcode(GcodeWriter& writer, const RunOptions& options, const RunResult& result,
                         int threads) {
     std::vector<std::string> header{
-        fmt::format("model = {}", options.model_path),
+        // The file's name, not its path: the folders a user slices from are nobody's business
+        // of the printer's or of whoever the G-code is shared with.
+        fmt::format("model = {}", std::filesystem::path(options.model_path).filename().string()),
         fmt::format("model_volume_mm3 = {:.1f}", result.mesh.volume_mm3),
         fmt::format("cavities = {}", result.cavities),
     };

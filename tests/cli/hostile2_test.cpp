@@ -1,0 +1,146 @@
+// Hostile input, round two (issue #38): G-code injected through names, prints beyond the
+// machine, `carve check` bounded by its input, figures beyond the machine's range, and the
+// leftovers and messages of round one. Every input is made by the test. No timings asserted.
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "base/errors.hpp"
+#include "gcode/safe_text.hpp"
+#include "support/carve_run.hpp"
+#include "support/stl_boxes.hpp"
+
+namespace fs = std::filesystem;
+using namespace carve;
+using namespace carve::test;
+using namespace std::string_literals;
+
+namespace {
+
+// For /bin/sh: the whole text in single quotes, which keep newlines and control characters.
+std::string quoted(const std::string& s) {
+    std::string out = "'";
+    for (char c : s) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    return out + "'";
+}
+
+fs::path folder(const std::string& name) {
+    const fs::path d = scratch() / name;
+    fs::remove_all(d);
+    fs::create_directories(d);
+    return d;
+}
+
+void write(const fs::path& p, const std::string& text) {
+    std::ofstream out(p, std::ios::binary);
+    out << text;
+}
+
+std::vector<std::string> split_lines(const std::string& text) {
+    std::vector<std::string> out;
+    size_t at = 0;
+    while (at < text.size()) {
+        const size_t end = text.find('\n', at);
+        out.push_back(text.substr(at, end == std::string::npos ? std::string::npos : end - at));
+        if (end == std::string::npos) break;
+        at = end + 1;
+    }
+    return out;
+}
+
+// A control character other than the tab and the line feed that ends each line: what a
+// firmware could read as the end of a line, or of the file.
+bool has_control(const std::string& line) {
+    for (char c : line) {
+        const unsigned char u = static_cast<unsigned char>(c);
+        if ((u < 0x20 && c != '\t') || u == 0x7f) return true;
+    }
+    return false;
+}
+
+// A box of w x d x h mm as a binary STL in `dir` named `name`.
+fs::path box(const fs::path& dir, const std::string& name, float w, float d, float h) {
+    std::vector<StlTriangle> t;
+    add_box(t, 0, 0, 0, w, d, h);
+    const fs::path made = write_stl("box_tmp.stl", t);
+    const fs::path p = dir / name;
+    fs::rename(made, p);
+    return p;
+}
+
+}  // namespace
+
+// --- G-code injection
+
+TEST(HostileNames, SafeTextKeepsTheReadablePartOnOneLine) {
+    EXPECT_EQ(comment_text("a\nM104 S300\r\0b\x1b\x7f\tc"s), "a\\nM104 S300\\r\\0b\\x1b\\x7f\tc");
+    EXPECT_EQ(comment_text("caf\xc3\xa9 ; plain"), "caf\xc3\xa9 ; plain");
+    EXPECT_EQ(label_text("my part (2)\n;M104"), "my_part__2___M104");
+    EXPECT_EQ(label_text(""), "object");
+}
+
+TEST(HostileNames, AFileNameCannotEndAHeaderCommentOrStartACommand) {
+    const fs::path d = folder("names");
+    const std::string evil = "evil\nM104 S300\r\x01M300 S9\x1b;\x7f.stl";
+    const fs::path model = box(d, evil, 20, 20, 2);
+    for (const char* printer : {"mk3s", "klipper"}) {
+        const fs::path g = d / fmt::format("out-{}.gcode", printer);
+        const CarveRun r =
+            run_carve("slice " + quoted(model.string()) + " -q --cavities 1 " +
+                      "--copies 2 --printer " + std::string(printer) + " -o " + g.string());
+        ASSERT_EQ(r.status, 0) << r.err;
+        const std::string text = read(g);
+        int model_lines = 0;
+        for (const std::string& line : split_lines(text)) {
+            EXPECT_FALSE(has_control(line)) << printer << ": " << line;
+            EXPECT_NE(line.rfind("M104 S300", 0), 0u) << printer;
+            EXPECT_NE(line.rfind("M300 S9", 0), 0u) << printer;
+            if (line.rfind("; model = ", 0) == 0) {
+                ++model_lines;
+                // The file's name only, readable, on its line.
+                EXPECT_EQ(line, "; model = evil\\nM104 S300\\r\\x01M300 S9\\x1b;\\x7f.stl");
+            }
+            // A label inside a command holds nothing a parser could split on.
+            for (const std::string cmd :
+                 {"M486 A", "EXCLUDE_OBJECT_DEFINE NAME=", "EXCLUDE_OBJECT_START NAME="})
+                if (line.rfind(cmd, 0) == 0) {
+                    const std::string name =
+                        line.substr(cmd.size(), line.find(' ', cmd.size()) - cmd.size());
+                    EXPECT_EQ(name, label_text(name)) << line;
+                    EXPECT_EQ(name.rfind("evil_M104_S300__M300_S9__", 0), 0u) << line;
+                }
+        }
+        EXPECT_EQ(model_lines, 1) << printer;
+        EXPECT_EQ(text.find(d.string()), std::string::npos) << "the folder is in the G-code";
+    }
+}
+
+TEST(HostileNames, ProfileTextStaysOnItsCommentLine) {
+    const fs::path d = folder("profile_text");
+    const fs::path model = box(d, "m.stl", 20, 20, 2);
+    // A value with a form feed and a NUL, and a placeholder that cannot be expanded on a line
+    // with a carriage return: the configuration block and the "could not expand" comment.
+    write(d / "p.ini",
+          "layer_gcode = ;x\x0c\x0bM104 S300\x00\\n\n"
+          "before_layer_gcode = [no_such_key]\rM104 S301\\n\n"s);
+    const fs::path g = d / "o.gcode";
+    const CarveRun r = run_carve("slice " + model.string() + " -q --cavities 1 --load " +
+                                 (d / "p.ini").string() + " -o " + g.string());
+    ASSERT_EQ(r.status, 0) << r.err;
+    bool in_config = false;
+    for (const std::string& line : split_lines(read(g))) {
+        if (line == "; prusaslicer_config = begin") in_config = true;
+        if (in_config || line.rfind("; carve: could not expand", 0) == 0) {
+            EXPECT_FALSE(has_control(line)) << line;
+        }
+        EXPECT_NE(line.rfind("M104 S301", 0), 0u);
+    }
+    EXPECT_TRUE(in_config);
+}
