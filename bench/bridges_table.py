@@ -18,9 +18,10 @@ MODELS_DIR = os.path.join(os.path.dirname(ROOT), "shared", "models")
 CONFIGS = [
     ("report (no pruning, no tear limit)", ["--keep-all-bridges", "--max-bridge-length", "500"]),
     ("pruning (default)", []),
-    ("pruning + tear limit 0.8 mm (4r)", ["--tear-limit", "0.8"]),
-    ("pruning + tear limit 0.4 mm (2r)", ["--tear-limit", "0.4"]),
-    ("pruning + tear limit 0.1 mm (r/2)", ["--tear-limit", "0.1"]),
+    # The tear limit belongs to the report's scheme (issue 37): it once switched to it silently.
+    ("pruning + tear limit 0.8 mm (4r)", ["--carving", "report", "--tear-limit", "0.8"]),
+    ("pruning + tear limit 0.4 mm (2r)", ["--carving", "report", "--tear-limit", "0.4"]),
+    ("pruning + tear limit 0.1 mm (r/2)", ["--carving", "report", "--tear-limit", "0.1"]),
 ]
 
 

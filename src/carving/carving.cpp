@@ -234,9 +234,9 @@ SweepParams sweep_params(const Settings& settings) {
     p.r = settings.dilation_per_layer();
     p.w = settings.line_width();
     p.options = seed_options(settings);
-    p.tear = settings.tear_limit > 0 ? to_units(settings.tear_limit) : 0;
-    p.whole = settings.whole_width > 0 ? to_units(settings.whole_width) : 0;
-    p.longest = std::max(p.whole, to_units(settings.whole_width_max));
+    p.tear = settings.tear_limit_mm() > 0 ? to_units(settings.tear_limit_mm()) : 0;
+    p.whole = settings.whole_width_mm() > 0 ? to_units(settings.whole_width_mm()) : 0;
+    p.longest = p.whole > 0 ? std::max(p.whole, to_units(settings.whole_width_max_mm())) : 0;
     return p;
 }
 

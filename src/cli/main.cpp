@@ -351,6 +351,8 @@ int run(int argc, char** argv) {
                 given.emplace_back(spec, option_on.second ? "1" : "0");
         for (const auto& [spec, text] : given)
             spec->set(settings, text, std::string("--") + spec->option);
+        // Only once every option is in: --carving may come after an option of its scheme.
+        for (const auto& given_option : given) carve::check_scheme(*given_option.first, settings);
         for (const std::string& n : profile_notes)
             if (!quiet) std::fprintf(stderr, "carve: note: %s\n", n.c_str());
         // Placeholders of the custom G-code that carve cannot evaluate: said once, up front.

@@ -12,7 +12,6 @@ const std::vector<ConfigOnlyValue>& config_only_values() {
         {"first_layer_height", [](const S& s) { return plain_number(s.layer_height); }},
         {"restriction_factor", [](const S& s) { return plain_number(s.restriction_factor); }},
         {"opening_factor", [](const S& s) { return plain_number(s.opening_factor); }},
-        {"wall_extension", [](const S& s) { return plain_number(s.wall_extension); }},
         {"bridge_angle_step", [](const S& s) { return plain_number(s.bridge_angle_step); }},
         {"printer_name", [](const S& s) { return s.printer_name; }},
         // Written, but a profile's is not read (the loading note names it): carve's bridges

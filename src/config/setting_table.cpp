@@ -157,6 +157,15 @@ TextField thumbnails_field() {
     return t;
 }
 
+// A setting that changes only `scheme`'s carving.
+SettingSpec only(CarvingScheme scheme, SettingSpec spec) {
+    spec.scheme = scheme;
+    return spec;
+}
+
+constexpr CarvingScheme kWhole = CarvingScheme::Whole;
+constexpr CarvingScheme kReport = CarvingScheme::Report;
+
 std::vector<SettingSpec> make_table() {
     return {
         {"layer-height", "layer_height", "mm", 0.01, 2.0, &S::layer_height,
@@ -166,6 +175,12 @@ std::vector<SettingSpec> make_table() {
         {"max-overhang", "", "degrees", 5.0, 75.0, &S::max_overhang,
          "Largest overhang from vertical the printer bridges, degrees; the per-layer dilation "
          "is r = h * tan(angle) [45]"},
+        {"carving", "", "", 0, 0, words(&S::carving, {"whole", "report"}),
+         "How the interior is carved: whole (each part of it one cavity, its ceilings bridged "
+         "and held by ribs; the least material) or report (Hornus & Lefebvre's iterative "
+         "carving: nested cavities torn open along the medial axis, single-filament walls) "
+         "[whole]",
+         false, "", "carving_scheme"},
         {"cavities", "", "", 0, 0, cavities_field(),
          "Carving iterations k, or 'auto' (stop when the remainder erodes away at the line "
          "width); 0 = a plain hollow shell [6]"},
@@ -237,18 +252,23 @@ std::vector<SettingSpec> make_table() {
          "Retraction speed, mm/s [35]"},
         {"z-hop", "retract_lift", "mm", 0.0, 10.0, &S::z_hop,
          "Lift on travel with retraction, mm [0]"},
-        {"tear-limit", "", "mm", 0.0, 1000.0, &S::tear_limit,
-         "How far a cavity may tear open along its seed per slice beyond the dilated cavity, "
-         "mm; smaller leaves less unsupported but uses more material (the report proposes r/2 "
-         "= 0.1) [0 = no limit]"},
-        {"whole-width", "", "mm", 0.0, 1000.0, &S::whole_width,
-         "A part of the volume to carve narrower than this is carved whole and its ceiling "
-         "printed as bridges, mm; also a part up to --whole-width-max wide whose ceiling (what "
-         "lies under the model's surface) is narrower than this; 0 tears every part along its "
-         "axis; the ribs hold ceilings of any width [1000]"},
-        {"whole-width-max", "", "mm", 0.0, 1000.0, &S::whole_width_max,
-         "How wide a part whose ceiling is narrower than --whole-width may be and still be "
-         "carved whole, mm [1000]"},
+        only(kReport, {"tear-limit", "", "mm", 0.0, 1000.0, &S::tear_limit,
+                       "With --carving report: how far a cavity may tear open along its seed "
+                       "per slice beyond the dilated cavity, mm; smaller leaves less unsupported "
+                       "but uses more material (the report proposes r/2 = 0.1) [0 = no limit]"}),
+        only(kReport, {"wall-extension", "", "mm", 0.0, 10.0, &S::wall_extension,
+                       "With --carving report: an open single-filament cavity wall is extended "
+                       "this far along the walls printed before it at each end, to stick to "
+                       "them (report 4.3), mm [1]"}),
+        only(kWhole, {"whole-width", "", "mm", 0.0, 1000.0, &S::whole_width,
+                      "With --carving whole: a part of the volume to carve narrower than this is "
+                      "carved whole and its ceiling printed as bridges, mm; also a part up to "
+                      "--whole-width-max wide whose ceiling (what lies under the model's "
+                      "surface) is narrower than this; the ribs hold ceilings of any width; 0 "
+                      "is --carving report [1000]"}),
+        only(kWhole, {"whole-width-max", "", "mm", 0.0, 1000.0, &S::whole_width_max,
+                      "With --carving whole: how wide a part whose ceiling is narrower than "
+                      "--whole-width may be and still be carved whole, mm [1000]"}),
         {"scale", "", "ratio", 0.01, 100.0, &S::scale,
          "Scale the model uniformly by this factor, ratio [1]"},
         {"copies", "", "copies", 1, 400, &S::copies,
@@ -528,7 +548,28 @@ std::vector<std::pair<int, int>> parse_thumbnail_sizes(const std::string& text,
     return sizes;
 }
 
+std::string scheme_name(CarvingScheme scheme) {
+    return scheme == CarvingScheme::Report ? "report" : "whole";
+}
+
+void check_scheme(const SettingSpec& spec, const Settings& s) {
+    if (!spec.scheme || *spec.scheme == s.carving) return;
+    throw UsageError(fmt::format(
+        "{} changes only --carving {}; this run carves with --carving {}{}, where it would do "
+        "nothing",
+        spec.label(), scheme_name(*spec.scheme), scheme_name(s.carving),
+        s.carving == CarvingScheme::Whole ? " (the default)" : ""));
+}
+
 void validate_settings(const Settings& s) {
+    // A setting of the other scheme moved from its default: refused as the CLI refuses it.
+    static const Settings defaults;
+    for (const SettingSpec& spec : setting_table())
+        if (spec.scheme && !spec.text() && spec.get(s) != spec.get(defaults)) check_scheme(spec, s);
+    if (s.carving == CarvingScheme::Whole && s.whole_width == 0)
+        throw UsageError(
+            "--whole-width 0 would tear every part along its medial axis: that is the report's "
+            "method, --carving report");
     for (const SettingSpec& spec : setting_table()) {
         if (spec.text()) continue;  // its parser checked it, and the bed is checked below
         const double v = spec.get(s);

@@ -50,6 +50,9 @@ struct SettingSpec {
     // marlin2, bed_shape = 0x0,250x0,250x210,0x210, arc_fitting = emit_center): the G-code's
     // configuration block writes it, and the profile reader reads it under `ini_key`.
     std::optional<TextField> prusa = std::nullopt;
+    // The carving scheme it belongs to, when it changes only one (--tear-limit, --whole-width):
+    // given under the other it would do nothing, so it is refused (check_scheme()).
+    std::optional<CarvingScheme> scheme = std::nullopt;
 
     bool text() const { return std::holds_alternative<TextField>(field); }
     const TextField& text_field() const { return std::get<TextField>(field); }
@@ -95,6 +98,13 @@ const SettingSpec* find_setting_by_ini_key(const std::string& key);
 // Throws InputError naming `source`.
 std::vector<std::pair<int, int>> parse_thumbnail_sizes(const std::string& text,
                                                        const std::string& source);
+
+// "whole" or "report", as --carving spells it.
+std::string scheme_name(CarvingScheme scheme);
+
+// Throws UsageError naming the scheme `spec` needs when `s` carves with the other: an option
+// that would do nothing is refused, never ignored. The CLI calls it for every option given.
+void check_scheme(const SettingSpec& spec, const Settings& s);
 
 // Checks every numeric setting of the table, the bed and what ties two settings together once
 // more after the printer preset, the profile and the options were applied: the last word before

@@ -26,6 +26,15 @@ enum class SeamMode { Aligned, Nearest, Rear, Random };
 // Supports for the model's own overhangs (issue #20): none; auto = down to the bed or onto the
 // model's top; buildplate = only where nothing of the model lies below, down to the bed.
 enum class SupportMode { None, Auto, Buildplate };
+// How the interior is carved (issue #37).
+// whole: carve's own scheme, the default. Each part of the volume to carve is one cavity, taken
+//   whole from the slice where it appears; its ceilings are covers bridged from wall to wall and
+//   held from below by ribs. Its options: --whole-width, --whole-width-max.
+// report: Hornus & Lefebvre's method (RR-9083): ITERATIVECARVING seeded by the pruned medial
+//   axis (SKEL), k nested cavities with single- or double-filament walls printed in cavity order
+//   (4.2), local minima bridged (4.4). Its options: --tear-limit, --wall-extension.
+// Both: --cavities, --walls, the bridge and rib options.
+enum class CarvingScheme { Whole, Report };
 
 struct Settings {
     // Geometry of the process.
@@ -44,18 +53,20 @@ struct Settings {
     double support_z_gap = 0.2;
     double support_xy_gap = 0.25;
     int support_interface_layers = 2;  // dense layers at the top of every support
-    int cavities = 6;                  // k; 0 = plain hollow shell
-    bool cavities_auto = false;        // stop when V^j erodes away at radius w
+    CarvingScheme carving = CarvingScheme::Whole;
+    int cavities = 6;            // k; 0 = plain hollow shell
+    bool cavities_auto = false;  // stop when V^j erodes away at radius w
     int covers = 2;
     int shells = 0;
     WallMode walls = WallMode::Single;
     double restriction_factor = 1.4;  // t = 1.4 s
     double opening_factor = 0.9;      // s' = 0.9 s
-    // mm, open curves extended along the walls printed before them. 0: an open wall already
-    // ends with its centre t (< w) from the earlier wall, so the beads overlap and bond; the
-    // report's 1 mm ran along that wall and printed over it (cat 918 -> 811 mm3 of cavity
-    // walls, elephant 2,342 -> 2,138, hanging unchanged by carve check).
-    double wall_extension = 0.0;
+    // mm, open single-filament walls extended along the walls printed before them (report 4.3,
+    // --carving report only). The report's 1 mm: the open end of a new wall, on a 45-degree
+    // slope with nothing beside it, sticks to the wall printed before it. An open wall already
+    // ends with its centre t (< w) from the earlier wall, so the beads overlap without it; 0
+    // saved cat 918 -> 811 mm3 of cavity walls, elephant 2,342 -> 2,138 (at 4 mm whole width).
+    double wall_extension = 1.0;
     double bridge_angle_step = 5.0;  // degrees
     bool prune_bridges = true;
     double scale = 1.0;  // uniform scale applied to the model about its centre
@@ -65,11 +76,13 @@ struct Settings {
     double copy_gap = 6.0;
     int threads = 0;  // worker threads, 1 = all on the calling thread; 0 = every core
     // mm; the seed may tear a cavity open at most this far beyond the dilated cavity per slice
-    // (the report's conclusion proposes r/2). 0: the whole pruned medial axis opens in one
-    // slice, as in the report's algorithm. Smaller is better supported and costs material.
+    // (the report's conclusion proposes r/2; --carving report only). 0: the whole pruned medial
+    // axis opens in one slice, as in the report's algorithm. Smaller is better supported and
+    // costs material.
     double tear_limit = 0.0;
-    // mm; a component of V^{j-1} that holds no disk this wide is carved whole in one slice and
-    // its ceiling bridged (0: every component tears along its medial axis, as in the report). A
+    // mm (--carving whole only); a component of V^{j-1} that holds no disk this wide is carved
+    // whole in one slice and its ceiling bridged (0 would tear every component along its medial
+    // axis: that is --carving report, and refused here). A
     // component up to whole_width_max wide is carved whole too when the part of it under the
     // model's surface in the slice above holds no disk this wide. Before ribs it was 4 mm (and
     // 14 mm for that maximum): `carve check` counts the middle of a span more than 2 mm from its
@@ -177,6 +190,13 @@ struct Settings {
     int support_gap_layers() const {
         return static_cast<int>(std::lround(support_z_gap / layer_height));
     }
+    bool report_scheme() const { return carving == CarvingScheme::Report; }
+    // What the stages use: each option counts only under its scheme (validate_settings()
+    // refuses one set under the other).
+    double tear_limit_mm() const { return report_scheme() ? tear_limit : 0.0; }
+    double wall_extension_mm() const { return report_scheme() ? wall_extension : 0.0; }
+    double whole_width_mm() const { return report_scheme() ? 0.0 : whole_width; }
+    double whole_width_max_mm() const { return report_scheme() ? 0.0 : whole_width_max; }
     Coord restriction() const { return to_units(restriction_factor * nozzle / 2); }  // t
     Coord opening() const { return to_units(opening_factor * nozzle / 2); }          // s'
 };

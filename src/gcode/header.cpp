@@ -40,13 +40,13 @@ std::time_t generation_time() {
 // The custom G-code texts follow, then the supports.
 constexpr std::string_view kWordOrder[] = {
     "first_layer_height",
+    "carving_scheme",
     "cavities",
     "covers",
     "shells",
     "walls",
     "restriction_factor",
     "opening_factor",
-    "wall_extension",
     "bridge_angle_step",
     "prune_bridges",
     "gcode_flavor",

@@ -155,11 +155,12 @@ void HtmlReportWriter::Impl::write_cards(std::ostream& out, const PageFigures& f
                                          const RunResult& run) const {
     const Settings& st = settings;
     // Header.
-    const std::string preset =
-        fmt::format("{} layers of {} mm, nozzle {} mm, {} cavities, {} covers, {} shells, {} walls",
-                    f.layer_count, st.layer_height, st.nozzle,
-                    st.cavities_auto ? std::string("auto") : std::to_string(st.cavities), st.covers,
-                    st.shells, st.walls == WallMode::Single ? "single-filament" : "double");
+    const std::string preset = fmt::format(
+        "--carving {}: {} layers of {} mm, nozzle {} mm, {} cavities, {} covers, {} shells, {} "
+        "walls",
+        scheme_name(st.carving), f.layer_count, st.layer_height, st.nozzle,
+        st.cavities_auto ? std::string("auto") : std::to_string(st.cavities), st.covers, st.shells,
+        st.walls == WallMode::Single ? "single-filament" : "double");
     out << "<header class=\"top\"><div class=\"brand\">carve</div><div><h1>" << xml_escape(f.model)
         << "</h1><div class=\"sub\">" << xml_escape(preset) << " &middot; " << xml_escape(f.date)
         << "</div></div></header>\n<main>\n";
@@ -198,7 +199,9 @@ void HtmlReportWriter::Impl::write_cards(std::ostream& out, const PageFigures& f
     if (run.print.retractions > 0) out << "<br>" << run.print.retractions << " retractions";
     out << "</div></div>\n";
     out << "<div class=\"card\"><div class=\"label\">Cavities</div><div class=\"big\">"
-        << f.cavities << "<span class=\"unit\">nested</span></div><div class=\"small\">";
+        << f.cavities << "<span class=\"unit\">"
+        << (st.carving == CarvingScheme::Report ? "nested" : "carved whole")
+        << "</span></div><div class=\"small\">";
     if (f.model_volume > 0 && f.carved > 0)
         out << fixed(100 * f.carved / f.model_volume, 1) << " % of the volume left hollow<br>";
     out << f.bridges << (f.bridges == 1 ? " bridge" : " bridges");

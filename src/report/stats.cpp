@@ -66,6 +66,8 @@ nlohmann::json stats_json(const RunResult& run, const Settings& settings) {
     j["retractions"] = run.print.retractions;
     j["arcs"] = run.print.arcs;
     j["lines_saved_by_arcs"] = run.print.lines_saved_by_arcs;
+    // Which of the two carvings made the interior (--carving): the figures mean little without.
+    j["carving_scheme"] = scheme_name(settings.carving);
     j["carvable_volume_mm3"] = run.carvable_volume_mm3;
     j["cavity_volume_mm3"] = run.cavity_volume_mm3;
     j["remainder_volume_mm3"] = run.remainder_volume_mm3;
@@ -136,10 +138,10 @@ std::string summary_text(const RunResult& run, const Settings& settings) {
                        settings.layer_height);
     double carved = 0;
     for (double v : run.cavity_volume_mm3) carved += v;
-    out += fmt::format("cavities   {} carved {:.1f} % of the volume ({} bridges, {:.0f} mm)\n",
-                       run.cavities,
-                       run.mesh.volume_mm3 > 0 ? 100 * carved / run.mesh.volume_mm3 : 0.0,
-                       run.bridges, run.bridge_length_mm);
+    out += fmt::format(
+        "cavities   {} carved {:.1f} % of the volume, --carving {} ({} bridges, {:.0f} mm)\n",
+        run.cavities, run.mesh.volume_mm3 > 0 ? 100 * carved / run.mesh.volume_mm3 : 0.0,
+        scheme_name(settings.carving), run.bridges, run.bridge_length_mm);
     out += fmt::format(
         "material   {:.2f} cm3 = {:.1f} % of the model, {:.2f} m of filament, {:.1f} g\n",
         run.print.extruded_volume_mm3 / 1000, run.material_percent(),

@@ -21,6 +21,7 @@
 #include "base/error.hpp"
 #include "base/stage_timer.hpp"
 #include "carving/carving.hpp"
+#include "config/setting_table.hpp"
 #include "gcode/gcode.hpp"
 #include "report/stats.hpp"
 #include "run/layer_pipeline.hpp"
@@ -93,12 +94,13 @@ void refuse_empty_print(const RunResult& result, const Settings& settings,
 
 // The G-code's header and its layers written out, on `threads` threads.
 PrintStats finish_gcode(GcodeWriter& writer, const RunOptions& options, const RunResult& result,
-                        int threads) {
+                        const Settings& settings, int threads) {
     std::vector<std::string> header{
         // The file's name, not its path: the folders a user slices from are nobody's business
         // of the printer's or of whoever the G-code is shared with.
         fmt::format("model = {}", std::filesystem::path(options.model_path).filename().string()),
         fmt::format("model_volume_mm3 = {:.1f}", result.mesh.volume_mm3),
+        fmt::format("carving_scheme = {}", scheme_name(settings.carving)),
         fmt::format("cavities = {}", result.cavities),
     };
     writer.set_threads(threads);
@@ -165,7 +167,7 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
     add_run_figures(result, layers, note);
     refuse_empty_print(result, settings, options);
     const int64_t finish_start_ns = thread_cpu_ns();
-    result.print = finish_gcode(outputs.writer, options, result, threads);
+    result.print = finish_gcode(outputs.writer, options, result, settings, threads);
     clock.phase_ends("G-code");
     // The G-code's chunks written side by side are parallel work; the rest of finish() serial.
     const GcodeWriter::ChunkCount chunks = outputs.writer.chunk_count();

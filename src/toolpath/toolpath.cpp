@@ -63,8 +63,9 @@ void add_lines(const Paths& lines, Feature feature, std::vector<Extrusion>& out)
 void add_cavity_walls(const Paths& cavity, const Paths& uncarved, const Settings& settings,
                       int index, double min_length, std::vector<Extrusion>& out) {
     const Paths smoothed = clean(open(simplify(cavity, kSimplify), settings.opening()), kSimplify);
-    for (WallPiece& piece : loops_inside_erosion(smoothed, uncarved, settings.restriction(),
-                                                 to_units(settings.wall_extension), min_length)) {
+    for (WallPiece& piece :
+         loops_inside_erosion(smoothed, uncarved, settings.restriction(),
+                              to_units(settings.wall_extension_mm()), min_length)) {
         Extrusion e;
         e.feature = Feature::CavityWall;
         e.points = std::move(piece.points);

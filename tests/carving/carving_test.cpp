@@ -207,6 +207,7 @@ TEST(Carving, CoversKeepTopAndBottomSolid) {
 TEST(Carving, TearLimitBoundsHowFastCavitiesOpen) {
     CARVE_NEED_MODEL("synthetic/fig3_cube_indent.stl");
     Settings open;
+    open.carving = CarvingScheme::Report;
     open.cavities = 2;
     const SweepFigures free = sweep(model("synthetic/fig3_cube_indent.stl"), open);
     EXPECT_GT(free.widest_new_tear_mm, 3.0);
@@ -277,7 +278,7 @@ TEST(Carving, NarrowPartIsCarvedWholeByTheFirstCavity) {
     EXPECT_GT(whole.cavity_mm3[0], 0.995 * whole.carvable_mm3);
     EXPECT_LT(whole.worst_partition_error, 1e-3);
     EXPECT_LT(whole.worst_support_violation_mm2, 0.01);
-    s.whole_width = 0;
+    s.carving = CarvingScheme::Report;
     const SweepFigures torn = sweep(path, s);
     EXPECT_LT(torn.cavity_mm3[0], 0.95 * torn.carvable_mm3);  // 92 % today: the roof wedges
     EXPECT_LT(torn.worst_support_violation_mm2, 0.01);

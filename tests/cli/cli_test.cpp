@@ -18,6 +18,7 @@
 #include <thread>
 
 #include "check/gcode_analysis.hpp"
+#include "config/setting_table.hpp"
 #include "geometry/morphology.hpp"
 #include "geometry/polygon.hpp"
 #include "mesh/mesh.hpp"
@@ -423,4 +424,80 @@ TEST(Cli, ProfileStatesTheSerialFractionAndTheWallPhasesAddUp) {
          {"setup ", "pipeline ", "G-code ", "outputs ", " starting the process"})
         EXPECT_NE(faults.find(phase), std::string::npos) << phase << " in " << faults;
     EXPECT_GT(std::stol(faults.substr(faults.find(" = ") + 3)), 0) << faults;
+}
+
+// Issue #37: an option of one carving scheme is refused under the other, with a message that
+// names the scheme it needs, whatever its value and wherever --carving stands; none switches
+// the scheme.
+TEST(Cli, AnOptionOfOneSchemeIsRefusedUnderTheOther) {
+    const fs::path gcode = scratch() / "scheme.gcode";
+    const std::string base = "slice " + model("fandisk.stl") + " -o " + gcode.string();
+    int checked = 0;
+    for (const SettingSpec& spec : setting_table()) {
+        if (!spec.scheme) continue;
+        const std::string needs = scheme_name(*spec.scheme);
+        const std::string other = *spec.scheme == CarvingScheme::Report ? "whole" : "report";
+        // Its default value too: given, it would still do nothing.
+        for (const std::string& value : {spec.text_value(Settings{}), std::string("0.5")}) {
+            const std::string option = fmt::format("--{} {}", spec.option, value);
+            for (const std::string& args :
+                 {fmt::format("{} {} --carving {}", base, option, other),
+                  fmt::format("{} --carving {} {}", base, other, option)}) {
+                const CarveRun r = run_carve(args);
+                EXPECT_EQ(r.status, 2) << args;
+                EXPECT_EQ(lines(r.err), 1) << args << ": " << r.err;
+                EXPECT_NE(r.err.find("--carving " + needs), std::string::npos) << r.err;
+                EXPECT_NE(r.err.find(std::string("--") + spec.option), std::string::npos) << r.err;
+                EXPECT_FALSE(fs::exists(gcode)) << args;
+            }
+            if (other == "whole") {  // the default scheme: refused without --carving too
+                const CarveRun r = run_carve(base + " " + option);
+                EXPECT_EQ(r.status, 2) << option;
+                EXPECT_NE(r.err.find("--carving report"), std::string::npos) << r.err;
+            }
+        }
+        ++checked;
+    }
+    EXPECT_GE(checked, 4);  // --tear-limit, --wall-extension, --whole-width, --whole-width-max
+    // --whole-width 0 would be the report's method under another name.
+    const CarveRun zero = run_carve(base + " --whole-width 0");
+    EXPECT_EQ(zero.status, 2);
+    EXPECT_NE(zero.err.find("--carving report"), std::string::npos) << zero.err;
+}
+
+// --tear-limit (and any other option) leaves the scheme as chosen; the stats, the G-code and
+// the HTML report name it.
+TEST(Cli, TheSchemeIsTheOneChosenAndNamedInEveryOutput) {
+    struct Case {
+        std::string options, scheme;
+    };
+    std::map<std::string, std::string> bodies;
+    for (const Case& c :
+         {Case{"", "whole"}, Case{"--carving whole --whole-width 4", "whole"},
+          Case{"--carving report", "report"}, Case{"--carving report --tear-limit 0.1", "report"},
+          Case{"--tear-limit 0.1 --carving report", "report"}}) {
+        const fs::path gcode = scratch() / "named.gcode", stats = scratch() / "named.json",
+                       html = scratch() / "named.html";
+        const CarveRun r =
+            run_carve("slice " + model("fandisk.stl") + " -o " + gcode.string() + " --stats " +
+                      stats.string() + " --report " + html.string() + " -q " + c.options);
+        ASSERT_EQ(r.status, 0) << c.options << ": " << r.err;
+        const nlohmann::json j = nlohmann::json::parse(read(stats));
+        EXPECT_EQ(j["carving_scheme"], c.scheme) << c.options;
+        EXPECT_EQ(j["settings"]["carving_scheme"], c.scheme) << c.options;
+        const std::string g = read(gcode);
+        EXPECT_NE(g.find("; carving_scheme = " + c.scheme + "\n"), std::string::npos) << c.options;
+        EXPECT_NE(read(html).find("--carving " + c.scheme), std::string::npos) << c.options;
+        // The moves alone, without the comments that name the options.
+        std::string moves;
+        std::istringstream in(g);
+        for (std::string line; std::getline(in, line);)
+            if (!line.empty() && line[0] != ';') moves += line + "\n";
+        bodies[c.options] = moves;
+    }
+    // The report's method is another carving, and the tear limit changes it within that scheme.
+    EXPECT_NE(bodies[""], bodies["--carving report"]);
+    EXPECT_NE(bodies["--carving report"], bodies["--carving report --tear-limit 0.1"]);
+    EXPECT_EQ(bodies["--carving report --tear-limit 0.1"],
+              bodies["--tear-limit 0.1 --carving report"]);
 }

@@ -198,6 +198,7 @@ TEST(Toolpath, CoverLinesFillTheRegionAtLineSpacingAlternatingByParity) {
 
 TEST(Toolpath, SingleFilamentWallsKeepClearOfPrintedWallsExceptExtensions) {
     Settings st;
+    st.carving = CarvingScheme::Report;  // the report's 1 mm extension (4.3)
     LayerPartition l = two_cavities(st);
     LayerToolpaths t = plan_layer(l, st);
     auto walls = of_feature(t, Feature::CavityWall);
@@ -641,7 +642,7 @@ TEST(Toolpath, CavityWallsOnlyNearWhatTheCavityLeavesAreAllTheWalls) {
             double want = 0;
             for (const WallPiece& w : loops_inside_erosion(
                      clean(open(l.cavities[j], st.opening()), 5.0), *uncarved[j], st.restriction(),
-                     to_units(st.wall_extension), 2.0 * double(st.line_width())))
+                     to_units(st.wall_extension_mm()), 2.0 * double(st.line_width())))
                 want += length(Paths{w.points}, w.closed);
             double got = 0;
             for (const Extrusion& e : t.extrusions)
