@@ -1,9 +1,15 @@
 #!/usr/bin/env bash
-# Configures and builds carve (Release) in build/. Under CI=true (CI services set it, and
-# scripts/test.sh does) warnings are errors: -DCARVE_WERROR=ON.
+# Configures and builds carve (Release) in build/: every target, or only the TARGETs given
+# (scripts/sample.sh builds `carve` alone, which builds the man page with it). Under CI=true
+# (CI services set it, and scripts/test.sh does) warnings are errors: -DCARVE_WERROR=ON.
+# Usage: scripts/build.sh [TARGET...]
 set -euo pipefail
 cd "$(dirname "$0")/.."
 werror=OFF
 [ "${CI:-}" = true ] && werror=ON
 cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DCARVE_WERROR="$werror" >/dev/null
-cmake --build build -j "$(nproc)"
+if [ $# -gt 0 ]; then
+    cmake --build build -j "$(nproc)" --target "$@"
+else
+    cmake --build build -j "$(nproc)"
+fi
