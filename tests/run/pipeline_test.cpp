@@ -6,10 +6,16 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <array>
+#include <cmath>
+#include <cstdint>
 #include <filesystem>
+#include <fstream>
+#include <numbers>
 #include <stdexcept>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "base/error.hpp"
 #include "run/span_log.hpp"
@@ -25,9 +31,52 @@ fs::path scratch() {
     return dir.path();
 }
 
+// A sphere of diameter 40 mm about the origin, 48 x 96 facets: the shape of the shared
+// synthetic/sphere_40mm.stl (200 layers, cavities, bridges), made here so that the test needs
+// nothing beside the repository. Written once, as a binary STL.
+std::string sphere_stl() {
+    static const std::string path = [] {
+        const int rings = 48, segments = 96;
+        const double r = 20;
+        // The poles exactly, and segment `segments` as segment 0, so that facets share vertices.
+        auto at = [&](int i, int j) -> std::array<float, 3> {
+            if (i == 0) return {0, 0, float(r)};
+            if (i == rings) return {0, 0, float(-r)};
+            const double theta = std::numbers::pi * i / rings;
+            const double phi = 2 * std::numbers::pi * (j % segments) / segments;
+            return {float(r * std::sin(theta) * std::cos(phi)),
+                    float(r * std::sin(theta) * std::sin(phi)), float(r * std::cos(theta))};
+        };
+        std::vector<std::array<std::array<float, 3>, 3>> facets;
+        for (int i = 0; i < rings; ++i)
+            for (int j = 0; j < segments; ++j) {
+                // Counter-clockwise seen from outside: south (b), then east (d) of a.
+                const auto a = at(i, j), b = at(i + 1, j), c = at(i + 1, j + 1), d = at(i, j + 1);
+                if (i > 0) facets.push_back({a, b, d});
+                if (i + 1 < rings) facets.push_back({b, c, d});
+            }
+        const fs::path p = scratch() / "sphere_40mm.stl";
+        std::ofstream out(p, std::ios::binary);
+        const char header[80] = {};
+        out.write(header, sizeof header);
+        const auto n = static_cast<std::uint32_t>(facets.size());
+        out.write(reinterpret_cast<const char*>(&n), 4);
+        for (const auto& t : facets) {
+            float f[12] = {};  // the normal left zero: the loader works it out
+            for (int v = 0; v < 3; ++v)
+                for (int k = 0; k < 3; ++k) f[3 + 3 * v + k] = t[v][k];
+            out.write(reinterpret_cast<const char*>(f), sizeof f);
+            const std::uint16_t attribute = 0;
+            out.write(reinterpret_cast<const char*>(&attribute), 2);
+        }
+        return p.string();
+    }();
+    return path;
+}
+
 RunOptions options_for(const fs::path& gcode) {
     RunOptions o;
-    o.model_path = std::string(CARVE_MODELS_DIR) + "/synthetic/sphere_40mm.stl";
+    o.model_path = sphere_stl();
     o.gcode_path = gcode.string();
     return o;
 }
