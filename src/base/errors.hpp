@@ -4,7 +4,8 @@
 //   0 success, 1 bad input or bad option value (also a refused input: over a resource guard or
 //   the --timeout), 2 usage (unknown option, missing argument), 3 an output could not be
 //   written or was refused (the input itself, another output of the run, a device), 4 internal
-//   failure (a bug, or out of memory).
+//   failure (a bug, or out of memory), 5 `carve check --strict`: the G-code fails a
+//   printability rule (it was read and measured; the rules failed are on stderr).
 #pragma once
 
 #include <stdexcept>
@@ -18,6 +19,7 @@ enum ExitCode : int {
     kExitUsage = 2,
     kExitOutput = 3,
     kExitInternal = 4,
+    kExitRuleFailed = 5,
 };
 
 // Base of the errors carve reports in words; what() is the whole message.

@@ -11,6 +11,7 @@
 
 #include "check/footprint.hpp"
 #include "check/gcode_analysis.hpp"
+#include "check/printability.hpp"
 
 namespace carve::check {
 
@@ -96,6 +97,7 @@ class Analyser {
     // Model slice of the layer below (for the inside / overhang split).
     bool have_prev_model_ = false;
     Paths prev_model_;
+    PrintabilityMeter printability_;
 
     double feed_mm_s_ = 50;      // until the file sets F
     std::string type_;           // the last ;TYPE: comment

@@ -34,6 +34,11 @@ nlohmann::json to_json(const GcodeAnalysis& a, bool with_layers) {
         {"model_checked", a.model_checked},
         {"support_volume_mm3", a.support_volume_mm3},
         {"support_gap_mm", a.support_gap_mm},
+        {"longest_bridge",
+         {{"length_mm", a.longest_bridge_mm},
+          {"z_mm", a.longest_bridge_z_mm},
+          {"x_mm", a.longest_bridge_x_mm},
+          {"y_mm", a.longest_bridge_y_mm}}},
     };
     {
         double total = 0;
@@ -56,6 +61,38 @@ nlohmann::json to_json(const GcodeAnalysis& a, bool with_layers) {
         j["travel_outside_mm"] = a.travel_outside_mm;
         j["wall_crossings"] = a.wall_crossings;
         j["model_tolerance_mm"] = a.model_tolerance_mm;
+        const ColumnFigures& c = a.printability.columns;
+        auto skin = [](const SkinFigures& f) {
+            return nlohmann::json{{"region_mm2", f.region_mm2},
+                                  {"open_mm2", f.open_mm2},
+                                  {"open_percent", f.open_percent()},
+                                  {"holes_1mm2", f.holes_1mm2},
+                                  {"largest_hole_mm2", f.largest_hole_mm2},
+                                  {"largest_hole_z_mm", f.largest_hole_z_mm}};
+        };
+        const std::vector<std::string> failed = failed_rules(a);
+        j["printability"] = {
+            {"columns",
+             {{"thin_interior", c.thin_interior},
+              {"over_5mm", c.over_5mm},
+              {"over_10mm", c.over_10mm},
+              {"tallest",
+               {{"height_mm", c.tallest_mm},
+                {"layers", c.tallest_layers},
+                {"width_mm", c.tallest_width_mm},
+                {"z_from_mm", c.tallest_z_from_mm},
+                {"z_to_mm", c.tallest_z_to_mm},
+                {"x_mm", c.tallest_x_mm},
+                {"y_mm", c.tallest_y_mm},
+                {"top_x_mm", c.tallest_top_x_mm},
+                {"top_y_mm", c.tallest_top_y_mm}}}}},
+            {"top_skin", skin(a.printability.top)},
+            {"bottom_skin", skin(a.printability.bottom)},
+            {"hanging_inside_mm2", a.hanging_inside_mm2},
+            {"hanging_overhang_mm2", a.hanging_overhang_mm2},
+            {"passes", failed.empty()},
+            {"failed_rules", failed},
+        };
         if (!a.mesh_alignment.empty()) {
             j["mesh_alignment"] = a.mesh_alignment;
             j["mesh_offset_mm"] = {a.mesh_offset_mm[0], a.mesh_offset_mm[1], a.mesh_offset_mm[2]};
@@ -75,7 +112,8 @@ nlohmann::json to_json(const GcodeAnalysis& a, bool with_layers) {
                                  {"far_unsupported_area_mm2", l.far_unsupported_area_mm2},
                                  {"retractions", l.retractions},
                                  {"travel_length_mm", l.travel_length_mm},
-                                 {"stick_time_s", l.stick_time_s}};
+                                 {"stick_time_s", l.stick_time_s},
+                                 {"longest_bridge_mm", l.longest_bridge_mm}};
             if (a.model_checked) {
                 lj["outside_area_mm2"] = l.outside_area_mm2;
                 lj["max_outside_model_mm"] = l.max_outside_model_mm;

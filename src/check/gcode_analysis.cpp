@@ -103,6 +103,10 @@ GcodeAnalysis Analyser::finish() {
     }
     if (width_weight_ > 0) r.mean_line_width_mm = width_sum_ / width_weight_;
     if (r.model_checked && r.layers > 0) r.model_tolerance_mm = tolerance_sum_ / r.layers;
+    if (r.model_checked) {
+        printability_.finish();
+        r.printability = printability_.figures();
+    }
     return std::move(r);
 }
 

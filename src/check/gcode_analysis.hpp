@@ -85,7 +85,39 @@ struct LayerFigures {
     double travel_outside_mm = 0;  // with a model: the rest
     long long wall_crossings = 0;  // with a model: travels leaving the slice and coming back
     double stick_time_s = 0;
+    double longest_bridge_mm = 0;  // see GcodeAnalysis::longest_bridge_mm
 };
+
+// Issue 35's printability figures (definitions in check/printability.hpp and docs/check.md).
+struct ColumnFigures {
+    long long thin_interior = 0;  // columns of thin interior pieces, any height
+    long long over_5mm = 0, over_10mm = 0;
+    // The tallest column: height (layers x layer height), its layers, the median narrow side of
+    // its pieces, where it starts and ends.
+    double tallest_mm = 0, tallest_width_mm = 0;
+    int tallest_layers = 0;
+    double tallest_z_from_mm = 0, tallest_z_to_mm = 0;  // bottom of its first layer, top of last
+    double tallest_x_mm = 0, tallest_y_mm = 0;          // its lowest piece's centre
+    double tallest_top_x_mm = 0, tallest_top_y_mm = 0;  // its highest piece's centre
+};
+
+struct SkinFigures {
+    double region_mm2 = 0;  // summed over the layers
+    double open_mm2 = 0;
+    long long holes_1mm2 = 0;  // connected open pieces of at least 1 mm2
+    double largest_hole_mm2 = 0, largest_hole_z_mm = 0;
+    double open_percent() const { return region_mm2 > 0 ? 100 * open_mm2 / region_mm2 : 0; }
+};
+
+struct PrintabilityFigures {
+    ColumnFigures columns;
+    SkinFigures top, bottom;
+};
+
+// The rules of `carve check --strict` (issue 35).
+constexpr double kStrictColumnMm = 5;            // no thin interior column taller
+constexpr double kStrictSkinOpenPercent = 0.25;  // top and bottom skin left open, at most
+constexpr double kStrictHangingInsideMm2 = 1;    // far-unsupported over the model's slice
 
 struct GcodeAnalysis {
     std::string generator;  // from the first comments, e.g. "PrusaSlicer 2.5.0", "Cura_SteamEngine"
@@ -131,6 +163,12 @@ struct GcodeAnalysis {
     double travel_outside_mm = 0;
     long long wall_crossings = 0;
     double model_tolerance_mm = 0;  // mean over layers of the tolerance used
+    // The longest bridge line (see check/printability.hpp): the longest stretch of one
+    // extruding move over nothing printed on the layer below within the support radius, held
+    // at both ends.
+    double longest_bridge_mm = 0, longest_bridge_z_mm = 0;
+    double longest_bridge_x_mm = 0, longest_bridge_y_mm = 0;  // its middle
+    PrintabilityFigures printability;                         // with a model
     // How the model was placed under the G-code, when the caller says (carve check --mesh).
     std::string mesh_alignment;
     double mesh_offset_mm[3] = {0, 0, 0};
@@ -149,6 +187,12 @@ GcodeAnalysis analyse_gcode(const std::string& path, const GcodeAnalysisOptions&
 ExtrusionBounds extrusion_bounds(const std::string& path, const GcodeAnalysisOptions& options = {});
 
 nlohmann::json to_json(const GcodeAnalysis& analysis, bool with_layers = false);
+
+// The --strict rules the analysis fails, each said in one line; empty when it passes or has no
+// model to judge by.
+std::vector<std::string> failed_rules(const GcodeAnalysis& analysis);
+// Issue 35's figures for people: columns, skins, bridge, hanging, the verdict.
+std::string describe_printability(const GcodeAnalysis& analysis);
 
 // "1d 2h 3m 4s", "2h 3m", "45s" (PrusaSlicer's estimate) -> seconds; -1 if nothing parses.
 double parse_duration_s(std::string_view text);

@@ -79,7 +79,6 @@ void Analyser::finish_layer() {
             if (l.support) support_lines.push_back(l);
         support_footprint = widen(support_lines, model_h, filament_area_, opt_.bead);
     }
-    lines_.clear();
     layer_.footprint_area_mm2 = region_area_mm2(footprint);
     // What lies below: the layers within the thickness of this one (one layer, unless a
     // slicer interleaves thinner layers, as PrusaSlicer does between its support's layers
@@ -106,6 +105,17 @@ void Analyser::finish_layer() {
         Paths unsupported = difference(footprint, dilate_round(below, r_units_));
         layer_.unsupported_area_mm2 = region_area_mm2(unsupported);
         if (!unsupported.empty()) {
+            std::vector<Path> moves;
+            moves.reserve(lines_.size());
+            for (const Polyline& l : lines_) moves.push_back(l.points);
+            const Bridge bridge = longest_bridge(moves, unsupported);
+            layer_.longest_bridge_mm = bridge.length_mm;
+            if (bridge.length_mm > result_.longest_bridge_mm) {
+                result_.longest_bridge_mm = bridge.length_mm;
+                result_.longest_bridge_z_mm = layer_.z_mm;
+                result_.longest_bridge_x_mm = bridge.x_mm;
+                result_.longest_bridge_y_mm = bridge.y_mm;
+            }
             Paths far = far_region(unsupported, below, far_units_);
             if (!support_footprint.empty() && !far.empty()) {
                 // A support standing on the model's top leaves the same gap: support
@@ -142,7 +152,12 @@ void Analyser::finish_layer() {
         width_sum_ += width * layer_.path_length_mm;
         width_weight_ += layer_.path_length_mm;
     }
-    if (opt_.model_slice) check_model(footprint, support_footprint, h);
+    if (opt_.model_slice) {
+        check_model(footprint, support_footprint, h);
+        // Support-only layers (PrusaSlicer's interleaved ones) are not the object's layers.
+        if (!support_only) printability_.layer(layer_.z_mm, model_h, footprint, prev_model_);
+    }
+    lines_.clear();
     layer_travel_.clear();
 
     GcodeAnalysis& r = result_;

@@ -124,8 +124,9 @@ int run(int argc, char** argv) {
                       "Write the run's figures as JSON to this file [none]");
     slice->add_flag("--stats-check", run.check_output,
                     "Also measure the written G-code as carve check --mesh does (hanging inside "
-                    "and overhang, material per type, retractions, travel) into the stats' "
-                    "\"check\" [off: it doubles the run time]");
+                    "and overhang, material per type, retractions, travel, thin columns, skins "
+                    "left open, the --strict verdict) into the stats' \"check\" and the "
+                    "summary [off: it doubles the run time]");
     slice->add_option("--load", profile_path,
                       "PrusaSlicer .ini profile with printer and filament settings (options given "
                       "on the command line win) [none]");
@@ -246,6 +247,11 @@ int run(int argc, char** argv) {
     check->add_option("--mesh-offset", check_offset,
                       "With --mesh: X,Y[,Z] from the mesh's coordinates to the G-code's, mm "
                       "[found from the extrusion's bounding box]");
+    bool check_strict = false;
+    check->add_flag("--strict", check_strict,
+                    "With --mesh: exit with status 5 when the G-code fails a printability rule "
+                    "(a free-standing thin column over 5 mm, top or bottom skin open over "
+                    "0.25 %, over 1 mm2 hanging inside), naming each on stderr [off]");
 
     std::vector<std::string> profile_notes;
     try {
@@ -321,6 +327,7 @@ int run(int argc, char** argv) {
                                  a.mesh_extent_mismatch_mm);
             } else {
                 if (offset) return fail("--mesh-offset needs --mesh");
+                if (check_strict) return fail("--strict needs --mesh", carve::kExitUsage);
                 a = carve::analyse_gcode(check_gcode, check_options);
             }
             if (check_json) {
@@ -328,6 +335,12 @@ int run(int argc, char** argv) {
             } else {
                 std::cout << carve::describe(a);
                 if (check_layers) std::cout << "\n" << carve::describe_layers(a);
+            }
+            if (check_strict) {
+                const std::vector<std::string> failed = carve::failed_rules(a);
+                for (const std::string& f : failed)
+                    std::fprintf(stderr, "carve: check: fails: %s\n", f.c_str());
+                if (!failed.empty()) return carve::kExitRuleFailed;
             }
             return 0;
         }

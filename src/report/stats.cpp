@@ -155,6 +155,7 @@ std::string summary_text(const RunResult& run, const Settings& settings) {
         out += fmt::format(
             "hanging    {:.1f} mm2 inside the model, {:.1f} mm2 overhang (checked in {:.2f} s)\n",
             run.check->hanging_inside_mm2, run.check->hanging_overhang_mm2, run.check_time_s);
+    if (run.check) out += describe_printability(*run.check);
     out += fmt::format("sliced in  {:.2f} s, peak memory {:.0f} MB\n", run.processing_time_s,
                        run.peak_memory_mb);
     return out;
@@ -222,6 +223,7 @@ std::string describe(const GcodeAnalysis& a) {
     if (a.estimated_time_from_header_s >= 0)
         out +=
             fmt::format("header time      {}\n", format_duration(a.estimated_time_from_header_s));
+    out += describe_printability(a);
     return out;
 }
 
