@@ -70,6 +70,10 @@ struct LayerSupport {
 // The ribs stage's record (supports/ribs.hpp).
 struct LayerRibs {
     Paths lines;  // short open lines inside the cavities, each on a rib
+    // One line a rib, from its piece to the nearest thing printed on the same slice (a wall, a
+    // bridge line): a rib is never a free-standing strand, it leans on a web joined to the wall
+    // in every layer, as lightning infill's branches are (issue #35).
+    Paths ties;
     // Of the slice above's unsupported minima, those the ribs printed on this slice hold.
     int minima_held = 0;
     int ceilings_held = 0;

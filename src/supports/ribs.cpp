@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <unordered_map>
 
 #include "base/stage_timer.hpp"
 #include "geometry/morphology.hpp"
@@ -13,15 +14,13 @@
 
 namespace carve {
 
-namespace {
-
 constexpr double kDirScale = 1024.0;
 
 // Nearest point of a region's boundary to a point, and whether the point lies inside it. The
 // paths' boxes let far contours be skipped: a rib is tested against every cavity of a slice.
-class Boundary {
+class WallBoundary {
   public:
-    explicit Boundary(const Paths& region) : region_(region) {
+    explicit WallBoundary(const Paths& region) : region_(region) {
         boxes_.reserve(region.size());
         for (const Path& p : region) boxes_.push_back(bounds(p));
     }
@@ -66,6 +65,8 @@ class Boundary {
             p.Y < b.min_y ? double(b.min_y - p.Y) : (p.Y > b.max_y ? double(p.Y - b.max_y) : 0);
         return dx * dx + dy * dy;
     }
+
+  public:
     static Point closest_on_segment(const Point& a, const Point& b, const Point& p) {
         const double vx = double(b.X - a.X), vy = double(b.Y - a.Y);
         const double len2 = vx * vx + vy * vy;
@@ -79,6 +80,8 @@ class Boundary {
     const Paths& region_;
     std::vector<BBox2> boxes_;
 };
+
+namespace {
 
 // Disks of `radius` around the points, as one region.
 Paths disks(const std::vector<Point>& centres, Coord radius) {
@@ -101,6 +104,137 @@ Coord floor_to(Coord v, Coord step) {
 }
 
 }  // namespace
+
+Path RibPlanner::piece_of(const Node& n) const {
+    const double half = double(options_.piece) / 2 / kDirScale;
+    const Coord ox = static_cast<Coord>(std::llround(double(n.dir.X) * half));
+    const Coord oy = static_cast<Coord>(std::llround(double(n.dir.Y) * half));
+    return Path{Point(n.at.X - ox, n.at.Y - oy), Point(n.at.X + ox, n.at.Y + oy)};
+}
+
+bool RibPlanner::follows(const Point& before, const Point& after) const {
+    return distance(before, after) <= 2.0 * double(options_.lean) + double(options_.line_width);
+}
+
+void RibPlanner::follow_wall(Node& n, const WallBoundary& walls) const {
+    const Point at = walls.nearest(n.anchor).at;
+    if (follows(n.anchor, at)) n.anchor = at;
+}
+
+bool RibPlanner::fade_step(Node& n) const {
+    // The free end ends r nearer the anchor than it was, wherever the anchor slid along its
+    // wall: a wall that recedes as fast as the fade closes must not keep it going.
+    const double r = double(options_.lean), w = double(options_.line_width);
+    const double d = distance(n.anchor, n.at);
+    const double length = std::min(n.fade_length, d) - r;
+    if (length <= w / 2 || d <= 0) return false;
+    n.at = Point(
+        n.anchor.X + static_cast<Coord>(std::llround(double(n.at.X - n.anchor.X) / d * length)),
+        n.anchor.Y + static_cast<Coord>(std::llround(double(n.at.Y - n.anchor.Y) / d * length)));
+    n.fade_length = length;
+    return true;
+}
+
+void RibPlanner::start_fade(const Point& free_end, const Point& fixed, long long follow,
+                            std::vector<Node>& fading) const {
+    Node f;
+    f.at = free_end;
+    f.anchor = fixed;
+    f.target = follow;
+    f.fading = true;
+    f.fade_length = distance(free_end, fixed);
+    if (fade_step(f)) fading.push_back(f);
+}
+
+// Each rib is tied to the nearest thing printed on its slice: the wall, or the tie or piece of
+// a rib nearer the wall, so the ties make a forest rooted on the walls (lightning infill's
+// branches) and each tie is short. A rib keeps what it was tied to above while that is nearly as
+// near (a tie that moves stands on the one below); a tie given up fades.
+void RibPlanner::tie(std::vector<Node>& nodes, const WallBoundary& boundary,
+                     std::vector<Node>& fading) const {
+    const double w = double(options_.line_width);
+    const double cell = 2.0 * double(options_.spacing);  // further ribs are not looked at
+    const double keep = 2.0 * w;
+    std::vector<WallBoundary::Hit> wall(nodes.size());
+    std::vector<size_t> order(nodes.size());
+    for (size_t i = 0; i < nodes.size(); ++i) wall[i] = boundary.nearest(nodes[i].at), order[i] = i;
+    std::sort(order.begin(), order.end(), [&](size_t a, size_t b) {
+        return wall[a].distance != wall[b].distance ? wall[a].distance < wall[b].distance
+                                                    : nodes[a].id < nodes[b].id;
+    });
+    auto cell_of = [&](Coord v) { return static_cast<long long>(std::floor(double(v) / cell)); };
+    auto key = [](long long cx, long long cy) {
+        return (static_cast<unsigned long long>(cx) << 32) ^
+               static_cast<unsigned long long>(cy & 0xffffffffLL);
+    };
+    std::unordered_map<unsigned long long, std::vector<size_t>> grid;
+    std::unordered_map<long long, size_t> placed;
+    auto nearest_on = [&](size_t j, const Point& p, Point& q) {
+        const Node& o = nodes[j];
+        const Path piece = piece_of(o);
+        double best = std::numeric_limits<double>::max();
+        auto try_segment = [&](const Point& a, const Point& b) {
+            const Point c = WallBoundary::closest_on_segment(a, b, p);
+            const double d = distance(c, p);
+            if (d < best) best = d, q = c;
+        };
+        try_segment(piece[0], piece[1]);
+        if (distance(o.at, o.anchor) > w / 2) try_segment(o.at, o.anchor);
+        return best;
+    };
+    for (const size_t i : order) {
+        Node& n = nodes[i];
+        long long target = kWall;
+        Point at = wall[i].at;
+        double best = wall[i].distance;
+        const long long cx = cell_of(n.at.X), cy = cell_of(n.at.Y);
+        for (long long gx = cx - 1; gx <= cx + 1; ++gx)
+            for (long long gy = cy - 1; gy <= cy + 1; ++gy) {
+                const auto it = grid.find(key(gx, gy));
+                if (it == grid.end()) continue;
+                for (const size_t j : it->second) {
+                    Point q;
+                    const double d = nearest_on(j, n.at, q);
+                    if (d < best) best = d, target = nodes[j].id, at = q;
+                }
+            }
+        if (n.target != kUntied && n.target != target) {
+            double before = std::numeric_limits<double>::max();
+            Point q;
+            if (n.target == kWall) {
+                before = wall[i].distance, q = wall[i].at;
+            } else if (const auto it = placed.find(n.target); it != placed.end()) {
+                before = nearest_on(it->second, n.at, q);
+            }
+            if (before <= best + keep) {
+                target = n.target, at = q;
+            } else if (n.target == kWall) {
+                start_fade(n.tied_from, n.anchor, kWall, fading);
+            } else {
+                // Its far end closes on the rib, which goes on below (the rib it was tied to
+                // may not).
+                start_fade(n.anchor, n.at, n.id, fading);
+            }
+        }
+        // Tied to the wall still, but to another part of it (the wall it was tied to fell
+        // away, or a bridge line ended): the old tie fades.
+        if (n.target == kWall && target == kWall && !follows(n.anchor, at))
+            start_fade(n.anchor, n.at, n.id, fading);
+        n.target = target;
+        n.anchor = at;
+        n.tied_from = n.at;
+        placed[n.id] = i;
+        // Registered in every cell its tie and piece cross, for the ribs further out.
+        const Path piece = piece_of(n);
+        const Coord x0 = std::min({n.at.X, at.X, piece[0].X, piece[1].X});
+        const Coord x1 = std::max({n.at.X, at.X, piece[0].X, piece[1].X});
+        const Coord y0 = std::min({n.at.Y, at.Y, piece[0].Y, piece[1].Y});
+        const Coord y1 = std::max({n.at.Y, at.Y, piece[0].Y, piece[1].Y});
+        for (long long gx = cell_of(x0); gx <= cell_of(x1); ++gx)
+            for (long long gy = cell_of(y0); gy <= cell_of(y1); ++gy)
+                grid[key(gx, gy)].push_back(i);
+    }
+}
 
 RibOptions rib_options(const Settings& settings) {
     RibOptions o;
@@ -134,10 +268,11 @@ RibSlice rib_slice(const LayerRecord& layer, const RibOptions& options) {
     Paths bridge_lines;
     for (const Bridge& b : layer.bridged.bridges)
         bridge_lines.insert(bridge_lines.end(), b.lines.begin(), b.lines.end());
-    if (!bridge_lines.empty() && !empty.empty())
-        empty = subtract(unite(empty), dilate_lines(bridge_lines, w / 2));
-    else if (!empty.empty())
-        empty = unite(empty);
+    if (!empty.empty()) empty = unite(empty);
+    if (!bridge_lines.empty() && !empty.empty()) {
+        out.unbridged = empty;
+        empty = subtract(empty, dilate_lines(bridge_lines, w / 2));
+    }
     if (!empty.empty()) out.deep = erode(empty, options.reach);
     const Paths& outline = layer.partition().outline;
     out.printed = empty.empty() ? outline : subtract(outline, empty);
@@ -159,12 +294,37 @@ void rib_overlap(RibSlice& slice, const RibAbove& above) {
 }
 
 LayerRibs clip_ribs(LayerRibs ribs, const RibSlice& slice, const RibOptions& options) {
-    if (ribs.lines.empty()) return ribs;
+    if (ribs.lines.empty() && ribs.ties.empty()) return ribs;
     StageTimer timer(Stage::kBridges);
     Paths kept;
     for (Path& l : clip_lines(ribs.lines, slice.empty))
         if (length(Paths{l}, false) >= double(options.line_width)) kept.push_back(std::move(l));
     ribs.lines = std::move(kept);
+    // Each tie keeps its part from the rib to the first thing printed it meets, and goes on
+    // into that line by half a width so that the two fuse: the rib is joined to the wall.
+    const Coord w = options.line_width;
+    Paths ties;
+    for (const Path& t : ribs.ties) {
+        const Point from = t.front();
+        const Paths parts = clip_lines(Paths{t}, slice.tie_region());
+        const Path* best = nullptr;
+        double best_d = double(w);
+        Point far;
+        for (const Path& p : parts) {
+            if (p.size() < 2) continue;
+            for (const bool front : {true, false}) {
+                const double d = distance(front ? p.front() : p.back(), from);
+                if (d < best_d) best_d = d, best = &p, far = front ? p.back() : p.front();
+            }
+        }
+        if (!best) continue;
+        const double len = distance(from, far);
+        if (len < double(w) / 2) continue;
+        const double ux = double(far.X - from.X) / len, uy = double(far.Y - from.Y) / len;
+        ties.push_back(Path{from, Point(far.X + static_cast<Coord>(std::llround(ux * w / 2)),
+                                        far.Y + static_cast<Coord>(std::llround(uy * w / 2)))});
+    }
+    ribs.ties = std::move(ties);
     return ribs;
 }
 
@@ -188,14 +348,18 @@ LayerRibs RibPlanner::add(const LayerRecord& layer, const RibSlice& slice) {
 
     if (!has_above_) nodes_.clear();
     const Coord rho = static_cast<Coord>(std::llround(double(options_.spacing) / std::sqrt(2.0)));
-    const Boundary boundary(empty);
+    const WallBoundary boundary(empty);
+    // Ties go to the walls, not to this slice's bridge lines: the slice below has no bridge
+    // there to hold a tie that ends on one.
+    const WallBoundary walls(slice.tie_region());
 
     // New ribs under what the slice above prints deep inside this slice's empty region.
     if (has_above_ && !empty.empty()) {
         Paths hang = slice.hang;
         if (!hang.empty()) {
             std::vector<Point> old;
-            for (const Node& n : nodes_) old.push_back(n.at);
+            for (const Node& n : nodes_)
+                if (!n.fading) old.push_back(n.at);
             if (!hang.empty() && !old.empty()) hang = subtract(hang, disks(old, rho - r));
             const double min_area = 0.5 * double(w) * double(w);
             Paths kept;
@@ -210,13 +374,14 @@ LayerRibs RibPlanner::add(const LayerRecord& layer, const RibSlice& slice) {
                     for (Coord x = floor_to(b.min_x, a); x <= b.max_x; x += a) {
                         const Point p(x, y);
                         if (!point_in_region(p, near)) continue;
-                        const Boundary::Hit h = boundary.nearest(p);
+                        const WallBoundary::Hit h = boundary.nearest(p);
                         if (!h.inside || h.distance <= double(r)) continue;
                         // The piece runs across the way to the nearest wall: over a bridge,
                         // whose lines run wall to wall, it crosses several of them.
                         const double dx = double(h.at.X - p.X), dy = double(h.at.Y - p.Y);
                         const double len = std::hypot(dx, dy);
                         Node n;
+                        n.id = next_id_++;
                         n.at = p;
                         n.dir = len > 0
                                     ? Point(static_cast<Coord>(std::llround(-dy / len * kDirScale)),
@@ -235,7 +400,7 @@ LayerRibs RibPlanner::add(const LayerRecord& layer, const RibSlice& slice) {
     std::vector<Node> moved;
     moved.reserve(nodes_.size());
     const double attract = double(options_.attract);
-    std::vector<Boundary::Hit> hits;
+    std::vector<WallBoundary::Hit> hits;
     hits.reserve(nodes_.size());
     for (const Node& n : nodes_) hits.push_back(boundary.nearest(n.at));
     // Ribs are paired, nearest pairs first, and each pair leans together: leaning each towards
@@ -249,9 +414,9 @@ LayerRibs RibPlanner::add(const LayerRecord& layer, const RibSlice& slice) {
         };
         std::vector<Pair> pairs;
         for (size_t i = 0; i < nodes_.size(); ++i) {
-            if (!hits[i].inside || hits[i].distance <= double(r)) continue;
+            if (nodes_[i].fading || !hits[i].inside || hits[i].distance <= double(r)) continue;
             for (size_t k = i + 1; k < nodes_.size(); ++k) {
-                if (!hits[k].inside || hits[k].distance <= double(r)) continue;
+                if (nodes_[k].fading || !hits[k].inside || hits[k].distance <= double(r)) continue;
                 const double d = distance(nodes_[k].at, nodes_[i].at);
                 if (d > 0 && d < attract && d < hits[i].distance && d < hits[k].distance)
                     pairs.push_back({d, i, k});
@@ -264,11 +429,26 @@ LayerRibs RibPlanner::add(const LayerRecord& layer, const RibSlice& slice) {
             if (partner[p.i] == nodes_.size() && partner[p.k] == nodes_.size())
                 partner[p.i] = p.k, partner[p.k] = p.i;
     }
+    // A tie that cannot go on one slice lower (its rib stood on a wall, merged into another or
+    // tied elsewhere) would leave the tie above it in the air: it fades instead, its free end
+    // moving r a slice towards where it was tied, a web whose edge leans like a cavity's wall.
+    // Ties go to the nearest thing printed, so they are short and so are their fades.
+    std::vector<Node> fading;
+    std::vector<Node> faded;  // fades carried from the slice above, moved once `moved` is known
     for (size_t i = 0; i < nodes_.size(); ++i) {
         const Node& n = nodes_[i];
         if (empty.empty()) continue;
-        const Boundary::Hit& h = hits[i];
-        if (!h.inside || h.distance <= double(r)) continue;  // it stands on this slice
+        const WallBoundary::Hit& h = hits[i];
+        if (n.fading) {
+            faded.push_back(n);
+            continue;
+        }
+        if (!h.inside || h.distance <= double(r)) {  // it stands on this slice
+            // Its tie closes on where it stands (a tie to the wall is that short already).
+            // On a bridge line of this slice, the fade closes on the wall it runs from.
+            if (n.target >= 0) start_fade(n.anchor, walls.nearest(n.at).at, kWall, fading);
+            continue;
+        }
         Node m = n;
         bool leaned = false;
         double best = std::min(attract, h.distance);
@@ -277,6 +457,7 @@ LayerRibs RibPlanner::add(const LayerRecord& layer, const RibSlice& slice) {
             best = distance(nodes_[other].at, n.at);
         } else {
             for (size_t k = 0; k < nodes_.size(); ++k) {
+                if (nodes_[k].fading) continue;
                 const double d = distance(nodes_[k].at, n.at);
                 if (k != i && d > 0 && d < best) best = d, other = k;
             }
@@ -287,7 +468,7 @@ LayerRibs RibPlanner::add(const LayerRecord& layer, const RibSlice& slice) {
             m.at.X += static_cast<Coord>(std::llround(double(to.X - n.at.X) / best * step));
             m.at.Y += static_cast<Coord>(std::llround(double(to.Y - n.at.Y) / best * step));
             // Not through a wall: the new place must still be clear of what is printed.
-            const Boundary::Hit g = boundary.nearest(m.at);
+            const WallBoundary::Hit g = boundary.nearest(m.at);
             leaned = g.inside && g.distance > double(r);
             if (!leaned) m.at = n.at;
         }
@@ -305,18 +486,39 @@ LayerRibs RibPlanner::add(const LayerRecord& layer, const RibSlice& slice) {
         const bool merged = std::any_of(moved.begin(), moved.end(), [&](const Node& o) {
             return distance(o.at, n.at) <= double(r) && distance(o.at, m.at) <= double(r);
         });
-        if (merged) continue;
+        if (merged) {
+            const auto o = std::find_if(moved.begin(), moved.end(), [&](const Node& o) {
+                return distance(o.at, n.at) <= double(r) && distance(o.at, m.at) <= double(r);
+            });
+            if (n.target == kWall)
+                start_fade(n.at, n.anchor, kWall, fading);
+            else if (n.target >= 0)
+                start_fade(n.anchor, o->at, o->id, fading);
+            continue;
+        }
         moved.push_back(m);
     }
+    // A fade's fixed end follows its wall, or the rib it closes on while that rib goes on.
+    for (Node f : faded) {
+        if (f.target == kWall) {
+            follow_wall(f, walls);
+        } else {
+            const auto o = std::find_if(moved.begin(), moved.end(),
+                                        [&](const Node& m) { return m.id == f.target; });
+            if (o != moved.end()) f.anchor = o->at;
+        }
+        if (fade_step(f)) fading.push_back(f);
+    }
+    tie(moved, walls, fading);
+    for (Node& f : fading) moved.push_back(f);
     nodes_ = std::move(moved);
 
     Paths pieces;
     pieces.reserve(nodes_.size());
     for (const Node& n : nodes_) {
-        const double half = double(options_.piece) / 2 / kDirScale;
-        const Coord ox = static_cast<Coord>(std::llround(double(n.dir.X) * half));
-        const Coord oy = static_cast<Coord>(std::llround(double(n.dir.Y) * half));
-        pieces.push_back(Path{Point(n.at.X - ox, n.at.Y - oy), Point(n.at.X + ox, n.at.Y + oy)});
+        if (distance(n.at, n.anchor) > double(w) / 2) out.ties.push_back(Path{n.at, n.anchor});
+        if (n.fading) continue;
+        pieces.push_back(piece_of(n));
     }
     out.lines = std::move(pieces);  // clip_ribs() stops them at the walls
 
@@ -325,7 +527,8 @@ LayerRibs RibPlanner::add(const LayerRecord& layer, const RibSlice& slice) {
     // rib printed here.
     if (!slice.unheld_deep.empty()) {
         std::vector<Point> at;
-        for (const Node& n : nodes_) at.push_back(n.at);
+        for (const Node& n : nodes_)
+            if (!n.fading) at.push_back(n.at);
         const Paths covered = disks(at, rho + r);
         for (const UnheldMinimum& u : slice.unheld_deep) {
             Paths left = u.region;

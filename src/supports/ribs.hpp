@@ -33,7 +33,9 @@ RibOptions rib_options(const Settings& settings);
 // What the planner needs of one slice that depends on that slice alone, worked out ahead of the
 // serial add() (in the pipeline's parallel filter: it was most of the ribs' serial time).
 struct RibSlice {
-    Paths empty;    // nothing is printed in it: the cavities less half a line, less bridge lines
+    Paths empty;      // nothing is printed in it: the cavities less half a line, less bridge lines
+    Paths unbridged;  // `empty` before the bridge lines were taken out, when there are any
+    const Paths& tie_region() const { return unbridged.empty() ? empty : unbridged; }
     Paths deep;     // deeper than `reach` inside `empty`
     Paths printed;  // the outline less `empty`: what the slice below's new ribs hold
     // Filled by rib_overlap(): what the slice above prints, and each of its unheld minima, met
@@ -69,14 +71,36 @@ class RibPlanner {
     size_t active() const { return nodes_.size(); }  // ribs still to stand on something
 
   private:
+    static constexpr long long kUntied = -2;  // a rib seeded on this slice
+    static constexpr long long kWall = -1;    // tied to the region's boundary
     struct Node {
+        long long id = 0;
         Point at;
-        Point dir;  // unit-ish direction of its printed piece (scaled to 1024)
+        Point dir;                   // unit-ish direction of its printed piece (scaled to 1024)
+        long long target = kUntied;  // what its tie meets: the wall or another rib's id
+        Point anchor;                // where its tie meets it
+        Point tied_from;             // where the rib was when tied (the slice above, until tie())
+        bool fading = false;         // a tie alone, closing on its anchor (no piece, holds nothing)
+        double fade_length = 0;      // a fading tie's length on the slice last added
     };
+    Path piece_of(const Node& n) const;
+    // The node's tie as it was, on the next slice down: its free end r nearer its anchor, or
+    // nothing when it is that short.
+    bool fade_step(Node& n) const;
+    // A tie given up: from `free_end` it closes on `fixed`, which follows the wall (kWall) or
+    // the rib `follow`.
+    void start_fade(const Point& free_end, const Point& fixed, long long follow,
+                    std::vector<Node>& fading) const;
+    // Whether an anchor that slid from `before` to `after` stays on the same wall.
+    bool follows(const Point& before, const Point& after) const;
+    void follow_wall(Node& n, const class WallBoundary& walls) const;
+    void tie(std::vector<Node>& nodes, const class WallBoundary& boundary,
+             std::vector<Node>& fading) const;
     RibOptions options_;
     std::vector<Node> nodes_;  // where each rib is on the slice last added
     RibAbove above_;           // the slice above, for add(layer) alone
     bool has_above_ = false;
+    long long next_id_ = 0;
 };
 
 }  // namespace carve

@@ -431,6 +431,7 @@ LayerToolpaths plan_layer(const LayerRecord& record, const Settings& settings) {
     islands.distribute(solid_lines, &Island::solid);
     std::vector<Extrusion> ribs;
     add_lines(record.ribs.lines, Feature::Rib, ribs);
+    add_lines(record.ribs.ties, Feature::Rib, ribs);
     islands.distribute(ribs, &Island::ribs);
     islands.distribute_bridges(bridged.bridges);
 
