@@ -503,9 +503,22 @@ LayerRibs RibPlanner::add(const LayerRecord& layer, const RibSlice& slice) {
         if (f.target == kWall) {
             follow_wall(f, walls);
         } else {
-            const auto o = std::find_if(moved.begin(), moved.end(),
-                                        [&](const Node& m) { return m.id == f.target; });
-            if (o != moved.end()) f.anchor = o->at;
+            auto o = std::find_if(moved.begin(), moved.end(),
+                                  [&](const Node& m) { return m.id == f.target; });
+            if (o == moved.end()) {
+                // The rib it closed on merged into another or stood: the nearest rib within
+                // reach takes its place, or the wall it stood on.
+                double best = 2.0 * double(r) + double(w);
+                for (auto k = moved.begin(); k != moved.end(); ++k)
+                    if (const double d = distance(k->at, f.anchor); d <= best) best = d, o = k;
+                if (o == moved.end()) {
+                    const Point at = walls.nearest(f.anchor).at;
+                    if (!follows(f.anchor, at)) continue;
+                    f.target = kWall;
+                    f.anchor = at;
+                }
+            }
+            if (o != moved.end()) f.target = o->id, f.anchor = o->at;
         }
         if (fade_step(f)) fading.push_back(f);
     }

@@ -195,3 +195,56 @@ TEST(Ribs, FigureThreeCubeHeldEndToEnd) {
     EXPECT_LT(j["check"]["far_unsupported_area_mm2"].get<double>(), 0.01);
     EXPECT_EQ(j["minima_unsupported"].get<int>(), 0);
 }
+
+// Issue #35: no rib is a free-standing strand. On every layer each rib's piece is joined to the
+// wall by its tie, directly or through the ties of ribs nearer the wall: what the ribs print,
+// united with the layer's solid part, has no piece of its own.
+TEST(Ribs, EveryRibIsJoinedToTheWallInEveryLayer) {
+    const int top = 60;
+    const RibOptions o = options();
+    const std::vector<LayerRecord> layers = planned_box(top, o);
+    auto outers = [](const Paths& region) {
+        int n = 0;
+        for (const Path& p : region) n += area(p) > 0;
+        return n;
+    };
+    int tied = 0;
+    for (int i = top - 1; i >= 2; --i) {
+        const LayerRecord& l = layers[size_t(i)];
+        Paths lines = l.ribs.lines;
+        lines.insert(lines.end(), l.ribs.ties.begin(), l.ribs.ties.end());
+        if (lines.empty()) continue;
+        tied += static_cast<int>(l.ribs.ties.size());
+        Paths empty;
+        for (const Paths& c : l.bridged.cavities) empty = unite(empty, erode(c, o.line_width / 2));
+        const Paths solid = subtract(l.partition().outline, empty);
+        const Paths all = unite(solid, dilate_lines(lines, o.line_width / 2 + 1));
+        EXPECT_EQ(outers(all), outers(solid)) << "layer " << i << ": a rib stands alone";
+    }
+    EXPECT_GT(tied, 100);
+}
+
+// And every tie stands on the layer below: no point of it further than 2 mm (what `carve check`
+// counts as hanging) from what that layer prints, ribs and ties included.
+TEST(Ribs, EveryTieStandsOnTheLayerBelow) {
+    const int top = 60;
+    const RibOptions o = options();
+    const std::vector<LayerRecord> layers = planned_box(top, o);
+    for (int i = top - 1; i >= 3; --i) {
+        const LayerRecord& here = layers[size_t(i)];
+        const LayerRecord& below = layers[size_t(i - 1)];
+        Paths below_lines = below.ribs.lines;
+        below_lines.insert(below_lines.end(), below.ribs.ties.begin(), below.ribs.ties.end());
+        Paths held = printed(below);
+        if (!below_lines.empty()) held = unite(held, dilate_lines(below_lines, o.line_width / 2));
+        for (const Path& t : here.ribs.ties) {
+            const double len = distance(t.front(), t.back());
+            for (double s = 0; s <= len; s += 200) {
+                const double f = len > 0 ? s / len : 0;
+                const Point q(t.front().X + Coord(f * double(t.back().X - t.front().X)),
+                              t.front().Y + Coord(f * double(t.back().Y - t.front().Y)));
+                EXPECT_LE(distance_to(q, held), 2.0 * kMm) << "layer " << i;
+            }
+        }
+    }
+}
