@@ -208,11 +208,9 @@ void RibPlanner::tie(std::vector<Node>& nodes, const WallBoundary& boundary,
             }
             if (before <= best + keep) {
                 target = n.target, at = q;
-            } else if (n.target == kWall) {
-                start_fade(n.tied_from, n.anchor, kWall, fading);
             } else {
-                // Its far end closes on the rib, which goes on below (the rib it was tied to
-                // may not).
+                // Its far end closes on the rib, which goes on below (what it was tied to may
+                // not: a wall can fall away under a cover as a rib can stop).
                 start_fade(n.anchor, n.at, n.id, fading);
             }
         }
@@ -490,10 +488,7 @@ LayerRibs RibPlanner::add(const LayerRecord& layer, const RibSlice& slice) {
             const auto o = std::find_if(moved.begin(), moved.end(), [&](const Node& o) {
                 return distance(o.at, n.at) <= double(r) && distance(o.at, m.at) <= double(r);
             });
-            if (n.target == kWall)
-                start_fade(n.at, n.anchor, kWall, fading);
-            else if (n.target >= 0)
-                start_fade(n.anchor, o->at, o->id, fading);
+            if (n.target != kUntied) start_fade(n.anchor, o->at, o->id, fading);
             continue;
         }
         moved.push_back(m);
