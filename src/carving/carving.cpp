@@ -205,7 +205,12 @@ Paths seeds(IterationPrep& prep, const Paths& propagated, const Paths& uncovered
         const bool reached = overlap(box, cavity_box) && !intersect(comp, propagated).empty();
         lines = reached ? clip_lines(lines, reach) : start_of_tear(lines, p.tear);
         if (lines.empty()) continue;
-        const Paths s = intersect(dilate_lines(lines, options.thickness), comp);
+        // Where the cavity reaches the component, the thickened seed is clipped to the reach
+        // too, not only its axis: otherwise the seed's half width s (0.2 mm) adds to the tear,
+        // and the wall would open r + tear + s from the cavity above instead of r + tear (the
+        // conclusion's r/2 would be 1.5 r + s).
+        Paths s = intersect(dilate_lines(lines, options.thickness), comp);
+        if (reached) s = intersect(s, reach);
         out.insert(out.end(), s.begin(), s.end());
     }
     return out;

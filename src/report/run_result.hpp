@@ -20,7 +20,11 @@ struct RunResult {
     int layers = 0;
     int cavities = 0;  // cavities that hold anything
     int bridges = 0;
-    int cover_bridges = 0;        // of them, covers bridging a cavity below
+    int cover_bridges = 0;  // of them, covers bridging a cavity below
+    // Of them, over the report's islands (4.4.1: an empty hole of a cavity that the slice below
+    // covers); the others hold edge-like minima, which the report's own code left unsupported.
+    int island_bridges = 0;
+    double island_bridge_length_mm = 0;
     int minima_found = 0;         // local minima and ceilings over a cavity, all slices
     int minima_unsupported = 0;   // of them, left without a support that prints
     int minima_held_by_wall = 0;  // no bridge, but within a line width of the wall below

@@ -73,6 +73,8 @@ nlohmann::json stats_json(const RunResult& run, const Settings& settings) {
     j["remainder_volume_mm3"] = run.remainder_volume_mm3;
     j["cover_volume_mm3"] = run.cover_volume_mm3;
     j["cover_bridges"] = run.cover_bridges;
+    j["island_bridges"] = run.island_bridges;
+    j["island_bridge_length_mm"] = run.island_bridge_length_mm;
     j["minima_found"] = run.minima_found;
     j["minima_bridged"] = run.minima_found - run.minima_unsupported - run.minima_held_by_wall -
                           run.minima_held_by_ribs;  // wholly, by bridges

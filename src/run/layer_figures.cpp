@@ -59,7 +59,9 @@ void add_layer_figures(const Token& t, double h, RunResult& result, double& slic
     for (const Bridge& b : bridged.bridges) {
         ++result.bridges;
         if (b.cover) ++result.cover_bridges;
-        result.bridge_length_mm += to_mm(static_cast<Coord>(length(b.lines, false)));
+        const double mm = to_mm(static_cast<Coord>(length(b.lines, false)));
+        result.bridge_length_mm += mm;
+        if (b.island && !b.cover) ++result.island_bridges, result.island_bridge_length_mm += mm;
     }
 }
 

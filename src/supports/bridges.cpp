@@ -92,6 +92,8 @@ BridgeOptions bridge_options(const Settings& settings) {
     o.angle_step_deg = settings.bridge_angle_step;
     o.prune = settings.prune_bridges;
     o.max_length = to_units(settings.max_bridge_length);
+    o.edge_hold =
+        settings.prune_bridges && settings.rib_reach > 0 ? to_units(settings.rib_reach) : 0;
     return o;
 }
 
@@ -325,6 +327,26 @@ BridgedPartition bridge_layer(const LayerPartition& layer, const LayerPartition*
         const Paths holes = empty_holes(out.cavities[j]);
         const std::vector<BBox2> piece_boxes = path_bounds(out.cavities[j]);
         for (const Paths& need : needs) {
+            // The report bridges its islands only, and says the edge-like minima, narrow strips
+            // reaching into the cavity, seldom endanger a print. One that stays within
+            // edge_hold of the cavity's wall below hangs no further from it than the ribs let
+            // anything hang: no bridge (on the skull x1.43, report scheme, 97 % of 7,198
+            // bridges were edge-like).
+            if (options.edge_hold > 0 &&
+                std::abs(area(intersect(need, holes))) <= 0.5 * std::abs(area(need))) {
+                const BBox2 b = bounds(need);
+                const Coord m = options.edge_hold + options.line_width;
+                const BBox2 near{b.min_x - m, b.min_y - m, b.max_x + m, b.max_y + m, false};
+                const Paths below_near = clip_to_box(
+                    paths_meeting(below->cavities[j], path_bounds(below->cavities[j]), near), near);
+                const Paths deep = intersect(need, erode(below_near, options.edge_hold));
+                if (std::abs(area(deep)) <
+                    options.min_area_r2 * double(options.dilation) * double(options.dilation)) {
+                    ++out.minima_found;
+                    ++out.minima_held_by_wall;
+                    continue;
+                }
+            }
             // The lines run across the cavity with the minimum filled in, wall to wall. Lines
             // longer than max_length are dropped anyway, so the scan only needs the part of the
             // cavity around the minimum: large cavities would make every angle costly. The

@@ -25,6 +25,11 @@ struct BridgeOptions {
     double min_area_r2 = 4;     // regions below this multiple of r^2 are spikes, not minima
     bool prune = true;          // drop minima smaller than two line widths across
     Coord max_length = 10000;   // longest line a bridge may span, wall to wall
+    // With pruning, an edge-like minimum (not a hole of the cavity: a narrow concavity the
+    // cavity below closes, report 4.4.1) no deeper than this inside the cavity below is held
+    // by the wall below it and gets no bridge: --rib-reach, the depth from which the ribs hold
+    // what the slice above prints (and below carve check's 2 mm). 0: every one is bridged.
+    Coord edge_hold = 0;
 };
 
 BridgeOptions bridge_options(const Settings& settings);

@@ -36,7 +36,7 @@ struct SweepFigures {
     double worst_support_violation_mm2 = 0;
     double specks_left_mm2 = 0;  // summed over the slices
     double worst_cover_overlap_mm2 = 0;
-    // Tear front: area of cavity pieces that reach beyond dilate(C^j_{i+1}, r + tear + s) in a
+    // Tear front: area of cavity pieces that reach beyond dilate(C^j_{i+1}, r + tear) in a
     // component the cavity above already touches, and the widest piece torn where it does not.
     double worst_tear_excess_mm2 = 0;
     double widest_new_tear_mm = 0;
@@ -97,7 +97,8 @@ SweepFigures sweep(const std::string& path, Settings settings) {
             }
         }
         if (above) {
-            const Coord reach = r + to_units(settings.tear_limit) + settings.nozzle_radius() + 5;
+            // 5 um: the 24-gon's dilations and Clipper's rounding.
+            const Coord reach = r + to_units(settings.tear_limit_mm()) + 5;
             for (size_t j = 0; j < layer->cavities.size(); ++j) {
                 const Paths& up = above->cavities[j];
                 const Paths grown = up.empty() ? Paths{} : dilate(up, reach);
@@ -202,8 +203,9 @@ TEST(Carving, CoversKeepTopAndBottomSolid) {
 
 // The report's conclusion: a tear front limited to r/2 per slice. On the indented cube the
 // unlimited seed opens the whole pruned axis (an X across the square) in one slice, and the
-// cavity front runs far ahead of the dilation; limited, every piece stays within
-// r + t + s of the cavity above and new tears start no wider than a seed's width plus 2t.
+// cavity front runs far ahead of the dilation; limited to r/2, every new wall stays within
+// r + r/2 of the cavity above (the seed's own half width s included) and new tears start no
+// wider than a seed's width plus 2 r/2.
 TEST(Carving, TearLimitBoundsHowFastCavitiesOpen) {
     CARVE_NEED_MODEL("synthetic/fig3_cube_indent.stl");
     Settings open;
@@ -212,10 +214,12 @@ TEST(Carving, TearLimitBoundsHowFastCavitiesOpen) {
     const SweepFigures free = sweep(model("synthetic/fig3_cube_indent.stl"), open);
     EXPECT_GT(free.widest_new_tear_mm, 3.0);
 
+    EXPECT_GT(free.worst_tear_excess_mm2, 1.0);  // the unlimited tear runs far beyond r + r/2
+
     Settings limited = open;
-    limited.tear_limit = 0.1;
+    limited.tear_limit = to_mm(limited.dilation_per_layer()) / 2;  // r/2 = 0.1 mm
     const SweepFigures f = sweep(model("synthetic/fig3_cube_indent.stl"), limited);
-    EXPECT_LT(f.worst_tear_excess_mm2, 0.01);
+    EXPECT_LT(f.worst_tear_excess_mm2, 0.001);
     EXPECT_LE(f.widest_new_tear_mm, 2 * (0.1 + 0.2) + 0.1);
     EXPECT_LT(f.worst_partition_error, 1e-4);
     EXPECT_LT(f.worst_support_violation_mm2, 0.001);

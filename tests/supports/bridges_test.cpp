@@ -52,6 +52,9 @@ struct FandiskSweep {
         Settings s;
         s.whole_width = 4;
         s.whole_width_max = 14;
+        // Every edge-like minimum bridged too (not only those deeper than the ribs' reach):
+        // many slices with bridges in several cavities for these tests to follow.
+        s.rib_reach = 0;
         return s;
     }
     FandiskSweep()
