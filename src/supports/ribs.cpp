@@ -15,6 +15,7 @@
 namespace carve {
 
 constexpr double kDirScale = 1024.0;
+constexpr double kTieReach = 1500.0;  // how far past the empty region a tie looks for the wall
 
 // Nearest point of a region's boundary to a point, and whether the point lies inside it. The
 // paths' boxes let far contours be skipped: a rib is tested against every cavity of a slice.
@@ -274,6 +275,7 @@ RibSlice rib_slice(const LayerRecord& layer, const RibOptions& options) {
     if (!empty.empty()) out.deep = erode(empty, options.reach);
     const Paths& outline = layer.partition().outline;
     out.printed = empty.empty() ? outline : subtract(outline, empty);
+    if (!empty.empty()) out.wall_line = erode(outline, w / 2);
     out.empty = std::move(empty);
     return out;
 }
@@ -319,8 +321,22 @@ LayerRibs clip_ribs(LayerRibs ribs, const RibSlice& slice, const RibOptions& opt
         const double len = distance(from, far);
         if (len < double(w) / 2) continue;
         const double ux = double(far.X - from.X) / len, uy = double(far.Y - from.Y) / len;
-        ties.push_back(Path{from, Point(far.X + static_cast<Coord>(std::llround(ux * w / 2)),
-                                        far.Y + static_cast<Coord>(std::llround(uy * w / 2)))});
+        auto beyond = [&](double by) {
+            return Point(far.X + static_cast<Coord>(std::llround(ux * by)),
+                         far.Y + static_cast<Coord>(std::llround(uy * by)));
+        };
+        // Past the empty region a band may lie that prints nothing (a cover band too narrow to
+        // fill, along a slope): the tie goes on to the outer wall's line, at most kTieReach.
+        Point end = beyond(double(w) / 2);
+        if (!slice.wall_line.empty()) {
+            for (const Path& p : clip_lines(Paths{Path{far, beyond(kTieReach)}}, slice.wall_line))
+                if (p.size() >= 2 &&
+                    (distance(p.front(), far) <= 2 || distance(p.back(), far) <= 2)) {
+                    const Point e = distance(p.front(), far) <= 2 ? p.back() : p.front();
+                    if (distance(e, far) > double(w) / 2) end = e;
+                }
+        }
+        ties.push_back(Path{from, end});
     }
     ribs.ties = std::move(ties);
     return ribs;
@@ -472,7 +488,9 @@ LayerRibs RibPlanner::add(const LayerRecord& layer, const RibSlice& slice) {
         }
         const double dx = double(h.at.X - n.at.X), dy = double(h.at.Y - n.at.Y);
         if (!leaned) {
-            const double step = std::min(double(r), h.distance - double(r));
+            // All the way to the wall if that is nearer than r: a rib that only closed to r of
+            // it kept pace with a receding wall, a strand beside it for many layers.
+            const double step = std::min(double(r), h.distance);
             m.at.X += static_cast<Coord>(std::llround(dx / h.distance * step));
             m.at.Y += static_cast<Coord>(std::llround(dy / h.distance * step));
         }

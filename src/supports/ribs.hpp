@@ -36,8 +36,9 @@ struct RibSlice {
     Paths empty;      // nothing is printed in it: the cavities less half a line, less bridge lines
     Paths unbridged;  // `empty` before the bridge lines were taken out, when there are any
     const Paths& tie_region() const { return unbridged.empty() ? empty : unbridged; }
-    Paths deep;     // deeper than `reach` inside `empty`
-    Paths printed;  // the outline less `empty`: what the slice below's new ribs hold
+    Paths deep;       // deeper than `reach` inside `empty`
+    Paths printed;    // the outline less `empty`: what the slice below's new ribs hold
+    Paths wall_line;  // the outline less half a line: inside the outer wall's centre line
     // Filled by rib_overlap(): what the slice above prints, and each of its unheld minima, met
     // with `deep`. Booleans of two slices' own regions, not of the ribs: they need not wait for
     // the serial add().
