@@ -43,6 +43,26 @@ struct Box {
     }
 };
 
+// The contours of `region` whose boxes meet `box`: the region is unchanged inside `box` (a
+// contour left out lies wholly outside it, and so do the holes inside it), and a boolean
+// operation with something inside `box` need not read a whole layer.
+Paths near(const Paths& region, const Box& box) {
+    Paths out;
+    for (const Path& p : region) {
+        Box b;
+        b.add(p);
+        if (b.meets(box)) out.push_back(p);
+    }
+    return out;
+}
+
+Box box_of(const Paths& region, Coord grow = 0) {
+    Box b;
+    for (const Path& p : region) b.add(p);
+    b.min_x -= grow, b.min_y -= grow, b.max_x += grow, b.max_y += grow;
+    return b;
+}
+
 double cross(const Point& o, const Point& a, const Point& b) {
     return double(a.X - o.X) * double(b.Y - o.Y) - double(a.Y - o.Y) * double(b.X - o.X);
 }
@@ -149,17 +169,19 @@ void PrintabilityMeter::layer(double z, double height, const Paths& footprint, c
     window_.push_back({z, height, footprint, model});
     const size_t n = window_.size();
     // Bottom region: over what is not inside both slices below (the first 2 layers: all).
+    // Those two slices were the two above the layer under them: their common part is known
+    // from the step before, but on the third layer.
     if (index_ < 2 || n < 3) {
         skin(model, footprint, z, figures_.bottom);
     } else {
-        skin(difference(model, intersection(window_[n - 2].model, window_[n - 3].model)), footprint,
-             z, figures_.bottom);
+        if (index_ == 2) both_above_ = intersection(window_[0].model, window_[1].model);
+        skin(difference(model, both_above_), footprint, z, figures_.bottom);
     }
     // Top region of the layer two below, now that both slices above it are known.
     if (n == 3) {
         const Layer& l = window_.front();
-        skin(difference(l.model, intersection(window_[1].model, window_[2].model)), l.footprint,
-             l.z, figures_.top);
+        both_above_ = intersection(window_[1].model, window_[2].model);
+        skin(difference(l.model, both_above_), l.footprint, l.z, figures_.top);
         window_.pop_front();
     }
     columns(window_.back());
@@ -228,9 +250,15 @@ void PrintabilityMeter::columns(const Layer& l) {
     }
     std::vector<Piece> now;
     if (!thin.empty() && !l.model.empty()) {
-        const Paths inner = offset_round(l.model, -to_units(kInteriorMm));
         Paths outers;
         for (size_t i : thin) outers.push_back(pieces[i].front());
+        // The slice near the thin pieces only: cut by a box 1 mm wider than theirs, its
+        // erosion is exact where they are.
+        const Box around = box_of(outers, to_units(1.0));
+        const Path cut{Point(around.min_x, around.min_y), Point(around.max_x, around.min_y),
+                       Point(around.max_x, around.max_y), Point(around.min_x, around.max_y)};
+        const Paths inner =
+            offset_round(intersection(near(l.model, around), Paths{cut}), -to_units(kInteriorMm));
         Paths outside = difference(outers, inner);
         std::vector<bool> interior(thin.size(), true);
         std::vector<Box> boxes(thin.size());
@@ -275,7 +303,8 @@ void PrintabilityMeter::skin(const Paths& region, const Paths& footprint, double
     const double area = region_area_mm2(region);
     if (area <= 0) return;
     out.region_mm2 += area;
-    const Paths open = opening(difference(region, footprint), to_units(kOpeningMm));
+    const Paths open =
+        opening(difference(region, near(footprint, box_of(region))), to_units(kOpeningMm));
     for (const Paths& piece : connected_pieces(open)) {
         const double a = signed_area_units(piece) / (kUnitsPerMm * kUnitsPerMm);
         out.open_mm2 += a;

@@ -65,6 +65,7 @@ class PrintabilityMeter {
 
     PrintabilityFigures figures_;
     std::deque<Layer> window_;  // the last three layers
+    Paths both_above_;          // the part common to the last two slices
     int index_ = 0;
     std::vector<Piece> below_;
     std::vector<Node> nodes_;
