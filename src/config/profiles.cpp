@@ -29,13 +29,14 @@ struct Preset {
 
 const std::vector<Preset>& presets() {
     static const std::vector<Preset> list = {
+        // The defaults: a bed of 250 x 210 and 210 mm of height, an MK3's.
         {"generic", [](Settings&) {}},
         {"mk3s",
          [](Settings& s) {
              // As PrusaSlicer's own MK3S profile: firmware 3.13's checks, the intro line, and
              // the machine limits it writes (Prusa firmware corners by classic jerk).
              s.printer_name = "Prusa i3 MK3S-like";
-             s.bed_x = 250, s.bed_y = 210;
+             s.bed_x = 250, s.bed_y = 210, s.max_print_height = 210;
              s.flavor = GcodeFlavor::Marlin;
              s.acceleration = 1000, s.travel_acceleration = 1250, s.retract_acceleration = 1250;
              s.max_acceleration_x = s.max_acceleration_y = 1000;
@@ -76,7 +77,7 @@ const std::vector<Preset>& presets() {
         {"ender3",
          [](Settings& s) {
              s.printer_name = "Creality Ender-3-like";
-             s.bed_x = 220, s.bed_y = 220;
+             s.bed_x = 220, s.bed_y = 220, s.max_print_height = 250;
              s.flavor = GcodeFlavor::Marlin;
              s.acceleration = 500, s.travel_acceleration = 1000, s.retract_acceleration = 1000;
              s.max_acceleration_x = s.max_acceleration_y = 1000;
@@ -109,7 +110,7 @@ const std::vector<Preset>& presets() {
              // a start G-code that calls it. printer.cfg holds the limits, so none are written;
              // M204 S follows the moves.
              s.printer_name = "Klipper generic";
-             s.bed_x = 300, s.bed_y = 300;
+             s.bed_x = 300, s.bed_y = 300, s.max_print_height = 300;
              s.flavor = GcodeFlavor::Klipper;
              s.acceleration = 3000, s.travel_acceleration = 5000;
              s.travel_speed = 250, s.max_print_speed = 200;

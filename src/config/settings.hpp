@@ -121,6 +121,9 @@ struct Settings {
     double filament_diameter = 1.75;
     double filament_density = 1.24;   // g/cm^3 (PLA)
     double bed_x = 250, bed_y = 210;  // bed size; the model is centred on it
+    // The highest a nozzle can print, mm (PrusaSlicer's max_print_height); checked with the
+    // bed (bed_check), since a taller model is printed into the gantry.
+    double max_print_height = 210;
     bool bed_check = true;
     bool relative_e = false;
     int nozzle_temperature = 210, first_layer_nozzle_temperature = 215;

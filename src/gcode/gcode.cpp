@@ -32,6 +32,7 @@
 
 #include "base/atomic_file.hpp"
 #include "base/error.hpp"
+#include "base/numbers.hpp"
 #include "base/stage_timer.hpp"
 #include "gcode/emitter.hpp"
 #include "gcode/header.hpp"
@@ -59,6 +60,27 @@ namespace {
 // system's limit still works.
 std::FILE* unlinked_file(const std::string& path, const char*) {
     return unlinked_temporary(path, path);
+}
+
+// What is printed (the model and what carve adds round it: supports, brim, skirt) stays on the
+// bed and under the printer's height, or nothing is written. The run refuses a model too large
+// before slicing; this sees every extrusion, so it also holds what is added round the model.
+// The extents are the lines' centres, compared with a micrometre of slack for rounding.
+void refuse_beyond_machine(const Settings& s, const Bounds& b) {
+    if (!s.bed_check || b.empty()) return;
+    const double slack = 1e-3;
+    if (b.max_z > s.max_print_height + slack)
+        throw InputError(fmt::format(
+            "the print reaches z = {:.2f} mm, above the {} mm the printer prints "
+            "(--max-print-height, a profile's max_print_height); scale the model down, choose a "
+            "taller printer, or pass --no-bed-check",
+            b.max_z, plain_number(s.max_print_height)));
+    if (b.min_x < -slack || b.min_y < -slack || b.max_x > s.bed_x + slack ||
+        b.max_y > s.bed_y + slack)
+        throw InputError(fmt::format(
+            "the print reaches from ({:.2f}, {:.2f}) to ({:.2f}, {:.2f}) mm, beyond the {} x {} "
+            "mm bed; scale the model down, choose a larger --bed, or pass --no-bed-check",
+            b.min_x, b.min_y, b.max_x, b.max_y, plain_number(s.bed_x), plain_number(s.bed_y)));
 }
 
 }  // namespace
@@ -457,6 +479,7 @@ PrintStats GcodeWriter::finish(const std::vector<std::string>& header_comments) 
         offset += static_cast<long long>(ftello(c.body.file));
     }
     const PrintStats s = totals;
+    refuse_beyond_machine(m.settings, bounds);
 
     auto file = std::make_unique<AtomicFile>(m.output_path);
     std::FILE* out = file->stream();

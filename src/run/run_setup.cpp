@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "base/error.hpp"
+#include "base/numbers.hpp"
 #include "gcode/labels.hpp"
 #include "gcode/thumbnail.hpp"
 #include "geometry/polygon.hpp"
@@ -64,6 +65,15 @@ void check_run_size(const Settings& settings, const RunOptions& options, const B
             settings.copies > 1 ? fmt::format(" in {} copies", settings.copies) : "", size_x,
             size_y, settings.bed_x, settings.bed_y,
             settings.copies > 1 ? "print fewer copies, " : ""));
+
+    // Printed into the gantry otherwise; the supports and brim add nothing above the model.
+    const double height = box.max.z - box.min.z;
+    if (settings.bed_check && height > settings.max_print_height + 1e-6)
+        throw InputError(fmt::format(
+            "{}: the model is {:.1f} mm tall, taller than the {} mm the printer prints "
+            "(--max-print-height, a profile's max_print_height); scale it down, choose a "
+            "taller printer, or pass --no-bed-check",
+            options.model_path, height, plain_number(settings.max_print_height)));
 
     // Scale times size: the work grows with (size / line width)^2 per layer and with the
     // number of layers. A model 5 m across at 0.05 mm lines, or a million layers, is refused

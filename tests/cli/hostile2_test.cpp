@@ -144,3 +144,39 @@ TEST(HostileNames, ProfileTextStaysOnItsCommentLine) {
     }
     EXPECT_TRUE(in_config);
 }
+
+// --- nothing printed beyond the machine
+
+// 310 mm: over every preset's height (klipper's is 300).
+TEST(HostileMachine, ATowerTallerThanThePrinterIsRefusedOnEveryPreset) {
+    const fs::path d = folder("tower");
+    const fs::path tower = box(d, "tower.stl", 10, 10, 310);
+    for (const char* printer : {"generic", "mk3s", "ender3", "klipper"}) {
+        const fs::path g = d / "t.gcode";
+        const CarveRun r = run_carve("slice " + tower.string() + " -q --printer " +
+                                     std::string(printer) + " -o " + g.string());
+        EXPECT_EQ(r.status, kExitBadInput) << printer << ": " << r.err;
+        EXPECT_EQ(lines(r.err), 1) << printer << ": " << r.err;
+        EXPECT_NE(r.err.find("310.0 mm tall"), std::string::npos) << printer << ": " << r.err;
+        EXPECT_FALSE(fs::exists(g)) << printer;
+    }
+    // PrusaSlicer's key in a profile, and the option.
+    write(d / "p.ini", "max_print_height = 210\nbed_shape = 0x0,500x0,500x500,0x500\n");
+    const fs::path g = d / "t.gcode";
+    CarveRun r = run_carve("slice " + tower.string() + " -q --printer klipper --load " +
+                           (d / "p.ini").string() + " -o " + g.string());
+    EXPECT_EQ(r.status, kExitBadInput) << r.err;
+    EXPECT_NE(r.err.find("than the 210 mm"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(g));
+    const fs::path small = box(d, "small.stl", 10, 10, 3);
+    fs::remove(g);
+    r = run_carve("slice " + small.string() + " -q --cavities 1 --max-print-height 2 -o " +
+                  g.string());
+    EXPECT_EQ(r.status, kExitBadInput) << r.err;
+    EXPECT_NE(r.err.find("max-print-height"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(g));
+    r = run_carve("slice " + small.string() + " -q --cavities 1 --max-print-height 3 -o " +
+                  g.string());
+    EXPECT_EQ(r.status, 0) << r.err;
+    EXPECT_TRUE(fs::exists(g));
+}

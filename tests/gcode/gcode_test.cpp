@@ -479,3 +479,35 @@ TEST(GcodeWriter, ChunksOnThreadsWriteTheBytesOfOneThread) {
         fs::remove_all(dir);
     }
 }
+
+// Whatever is printed (supports, a brim, anything added round the model) stays on the bed and
+// under the printer's height, or nothing is written (issue #38).
+TEST(GcodeWriter, NothingIsWrittenBeyondTheMachine) {
+    struct Case {
+        const char* what;
+        double off_x, height;
+        bool bed_check, refused;
+    };
+    // The sample layers span x 0 to 35 mm and z up to 0.6 mm; the bed is 250 mm wide.
+    for (const Case& c : {Case{"on the bed", 100, 210, true, false},
+                          Case{"off the bed's right edge", 240, 210, true, true},
+                          Case{"above the printer's height", 100, 0.5, true, true},
+                          Case{"--no-bed-check", 240, 0.5, false, false}}) {
+        const fs::path dir = temp_dir();
+        const fs::path out = dir / "part.gcode";
+        Settings st;
+        st.max_print_height = c.height;
+        st.bed_check = c.bed_check;
+        {
+            GcodeWriter w(out.string(), st, c.off_x, 100, 3);
+            for (int i = 2; i >= 0; --i) w.add_layer(sample_layer(i, st));
+            if (c.refused)
+                EXPECT_THROW(w.finish({}), InputError) << c.what;
+            else
+                EXPECT_NO_THROW(w.finish({})) << c.what;
+        }
+        EXPECT_EQ(fs::exists(out), !c.refused) << c.what;
+        EXPECT_EQ(dir_entries(dir).size(), c.refused ? 0u : 1u) << c.what;
+        fs::remove_all(dir);
+    }
+}
