@@ -17,4 +17,13 @@ namespace carve {
 std::vector<Extrusion> fill_solid(const Paths& region, double angle_deg, Coord spacing,
                                   Feature feature);
 
+// One line along the medial axis of each piece of `region`, for strips too narrow for two lines
+// (what the walls and the solid fill leave of a cover band on a slope). The line is as wide as
+// the strip where it runs, plus `overlap` so that it joins what lies on either side: its path
+// is cut where that width changes by more than a tenth of `line_width`, and each run is one
+// extrusion with the flow of its mean width (the bead's width over `line_width`). Where the
+// strip is narrower than `min_width` nothing is printed.
+std::vector<Extrusion> fill_thin(const Paths& region, Coord line_width, Coord overlap,
+                                 Coord min_width, Feature feature);
+
 }  // namespace carve

@@ -30,6 +30,8 @@ namespace {
 
 // Cover lines overlap the innermost wall by this fraction of a line width, for adhesion.
 constexpr double kCoverOverlap = 0.15;
+// Half the narrowest strip of a cover band that gets a line of its own, in line widths.
+constexpr double kThinGap = 0.2;
 
 void add_loops(const Paths& region, Feature feature, int cavity, double min_length,
                std::vector<Extrusion>& out) {
@@ -168,7 +170,8 @@ WallPaths wall_paths(const LayerPartition& layer, const Paths& inner, const Sett
 // steep slope: the shift over `covers` layers is under 2 (w - overlap)) it would only be a
 // second perimeter doing what the walls of the layers above and below already do, and on
 // the shared models it was two thirds of all cover material (cat: 1,410 of 452 + 958
-// mm3). CuraEngine drops its skin and skin outline there too (skin removal width).
+// mm3). CuraEngine drops its skin and skin outline there too (skin removal width). What such a
+// band leaves between the wall's bead and the layers' common part gets one line (see below).
 struct CoverPaths {
     std::vector<Extrusion> edges, lines;
 };
@@ -222,6 +225,24 @@ CoverPaths cover_paths(const LayerPartition& layer, const BridgedPartition& brid
         fill = subtract(fill, dilate_lines(cover_bridges, w));
     const double angle = (layer.index % 2 == 0) ? 45.0 : -45.0;
     cover_lines = fill_solid(fill, angle, w, Feature::Cover);
+    // What of the band lies beyond the innermost wall's reach and no line of the cover covers:
+    // strips too thin for two lines (on slopes), the ends of bands too short for a line. One
+    // line along each, as wide as the strip; strips narrower than 2 kThinGap are left (a bead
+    // that thin does not print). Within s of the carvable part the band is no surface: the
+    // slices `covers` above and below all hold it (each holds the carvable part eroded by s).
+    // So what needs covering is the band eroded by s on both sides: erode(covers, s).
+    Paths gap = erode(layer.covers, s);
+    if (gap.empty()) return out;
+    Paths printed = std::move(cover_bridges);
+    for (const std::vector<Extrusion>* group : {&cover_edges, &cover_lines})
+        for (const Extrusion& e : *group) {
+            printed.push_back(e.points);
+            if (e.closed && !e.points.empty()) printed.back().push_back(e.points.front());
+        }
+    if (!printed.empty()) gap = subtract(gap, dilate_lines(printed, s));
+    const Coord narrowest = static_cast<Coord>(std::llround(2 * kThinGap * double(w)));
+    for (Extrusion& e : fill_thin(open(gap, narrowest / 2), w, overlap, narrowest, Feature::Cover))
+        cover_lines.push_back(std::move(e));
     return out;
 }
 

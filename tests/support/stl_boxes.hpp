@@ -49,6 +49,56 @@ inline void add_cylinder(std::vector<StlTriangle>& t, float r, float h, int n) {
     }
 }
 
+// A solid of revolution about the z axis: `profile` is (radius, z) from the centre of its bottom
+// out and up to the centre of its top (the first and last radius 0), n sides around.
+inline void add_revolution(std::vector<StlTriangle>& t,
+                           const std::vector<std::array<float, 2>>& profile, int n) {
+    auto at = [&](size_t k, int i) {
+        const double a = 2 * std::numbers::pi * (i % n) / n;
+        return std::array<float, 3>{float(profile[k][0] * std::cos(a)),
+                                    float(profile[k][0] * std::sin(a)), profile[k][1]};
+    };
+    for (size_t k = 0; k + 1 < profile.size(); ++k)
+        for (int i = 0; i < n; ++i) {
+            if (profile[k][0] > 0) t.push_back({at(k, i), at(k, i + 1), at(k + 1, i + 1)});
+            if (profile[k + 1][0] > 0) t.push_back({at(k, i), at(k + 1, i + 1), at(k + 1, i)});
+        }
+}
+
+// A cone of base radius r and height h standing on z = 0.
+inline void add_cone(std::vector<StlTriangle>& t, float r, float h, int n) {
+    add_revolution(t, {{0, 0}, {r, 0}, {0, h}}, n);
+}
+
+// A ball of radius r centred at height c < r, cut flat at z = 0: a dome over a belly that faces
+// down; `steps` profile points from the cut to the top.
+inline void add_cut_ball(std::vector<StlTriangle>& t, float r, float c, int steps, int n) {
+    std::vector<std::array<float, 2>> profile{{0, 0}};
+    const double from = std::asin(-double(c) / r), to = std::numbers::pi / 2;
+    for (int k = 0; k <= steps; ++k) {
+        const double a = from + (to - from) * k / steps;
+        profile.push_back({k == steps ? 0.0f : float(r * std::cos(a)), float(c + r * std::sin(a))});
+    }
+    add_revolution(t, profile, n);
+}
+
+// A prism along y from y0 to y1 over a convex polygon in the (x, z) plane, counter-clockwise
+// with x to the right and z up.
+inline void add_prism_xz(std::vector<StlTriangle>& t, const std::vector<std::array<float, 2>>& poly,
+                         float y0, float y1) {
+    auto at = [&](size_t i, float y) {
+        return std::array<float, 3>{poly[i % poly.size()][0], y, poly[i % poly.size()][1]};
+    };
+    for (size_t i = 0; i < poly.size(); ++i) {
+        t.push_back({at(i, y0), at(i + 1, y1), at(i + 1, y0)});
+        t.push_back({at(i, y0), at(i, y1), at(i + 1, y1)});
+    }
+    for (size_t i = 1; i + 1 < poly.size(); ++i) {
+        t.push_back({at(0, y0), at(i, y0), at(i + 1, y0)});
+        t.push_back({at(0, y1), at(i + 1, y1), at(i, y1)});
+    }
+}
+
 // Binary STL (little-endian host assumed, as everywhere in this project's tests).
 inline std::filesystem::path write_stl(const std::string& name,
                                        const std::vector<StlTriangle>& triangles) {

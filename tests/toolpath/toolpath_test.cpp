@@ -549,13 +549,81 @@ TEST(Fill, ThinBandAlongTheLinesIsNotLost) {
     EXPECT_GT(lines[0].flow, 0.99);
 }
 
-TEST(Toolpath, ThinCoverBandIsLeftToTheWallsAWideOneIsOutlined) {
-    // Covers only 0.6 mm wide between the outer wall and the carvable part: no room for lines,
-    // and no edge either, since the walls of the layers above and below cover such a band (a
-    // steep slope). CuraEngine drops such skin too.
+TEST(Fill, ThinStripGetsOneLineAsWideAsItIs) {
+    // A 12 mm strip widening from 0.2 to 0.5 mm, and a second one meeting its narrow end at a
+    // point (where a cover line's cap cut a band in two): one line along the middle of each,
+    // wider where the strip is, reaching into the pinch, and what it leaves is specks.
+    const Paths strip = {{{0, -100}, {12 * kMm, -250}, {12 * kMm, 250}, {0, 100}}};
+    const Paths other = {{{-6 * kMm, -150}, {0, 0}, {-6 * kMm, 150}}};
+    const Paths region = unite(strip, other);
+    const Coord w = 400;
+    const auto lines = fill_thin(region, w, 60, 160, Feature::Cover);
+    ASSERT_FALSE(lines.empty());
+    Paths covered;
+    double reach_left = 0, reach_right = 0;
+    for (const Extrusion& e : lines) {
+        EXPECT_EQ(e.feature, Feature::Cover);
+        EXPECT_GT(e.flow, 0.3);
+        EXPECT_LT(e.flow, 1.5);
+        for (const Point& p : e.points) {
+            EXPECT_LT(std::abs(p.Y), 30) << p.X << "," << p.Y;  // the middle
+            if (p.X < 0) reach_left = std::max(reach_left, double(p.X));
+            if (p.X > 0) reach_right = std::min(reach_right == 0 ? 1e9 : reach_right, double(p.X));
+        }
+        // Along the strip the width grows: a run's flow matches the strip's width there.
+        const double mid_x = 0.5 * double(e.points.front().X + e.points.back().X);
+        if (mid_x > 1 * kMm && mid_x < 11 * kMm) {  // not the ends, where the strip's end is near
+            const double width = 200 + 300 * mid_x / (12 * kMm);
+            EXPECT_NEAR(e.flow * double(w), width + 60, 0.12 * double(w)) << mid_x;
+        }
+        const Paths bead = dilate_lines(Paths{e.points}, Coord(e.flow * double(w) / 2));
+        covered.insert(covered.end(), bead.begin(), bead.end());
+    }
+    // The lines reach within 0.5 mm of the pinch from both sides.
+    EXPECT_GT(reach_left, -500);
+    EXPECT_LT(reach_right, 500);
+    const Paths left = subtract(region, unite(covered));
+    EXPECT_LT(area_mm2(open(left, 100)), 0.02 * area_mm2(region));
+}
+
+TEST(Toolpath, ThinCoverBandGetsOneLineAWideOneIsOutlined) {
+    // Covers only 0.6 mm wide between the outer wall's centreline and the carvable part: no
+    // room for two lines. No edge either (the walls of the layers above and below cover the
+    // band's inner side), but what lies between the wall's bead and s from the carvable part,
+    // 0.2 mm, gets one line along its middle, as wide as it plus the overlap (issue #35: such
+    // strips were left open, 1.5 % of the top skin on the shared models).
     Settings st;
     LayerPartition l = square_layer(st);
     l.carvable = rect_region(-9200, -9200, 9200, 9200);
+    l.covers = subtract(l.shell_paths_region, l.carvable);
+    {
+        const LayerToolpaths t = plan_layer(l, st);
+        const auto thin = of_feature(t, Feature::Cover);
+        ASSERT_FALSE(thin.empty());
+        double total = 0;
+        for (const Extrusion* e : thin) {
+            EXPECT_FALSE(e->closed);
+            total += path_length(*e);
+            // Along the sides (the corners are wider: the axis turns along their diagonal).
+            bool side = true;
+            for (const Point& p : e->points) {
+                if (std::min(std::abs(p.X), std::abs(p.Y)) > 9000) {
+                    side = false;
+                    continue;
+                }
+                EXPECT_NEAR(std::max(std::abs(p.X), std::abs(p.Y)), 9500, 30) << p.X << "," << p.Y;
+            }
+            if (side) {
+                EXPECT_NEAR(e->flow, (0.2 + 0.15 * st.nozzle) / st.nozzle, 0.05);
+            }
+            EXPECT_LT(e->flow, 1.0);
+        }
+        // Round the band, less what the corners' turns leave to the lines' caps.
+        EXPECT_GT(total / kMm, 4 * 19.0 - 4 * 1.0);
+        EXPECT_LT(total / kMm, 4 * 19.0 + 0.1);
+    }
+    // 0.5 mm wide: the 0.1 mm between the wall's bead and the carvable part's reach is left.
+    l.carvable = rect_region(-9300, -9300, 9300, 9300);
     l.covers = subtract(l.shell_paths_region, l.carvable);
     EXPECT_TRUE(of_feature(plan_layer(l, st), Feature::Cover).empty());
 
