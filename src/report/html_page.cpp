@@ -142,6 +142,10 @@ void HtmlReportWriter::Impl::write_head(std::ostream& out, const PageFigures& f)
     for (size_t k = 0; k < kCavityColours.size(); ++k)
         out << fmt::format("#view .w.k{0}{{stroke:{1}}} #view .r.k{0}{{fill:{1}}}\n", k + 1,
                            kCavityColours[k]);
+    out << fmt::format(
+        "#view .f{{stroke:{};stroke-width:{:.1f}px}} #view.hide-f .f{{display:none}} "
+        ".panel.side svg{{max-width:100%;height:auto}}\n",
+        kRibColour, 1.0 * line_w);
     if (st.support != SupportMode::None)
         out << fmt::format(
             "#view .p{{stroke:{};stroke-width:{:.1f}px}} #view "
@@ -277,6 +281,7 @@ std::array<double, 4> HtmlReportWriter::Impl::write_viewer(std::ostream& out,
     cav_sw += "</span>";
     toggle("w", cav_sw, "cavity walls, one colour per cavity", true);
     toggle("b", sw(kBridgeColour), "bridges", true);
+    if (!ribs.empty()) toggle("f", sw(kRibColour), "ribs (supports inside the model)", true);
     if (st.support != SupportMode::None) toggle("p", sw(kSupportColour), "supports", true);
     toggle("r", sw(kCavityColours[0], true), "cavity regions", true);
     toggle("O", sw("#dfe3e8"), "slice of the model", true);
@@ -425,6 +430,27 @@ void HtmlReportWriter::Impl::write_data(std::ostream& out, const PageFigures& f,
     out << "const META = " << meta.dump() << ";\n" << kScript << "</script>\n</body>\n</html>\n";
 }
 
+void HtmlReportWriter::Impl::write_side(std::ostream& out) const {
+    std::vector<html::SideLayer> sorted = side_layers;
+    std::sort(sorted.begin(), sorted.end(),
+              [](const html::SideLayer& a, const html::SideLayer& b) { return a.index < b.index; });
+    html::TallestSupport t;
+    const std::string svg =
+        html::tallest_support_svg(ribs, sorted, settings.layer_height, settings.width_mm(), t);
+    if (svg.empty()) return;
+    out << "<section class=\"panel side\"><h3>The tallest internal support, from the side</h3>"
+        << "<p class=\"cap\">"
+        << fmt::format(
+               "{} ribs chained over {} layers, {:.1f} mm from z {:.1f} to {:.1f}, from x {:.1f} "
+               "y {:.1f} to x {:.1f} y {:.1f}; seen across the vertical plane through its ends, "
+               "at equal scales, in the model's section (grey). Paler: other ribs crossing the "
+               "plane. carve check --strict fails a free-standing one over 5 mm "
+               "(docs/check.md).",
+               chip(kRibColour, "rib"), t.layers, t.height_mm, t.z_from, t.z_to, t.x0, t.y0, t.x1,
+               t.y1)
+        << "</p>" << svg << "</section>\n";
+}
+
 void HtmlReportWriter::finish(const RunResult& run, const nlohmann::json& stats) {
     Impl& m = *impl_;
     // Bottom up for the page; each layer's drawing is found in the spill file by its offset.
@@ -441,6 +467,7 @@ void HtmlReportWriter::finish(const RunResult& run, const nlohmann::json& stats)
     m.write_cards(out, f, run);
     const std::array<double, 4> vb = m.write_viewer(out, f);
     const PlotFrame frame = m.write_plots(out);
+    m.write_side(out);
     m.write_details(out, f, run, stats);
     m.write_data(out, f, vb, frame);
     out.close();

@@ -10,6 +10,7 @@
 
 #include "base/error.hpp"
 #include "geometry/polygon.hpp"
+#include "geometry/simplify.hpp"
 #include "report/html_plots.hpp"
 #include "report/html_report_impl.hpp"
 #include "report/palette.hpp"
@@ -58,8 +59,8 @@ std::string HtmlReportWriter::Impl::drawing(const LayerRecord& layer, const Laye
             case Feature::CavityWall:
                 kind = 3, j = cavity_class(e.cavity);
                 break;
-            case Feature::Rib:  // drawn with the walls of the cavity it stands in
-                kind = 3, j = cavity_class(0);
+            case Feature::Rib:  // internal supports: their own colour, drawn over the rest
+                kind = 7;
                 break;
             case Feature::Bridge:
                 kind = 4;
@@ -73,7 +74,7 @@ std::string HtmlReportWriter::Impl::drawing(const LayerRecord& layer, const Laye
         }
         groups[{kind, j}] += html::svg_path_data(Paths{e.points}, e.closed, tol, kGrid);
     }
-    static constexpr const char* kKinds[] = {"o", "s", "c", "w", "b", "p", "i"};
+    static constexpr const char* kKinds[] = {"o", "s", "c", "w", "b", "p", "i", "f"};
     nlohmann::json drawn = nlohmann::json::array();
     for (auto& [key, d] : groups)
         if (!d.empty()) drawn.push_back({kKinds[key.first], key.second, std::move(d)});
@@ -155,6 +156,17 @@ void HtmlReportWriter::add_layer(const LayerRecord& record, const LayerToolpaths
     // this layer has covers, 15 % grid in the rest of the interior.
     r.conventional_mm3 = 2 * r.perimeter_mm * w * h + r.covers_mm2 * h + 0.15 * r.carvable_mm2 * h;
 
+    for (const Extrusion& e : paths.extrusions)
+        if (e.feature == Feature::Rib) m.ribs.push_back({layer.index, r.z, e.points});
+    {
+        // The outline at 0.2 mm: enough for a section seen at the scale of a support.
+        html::SideLayer side{layer.index, r.z, {}};
+        for (const Path& p : layer.outline) {
+            Path q = douglas_peucker(p, true, 200);
+            if (q.size() >= 3) side.outline.push_back(std::move(q));
+        }
+        m.side_layers.push_back(std::move(side));
+    }
     expand(m.box, bounds(layer.outline.empty() ? layer.wall_region : layer.outline));
     expand(m.box, bounds(record.support.region));
 

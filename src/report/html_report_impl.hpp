@@ -12,6 +12,7 @@
 #include "config/settings.hpp"
 #include "report/html_plots.hpp"
 #include "report/html_report.hpp"
+#include "report/html_side.hpp"
 
 namespace carve {
 
@@ -36,6 +37,9 @@ struct HtmlReportWriter::Impl {
     std::vector<ReportLayer> layers;
     bool finished = false;
     std::string model_name;
+    // For the side view of the tallest rib chain: every rib piece, each layer's outline.
+    std::vector<html::RibPiece> ribs;
+    std::vector<html::SideLayer> side_layers;
 
     std::string drawing(const LayerRecord& layer, const LayerToolpaths& paths, double tol) const;
 
@@ -46,6 +50,7 @@ struct HtmlReportWriter::Impl {
     void write_cards(std::ostream& out, const PageFigures& f, const RunResult& run) const;
     std::array<double, 4> write_viewer(std::ostream& out, const PageFigures& f) const;  // viewBox
     html::PlotFrame write_plots(std::ostream& out) const;
+    void write_side(std::ostream& out) const;  // the tallest internal support, from the side
     void write_details(std::ostream& out, const PageFigures& f, const RunResult& run,
                        const nlohmann::json& stats) const;
     void write_data(std::ostream& out, const PageFigures& f, const std::array<double, 4>& vb,

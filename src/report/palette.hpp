@@ -19,6 +19,8 @@ inline constexpr const char* kShellColour = "#3b3b3b";
 // Supports under the model's overhangs: teal, apart from the cavities' hues and the bridges.
 inline constexpr const char* kSupportColour = "#0ca678";
 inline constexpr const char* kSupportInterfaceColour = "#087f5b";
+// carve's ribs, the supports inside the model: a saturated green no cavity has.
+inline constexpr const char* kRibColour = "#00c000";
 
 // Index into kCavityColours of cavity C^j (j >= 1; the palette repeats after 12).
 inline size_t cavity_colour_index(int j) {

@@ -22,6 +22,8 @@
 #include "config/setting_table.hpp"
 #include "geometry/morphology.hpp"
 #include "geometry/polygon.hpp"
+#include "report/html_side.hpp"
+#include "report/palette.hpp"
 #include "report/stats.hpp"
 #include "support/shapes.hpp"
 
@@ -397,3 +399,39 @@ TEST(HtmlReport, SettingsTableListsEveryTableSetting) {
     }
     std::filesystem::remove(path);
 }
+
+namespace carve {
+namespace {
+
+// A rib leaning 1 mm per layer over 30 layers, a short one beside it, a wide slab as the model:
+// the side view follows the tall one, one piece a layer, from its lowest to its highest.
+TEST(HtmlSideView, FollowsTheTallestRibChain) {
+    std::vector<html::RibPiece> ribs;
+    std::vector<html::SideLayer> layers;
+    const Path slab{Point(-20000, -20000), Point(60000, -20000), Point(60000, 20000),
+                    Point(-20000, 20000)};
+    for (int k = 0; k < 40; ++k) {
+        const double z = 0.2 * (k + 1);
+        layers.push_back({k, z, {slab}});
+        if (k >= 5 && k < 35) {
+            const Coord x = 1000 * (k - 5) / 2;  // 0.5 mm a layer: pieces 0.8 mm long overlap
+            ribs.push_back({k, z, Path{Point(x, 0), Point(x + 800, 0)}});
+        }
+        if (k >= 10 && k < 14) ribs.push_back({k, z, Path{Point(-10000, 0), Point(-9200, 0)}});
+    }
+    html::TallestSupport t;
+    const std::string svg = html::tallest_support_svg(ribs, layers, 0.2, 0.45, t);
+    EXPECT_EQ(t.layers, 30);
+    EXPECT_NEAR(t.height_mm, 6.0, 1e-9);
+    EXPECT_NEAR(t.z_from, 1.0, 1e-9);
+    EXPECT_NEAR(t.z_to, 7.0, 1e-9);
+    EXPECT_NEAR(t.x0, 0.4, 1e-9);
+    EXPECT_NEAR(t.x1, 14.9, 1e-9);
+    EXPECT_EQ(svg.rfind("<svg class=\"side\"", 0), 0u);
+    EXPECT_NE(svg.find(kRibColour), std::string::npos);
+    EXPECT_TRUE(html::tallest_support_svg({}, layers, 0.2, 0.45, t).empty());
+    EXPECT_EQ(t.layers, 0);
+}
+
+}  // namespace
+}  // namespace carve
