@@ -58,6 +58,17 @@ class Analyser {
     void check_model(const Paths& footprint, const Paths& support_footprint, double h);
 
     static constexpr long long kMaxArcSegments = 10'000'000;
+    // What no printer's file comes near, refused before it reaches the footprints, whose work
+    // and memory grow with the numbers in the file (a move to z = -1e9 made a layer a billion
+    // millimetres thick, its lines as wide, and took gigabytes): coordinates within 1 km (the
+    // mesh loader's bound), one move's filament within 1 km, layers and the points of one layer
+    // as many as `carve slice` would write.
+    static constexpr double kMaxCoordinateMm = 1e6;
+    static constexpr long long kMaxLayers = 1'000'000;
+    static constexpr long long kMaxLayerPoints = 5'000'000;
+    void refuse_move(double x, double y, double z, double de) const;
+    long long line_no_ = 0;
+    long long layer_points_ = 0;
 
     const GcodeAnalysisOptions& opt_;
     bool scan_only_ = false;
@@ -75,6 +86,7 @@ class Analyser {
 
     // The layer being read.
     bool have_layer_ = false, on_bed_ = false;
+    bool mid_air_ = false;  // farther above what is below than a layer is thick
     double layer_z_ = 0;
     LayerFigures layer_;
     std::vector<Polyline> lines_;

@@ -11,6 +11,10 @@
 
 namespace carve::check {
 
+namespace {
+constexpr double kMaxLineWidthMm = 10;
+}  // namespace
+
 using ClipperLib::Clipper;
 using ClipperLib::ClipperOffset;
 
@@ -72,6 +76,9 @@ Paths widen(const std::vector<Polyline>& lines, double height_mm, double filamen
         if (l.length <= 0 || l.points.empty()) continue;
         double width =
             line_width(l.e * filament_area / l.length, l.height > 0 ? l.height : height_mm, bead);
+        // A few millimetres at most on any printer; a hostile E over a tiny move would make
+        // a line of any width, and the work on it grows with its area.
+        width = std::min(width, kMaxLineWidthMm);
         Coord half = static_cast<Coord>(std::llround(width * kUnitsPerMm / 2));
         if (half < 1) continue;
         by_half_width[half].push_back(l.points);

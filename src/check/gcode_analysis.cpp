@@ -9,6 +9,8 @@
 // what is measured on each layer once read is in layer_analysis.cpp.
 #include "check/gcode_analysis.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -42,6 +44,7 @@ Analyser::Analyser(const GcodeAnalysisOptions& o, double filament_diameter, bool
 }
 
 void Analyser::line(std::string_view s) {
+    ++line_no_;
     s = trim(s);
     if (s.empty()) return;
     size_t semi = s.find(';');
@@ -246,6 +249,9 @@ void Analyser::stick_move(double length, double de, bool extrudes) {
 }
 
 void Analyser::add_time(double seconds) {
+    // A dwell of 1e300 s, or a feed rate of 1e-300, would make the sum infinite.
+    if (!(seconds >= 0) || !std::isfinite(seconds)) return;
+    seconds = std::min(seconds, 1e7);
     result_.stick_time_s += seconds;
     pending_.stick_time_s += seconds;
 }
@@ -256,10 +262,25 @@ void Analyser::count_retraction(double de) {
     ++pending_.retractions;
 }
 
+void Analyser::refuse_move(double x, double y, double z, double de) const {
+    auto out = [](double v, double bound) { return !(std::fabs(v) <= bound); };
+    if (out(x, kMaxCoordinateMm) || out(y, kMaxCoordinateMm) || out(z, kMaxCoordinateMm))
+        throw InputError(fmt::format(
+            "line {}: a move to ({}, {}, {}) mm, beyond +-1 km or not a number; not G-code "
+            "for a printer",
+            line_no_, x, y, z));
+    if (out(de, kMaxCoordinateMm))
+        throw InputError(fmt::format(
+            "line {}: a move feeds {} mm of filament, beyond 1 km or not a number; not G-code "
+            "for a printer",
+            line_no_, de));
+}
+
 void Analyser::move(const Words& w) {
     feed(w);
     double nx = target(w, 'X', x_), ny = target(w, 'Y', y_), nz = target(w, 'Z', z_);
     double de = e_delta(w);
+    refuse_move(nx, ny, nz, de);
     ++result_.moves;
     count_retraction(de);
     double xy = std::hypot(nx - x_, ny - y_);
@@ -273,6 +294,7 @@ void Analyser::arc(const Words& w, bool clockwise) {
     feed(w);
     double nx = target(w, 'X', x_), ny = target(w, 'Y', y_), nz = target(w, 'Z', z_);
     double de = e_delta(w);
+    refuse_move(nx, ny, nz, de);
     count_retraction(de);
     double cx, cy;
     if (w.any('R')) {
@@ -410,6 +432,11 @@ void Analyser::extrude(double nx, double ny, double nz, double de, double length
     }
     if (support_type_) result_.support_volume_mm3 += de * filament_area_;
     Polyline& p = lines_.back();
+    if (++layer_points_ > kMaxLayerPoints)
+        throw InputError(fmt::format(
+            "line {}: the layer at z = {} mm holds more than 5 million points; carve check "
+            "measures layers up to that",
+            line_no_, layer_z_));
     p.points.push_back(Point(to_units(nx), to_units(ny)));
     p.e += de;
     p.length += length;
@@ -425,8 +452,15 @@ GcodeAnalysis analyse_gcode(const std::string& path, const GcodeAnalysisOptions&
     std::string source;
     auto file = check::open_gcode(path, options, diameter, source);
     check::Analyser analyser(options, diameter);
-    check::feed_lines(file.get(), path, [&](std::string_view s) { analyser.line(s); });
-    GcodeAnalysis result = analyser.finish();
+    GcodeAnalysis result;
+    try {
+        check::feed_lines(file.get(), path, [&](std::string_view s) { analyser.line(s); });
+        result = analyser.finish();
+    } catch (const InputError& e) {
+        const std::string what = e.what();
+        if (what.rfind("line ", 0) == 0) throw InputError("'" + path + "' " + what);
+        throw;
+    }
     result.filament_diameter_source = source;
     result.bead_model = options.bead == BeadModel::kRounded ? "rounded" : "rectangle";
     return result;
@@ -439,8 +473,14 @@ ExtrusionBounds extrusion_bounds(const std::string& path, const GcodeAnalysisOpt
     GcodeAnalysisOptions scan = options;
     scan.model_slice = nullptr;
     check::Analyser analyser(scan, diameter, true);
-    check::feed_lines(file.get(), path, [&](std::string_view s) { analyser.line(s); });
-    analyser.finish();
+    try {
+        check::feed_lines(file.get(), path, [&](std::string_view s) { analyser.line(s); });
+        analyser.finish();
+    } catch (const InputError& e) {
+        const std::string what = e.what();
+        if (what.rfind("line ", 0) == 0) throw InputError("'" + path + "' " + what);
+        throw;
+    }
     return analyser.bounds();
 }
 

@@ -103,25 +103,44 @@ GcodeFile open_gcode(const std::string& path, const GcodeAnalysisOptions& option
 }
 
 constexpr size_t kMaxLineBytes = 1 << 20;
+// The file is streamed, so its size bounds the time, not the memory: 4 GB is ten times the
+// largest real G-code seen (a 400 MB PrusaSlicer file of a full bed) and minutes of reading.
+constexpr long long kMaxGcodeBytes = 4LL << 30;
 
 void feed_lines(std::FILE* file, const std::string& path,
                 const std::function<void(std::string_view)>& line) {
     std::vector<char> buffer(1 << 20);
     std::string carry;
     size_t n;
+    long long total = 0;
+    // A line ends at a line feed, a carriage return (old Mac files end lines with it alone) or
+    // both; "\r\n" is one end, even split across two blocks.
+    bool after_cr = false;
     while ((n = std::fread(buffer.data(), 1, buffer.size(), file)) > 0) {
+        total += static_cast<long long>(n);
+        if (total > kMaxGcodeBytes)
+            throw InputError("'" + path +
+                             "' is larger than 4 GB; carve check reads G-code up to 4 GB");
         std::string_view chunk(buffer.data(), n);
         size_t start = 0;
-        size_t nl;
-        while ((nl = chunk.find('\n', start)) != std::string_view::npos) {
+        if (after_cr && chunk[0] == '\n') start = 1;
+        after_cr = false;
+        size_t end;
+        while ((end = chunk.find_first_of("\r\n", start)) != std::string_view::npos) {
             if (!carry.empty()) {
-                carry.append(chunk.substr(start, nl - start));
+                carry.append(chunk.substr(start, end - start));
                 line(carry);
                 carry.clear();
             } else {
-                line(chunk.substr(start, nl - start));
+                line(chunk.substr(start, end - start));
             }
-            start = nl + 1;
+            start = end + 1;
+            if (chunk[end] == '\r') {
+                if (start < chunk.size() && chunk[start] == '\n')
+                    ++start;
+                else if (start == chunk.size())
+                    after_cr = true;
+            }
         }
         carry.append(chunk.substr(start));
         // A file without line ends would otherwise be held whole; PrusaSlicer's longest lines

@@ -2,10 +2,13 @@
 // against what lies below (the previous layers within its thickness, the supports' tops within
 // the gap) and against the model's slice, summed into the result. Kept apart from the G-code
 // interpreter in gcode_analysis.cpp: this is where the measure is, that is where the file is read.
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <utility>
 
+#include "base/error.hpp"
 #include "check/analyser.hpp"
 #include "check/footprint.hpp"
 
@@ -13,25 +16,40 @@ namespace carve::check {
 
 namespace {
 
-constexpr double kMaxLayerMm = 1.0;  // no layer is thicker: how far back recent layers go
+constexpr double kMaxLayerMm = 1.0;      // no layer is thicker: how far back recent layers go
+constexpr double kDefaultLayerMm = 0.2;  // a layer's thickness when nothing tells it
+// Layers held for what lies below (interleaved support layers, the support gap): a file that
+// goes up and down 200,000 times kept every layer and read them all for each new one.
+constexpr size_t kMaxRecent = 64;
 
 }  // namespace
 
 void Analyser::start_layer(double z) {
     if (have_layer_) finish_layer();
+    if (result_.layers >= kMaxLayers)
+        throw InputError(fmt::format(
+            "line {}: more than 1 million layers; carve check measures files of fewer", line_no_));
+    layer_points_ = 0;
     on_bed_ = false;
+    mid_air_ = false;
     double height;
     if (!have_prev_) {
         height = z;
-        on_bed_ = true;
         first_z_ = z;
+        // A first layer more than a layer's thickness above the bed is printed in mid-air.
+        on_bed_ = z <= kMaxLayerMm + kZTolerance;
+        if (!on_bed_) mid_air_ = true, height = kDefaultLayerMm;
     } else if (z > prev_z_ + kZTolerance) {
         height = z - prev_z_;
+        // Farther above the layer below than any layer is thick: nothing holds it. Its lines
+        // are as thick as the layer below's (the gap is no thickness: a gap of a billion
+        // millimetres made lines as wide and took gigabytes).
+        if (height > kMaxLayerMm + kZTolerance) mid_air_ = true, height = prev_height_;
     } else {
         // Going down again: a sequential print starting its next object, or odd output.
         ++result_.z_reversals;
         if (z <= first_z_ + kZTolerance) {
-            height = z;
+            height = std::max(z, kZTolerance);
             on_bed_ = true;
         } else {
             height = prev_height_;
@@ -62,8 +80,8 @@ void Analyser::finish_layer() {
     const bool support_only =
         std::all_of(lines_.begin(), lines_.end(), [](const Polyline& l) { return l.support; });
     const double model_h =
-        !support_only && have_model_z_ && layer_.z_mm - model_z_ > h + kZTolerance
-            ? layer_.z_mm - model_z_
+        !support_only && have_model_z_ && !mid_air_ && layer_.z_mm - model_z_ > h + kZTolerance
+            ? std::min(layer_.z_mm - model_z_, kMaxLayerMm)
             : h;
     Paths footprint = widen(lines_, model_h, filament_area_, opt_.bead);
     Paths support_footprint;
@@ -85,8 +103,13 @@ void Analyser::finish_layer() {
     // and the object's), and the supports' tops within the gap below that (a support holds
     // its overhang across a gap of a layer or so).
     const double reach_z = layer_.z_mm - thickest - kZTolerance;
-    while (!recent_.empty() && recent_.front().z < reach_z - opt_.support_gap_mm - kMaxLayerMm)
+    while (!recent_.empty() && (recent_.front().z < reach_z - opt_.support_gap_mm - kMaxLayerMm ||
+                                recent_.size() > kMaxRecent))
         recent_.pop_front();
+    // The layer read last lies below this one only if it is lower and within its reach: not
+    // when this one is in mid-air, or lower (a sequential print's next object).
+    const bool prev_below = have_prev_ && prev_z_ < layer_.z_mm - kZTolerance &&
+                            prev_z_ >= reach_z - opt_.support_gap_mm;
     Paths merged;
     size_t parts = 0;
     for (const Recent& r : recent_) {
@@ -98,10 +121,11 @@ void Analyser::finish_layer() {
         if (add != &recent_.back().footprint) ++parts;
         merged.insert(merged.end(), add->begin(), add->end());
     }
-    if (parts > 0) merged.insert(merged.end(), prev_footprint_.begin(), prev_footprint_.end());
+    if (parts > 0 && prev_below)
+        merged.insert(merged.end(), prev_footprint_.begin(), prev_footprint_.end());
     // Most layers: the previous layer alone, read in place.
-    const Paths& below = parts == 0 ? prev_footprint_ : merged;
-    if (!on_bed_ && have_prev_) {
+    const Paths& below = parts == 0 && prev_below ? prev_footprint_ : merged;
+    if (!on_bed_) {
         Paths unsupported = difference(footprint, dilate_round(below, r_units_));
         layer_.unsupported_area_mm2 = region_area_mm2(unsupported);
         if (!unsupported.empty()) {

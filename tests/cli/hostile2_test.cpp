@@ -7,6 +7,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -179,4 +180,99 @@ TEST(HostileMachine, ATowerTallerThanThePrinterIsRefusedOnEveryPreset) {
                   g.string());
     EXPECT_EQ(r.status, 0) << r.err;
     EXPECT_TRUE(fs::exists(g));
+}
+
+// --- carve check bounded by its input
+
+namespace {
+
+// `carve ARGS` in a child whose address space is capped at `mb` megabytes.
+CarveRun run_capped(const std::string& args, int mb) {
+    return run_carve(args, fmt::format("ulimit -v {};", mb * 1024));
+}
+
+}  // namespace
+
+TEST(HostileCheck, NumbersInTheFileDoNotSetItsMemory) {
+    const fs::path d = folder("check_numbers");
+    // A 0.2 mm layer, a move to z = -1e9 and back: once a layer a billion mm thick.
+    write(d / "deep.gcode",
+          "G90\nM83\nG1 Z0.2 F600\nG1 X10 Y10 E1\nG1 Z-1e9\nG1 X20 E1\nG1 Z0.4\nG1 X10 E1\n");
+    // Relative moves that add up to infinity, and a NaN after it.
+    write(d / "inf.gcode", "G91\nM83\nG1 Z0.2 E0\nG1 X1 E1\nG1 Z1e308\nG1 Z1e308\nG1 X1 E1\n");
+    // Extrusion of 1e300 mm.
+    write(d / "e.gcode", "G90\nM83\nG1 Z0.2\nG1 X10 Y10 E1e300\nG1 X20 E1e300\n");
+    for (const char* name : {"deep.gcode", "inf.gcode", "e.gcode"}) {
+        const CarveRun r = run_capped("check " + (d / name).string() + " --timeout 60", 400);
+        EXPECT_EQ(r.status, kExitBadInput) << name << ": " << r.err;
+        EXPECT_EQ(lines(r.err), 1) << name << ": " << r.err;
+        EXPECT_NE(r.err.find("line "), std::string::npos) << name << ": " << r.err;
+        EXPECT_EQ(r.err.find("nan"), std::string::npos) << name << ": " << r.err;
+        EXPECT_EQ(r.err.find("internal"), std::string::npos) << name << ": " << r.err;
+    }
+    // A dwell and a feed rate that would make the time infinite: finite figures.
+    write(d / "time.gcode", "G90\nM83\nG1 Z0.2 F600\nG1 X10 Y10 E1\nG4 S1e300\nG4 S1e300\n"
+                            "G1 X20 E1 F0.0000000001\nG1 X10 E1 F0.0000000001\n");
+    const CarveRun r = run_capped("check " + (d / "time.gcode").string() + " --json", 400);
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_EQ(r.out.find("null"), std::string::npos) << r.out;
+    EXPECT_EQ(r.out.find("inf"), std::string::npos) << r.out;
+}
+
+TEST(HostileCheck, LayersInMidAirHang) {
+    const fs::path d = folder("check_mid_air");
+    // A 10 mm square drawn on every layer: on the bed, then the same square 15 mm above the
+    // last layer printed.
+    auto square = [](double z) {
+        return fmt::format("G1 Z{:.2f}\nG1 X10 Y10\nG1 X20 Y10 E1\nG1 X20 Y20 E1\nG1 X10 Y20 E1\n"
+                           "G1 X10 Y10 E1\n",
+                           z);
+    };
+    std::string text = "G90\nM83\nG1 F1200\n";
+    for (int i = 1; i <= 5; ++i) text += square(0.2 * i);
+    write(d / "held.gcode", text);
+    write(d / "gap.gcode", text + square(16.0));
+    write(d / "off_bed.gcode", "G90\nM83\nG1 F1200\n" + square(10.2) + square(10.4));
+    auto far_hanging = [&](const std::string& name) {
+        const CarveRun r = run_carve("check " + (d / name).string() + " --json");
+        EXPECT_EQ(r.status, 0) << name << ": " << r.err;
+        const size_t at = r.out.find("\"far_unsupported_area_mm2\":");
+        if (at == std::string::npos) return -1.0;
+        return std::stod(r.out.substr(at + 27));
+    };
+    EXPECT_NEAR(far_hanging("held.gcode"), 0, 1e-9);
+    // A 10 mm square of about 0.45 mm lines: some 18 mm2 of footprint, all of it hanging.
+    EXPECT_GT(far_hanging("gap.gcode"), 10);
+    EXPECT_GT(far_hanging("off_bed.gcode"), 10);
+}
+
+TEST(HostileCheck, CarriageReturnLineEndsAreLineEnds) {
+    const fs::path d = folder("check_cr");
+    std::string text = "G90\nM83\nG1 F1200\n";
+    for (int i = 1; i <= 5; ++i)
+        text += fmt::format("G1 Z{:.1f}\nG1 X10 Y10\nG1 X20 Y10 E1\nG1 X20 Y20 E1\n", 0.2 * i);
+    std::string cr = text, crlf;
+    std::replace(cr.begin(), cr.end(), '\n', '\r');
+    for (char c : text) crlf += c == '\n' ? std::string("\r\n") : std::string(1, c);
+    write(d / "lf.gcode", text);
+    write(d / "cr.gcode", cr);
+    write(d / "crlf.gcode", crlf);
+    const std::string lf = run_carve("check " + (d / "lf.gcode").string() + " --json").out;
+    EXPECT_NE(lf.find("\"layers\": 5"), std::string::npos) << lf;
+    for (const char* name : {"cr.gcode", "crlf.gcode"}) {
+        const CarveRun r = run_carve("check " + (d / name).string() + " --json");
+        EXPECT_EQ(r.status, 0) << name << ": " << r.err;
+        EXPECT_EQ(r.out, lf) << name;
+    }
+}
+
+TEST(HostileCheck, ManyZReversalsAreReadInBoundedMemory) {
+    const fs::path d = folder("check_reversals");
+    std::string text = "G90\nM83\nG1 F6000\n";
+    for (int i = 0; i < 20000; ++i)
+        text += fmt::format("G1 Z{}\nG1 X10 Y10\nG1 X12 Y10 E0.1\n", i % 2 ? "0.4" : "0.2");
+    write(d / "rev.gcode", text);
+    const CarveRun r = run_capped("check " + (d / "rev.gcode").string() + " --json", 400);
+    EXPECT_EQ(r.status, 0) << r.err;
+    EXPECT_NE(r.out.find("\"z_reversals\": 9999"), std::string::npos) << r.out.substr(0, 200);
 }
