@@ -184,7 +184,7 @@ std::string layer_svg(const LayerRecord& record, const LayerToolpaths* paths,
         add_line(Feature::CavityWall, dark(cavity_colour(1)), "cavity walls");
         add_line(Feature::Cover, kCoverLine, "cover lines");
         add_line(Feature::Bridge, kBridge, "bridge lines");
-        add_line(Feature::Rib, kBridge, "ribs");
+        add_line(Feature::Rib, kRibColour, "ribs");
         add_line(Feature::Support, kSupport, "support lines");
         add_line(Feature::SupportInterface, kSupportInterface, "support interface");
     }
@@ -259,7 +259,7 @@ std::string layer_svg(const LayerRecord& record, const LayerToolpaths* paths,
         stroke(Feature::Shell, 0, "shell", kShell, 1);
         stroke(Feature::OuterWall, 0, "outer-wall", kOuterWall, 1.2);
         stroke(Feature::Bridge, 0, "bridge-lines", kBridge, 1.5);
-        stroke(Feature::Rib, 0, "ribs", kBridge, 1.2);
+        stroke(Feature::Rib, 0, "ribs", kRibColour, 1.2);
         stroke(Feature::Support, 0, "support-lines", kSupport, 1);
         stroke(Feature::SupportInterface, 0, "support-interface", kSupportInterface, 1);
         svg += "</g>\n";
