@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
-"""Checks the folders of src/ against the layering drawn in README.md.
+"""Checks the folders of src/ against the layering drawn in docs/architecture.md.
 
-The README's table between the markers `<!-- layers:begin -->` and `<!-- layers:end -->` lists,
+That file's table between the markers `<!-- layers:begin -->` and `<!-- layers:end -->` lists,
 for every folder of src/, the folders it may include. This script fails (exit status 1, one
 line per problem) when
   - a folder of src/ is missing from the table, or the table names a folder that does not exist;
@@ -19,6 +19,7 @@ import sys
 INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"/]+)/[^"]+"', re.MULTILINE)
 ROW = re.compile(r"^\|\s*`([a-z_]+)`\s*\|[^|]*\|([^|]*)\|\s*$")
 LINKED = re.compile(r"\bcarve_([a-z_]+)\b")
+TABLE = "docs/architecture.md"  # where the layers table lives (README.md until issue 37)
 
 
 def read_table(readme):
@@ -67,20 +68,20 @@ def find_cycle(graph):
 def main():
     root = pathlib.Path(sys.argv[1] if len(sys.argv) > 1 else pathlib.Path(__file__).parent.parent)
     src = root / "src"
-    allowed = read_table(root / "README.md")
+    allowed = read_table(root / TABLE)
     folders = {p.name for p in src.iterdir() if p.is_dir()}
     problems = []
     for name in sorted(folders - allowed.keys()):
-        problems.append(f"src/{name}/: not in the layers table of README.md")
+        problems.append(f"src/{name}/: not in the layers table of {TABLE}")
     for name in sorted(allowed.keys() - folders):
-        problems.append(f"README.md: the layers table names {name}, which is not a folder of src/")
+        problems.append(f"{TABLE}: the layers table names {name}, which is not a folder of src/")
     for name, deps in sorted(allowed.items()):
         for dep in sorted(deps - allowed.keys()):
-            problems.append(f"README.md: {name} may include {dep}, which is not in the table")
+            problems.append(f"{TABLE}: {name} may include {dep}, which is not in the table")
 
     cycle = find_cycle(allowed)
     if cycle:
-        problems.append("README.md: the layers table has a cycle: " + " -> ".join(cycle))
+        problems.append(f"{TABLE}: the layers table has a cycle: " + " -> ".join(cycle))
 
     found = {name: set() for name in folders}
     for path in sorted(src.rglob("*")):
@@ -93,7 +94,7 @@ def main():
             found[folder].add(dep)
             if dep not in allowed.get(folder, set()):
                 problems.append(f"{path.relative_to(root)}: includes {dep}/, "
-                                f"which {folder}/ may not include (README.md layers)")
+                                f"which {folder}/ may not include ({TABLE} layers)")
 
     cycle = find_cycle(found)
     if cycle:
@@ -105,13 +106,13 @@ def main():
         for dep in sorted(set(LINKED.findall(text))):
             if dep != folder and dep in folders and dep not in allowed.get(folder, set()):
                 problems.append(f"{cmake.relative_to(root)}: links carve_{dep}, "
-                                f"which {folder}/ may not include (README.md layers)")
+                                f"which {folder}/ may not include ({TABLE} layers)")
 
     for p in problems:
         print(p)
     if problems:
         return 1
-    print(f"layers: {len(folders)} folders of src/, includes and links as README.md draws them")
+    print(f"layers: {len(folders)} folders of src/, includes and links as {TABLE} draws them")
     return 0
 
 

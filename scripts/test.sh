@@ -7,7 +7,7 @@ export CI=true
 # Each phase's end, seconds since the start and the load average, for bench/results/ci_time.md.
 mark() { echo "test.sh: $1 done at ${SECONDS} s, load $(cut -d' ' -f1-3 /proc/loadavg)"; }
 bash scripts/install-deps.sh
-# The layering drawn in README.md and the formatting: cheap, so before the build.
+# The layering drawn in docs/architecture.md and the formatting: cheap, so before the build.
 python3 scripts/check_layers.py
 bash scripts/check_format.sh
 mark "install-deps, check_layers, check_format"

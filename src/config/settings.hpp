@@ -92,7 +92,7 @@ struct Settings {
     // 5.05 / 3.99, cat 7.69 / 7.15, elephant 7.01 / 6.37, skull x1.43 3.66 / 2.80, the flat
     // box 16.7 / 12.45, the bladed plate 24.8 / 20.4; hanging inside under 0.7 mm2 on each.
     // The print time fell on the models but rose on the flat shapes, whose one cavity takes
-    // thousands of short rib lines (README, How it compares). Fandisk x2.5: 3.82 / 3.34 %, rib
+    // thousands of short rib lines (docs/measurements.md). Fandisk x2.5: 3.82 / 3.34 %, rib
     // material 1,099 / 1,011 mm3: a part carved whole still grows by at most r a slice
     // downwards, so its ceilings are no wider than the nested cavities' were.
     double whole_width = 1000.0;

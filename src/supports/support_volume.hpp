@@ -1,7 +1,7 @@
 // Supports for the model's own overhangs (issue #20), decided from above like the cavities.
 //
 // Shape, chosen by measurement against PrusaSlicer's snug supports and CuraEngine's trees
-// (README "Supports", bench/results/supports.md): under each overhang a region that narrows going
+// (docs/supports.md, bench/results/supports.md): under each overhang a region that narrows going
 // down by r per layer (its edge leans at --max-overhang and holds itself, as a cavity's walls do)
 // except beside the model, where it keeps its width so that the rings under a dome merge into one
 // shadow instead of standing as thin bands side by side. A compact part about 3 mm wide goes
