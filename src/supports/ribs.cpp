@@ -84,6 +84,41 @@ class WallBoundary {
 
 namespace {
 
+// Points hashed into square cells, so that a rib looks only at the ribs near it: pairing and
+// merging by scanning every other rib made a wide ceiling's lattice quadratic (a 1000 mm cube's
+// ceiling seeds some 150,000 ribs).
+class PointGrid {
+  public:
+    explicit PointGrid(double cell) : cell_(cell) {}
+    void insert(const Point& p, size_t index) {
+        cells_[key(cell_of(p.X), cell_of(p.Y))].push_back(index);
+    }
+    // Calls visit(index) for every point inserted within `radius` of p's cell neighbourhood (a
+    // superset of those within `radius`).
+    template <class Visit>
+    void near(const Point& p, double radius, Visit visit) const {
+        const long long reach = static_cast<long long>(std::ceil(radius / cell_));
+        const long long cx = cell_of(p.X), cy = cell_of(p.Y);
+        for (long long gx = cx - reach; gx <= cx + reach; ++gx)
+            for (long long gy = cy - reach; gy <= cy + reach; ++gy) {
+                const auto it = cells_.find(key(gx, gy));
+                if (it == cells_.end()) continue;
+                for (const size_t i : it->second) visit(i);
+            }
+    }
+
+  private:
+    long long cell_of(Coord v) const {
+        return static_cast<long long>(std::floor(double(v) / cell_));
+    }
+    static unsigned long long key(long long cx, long long cy) {
+        return (static_cast<unsigned long long>(cx) << 32) ^
+               static_cast<unsigned long long>(cy & 0xffffffffLL);
+    }
+    double cell_;
+    std::unordered_map<unsigned long long, std::vector<size_t>> cells_;
+};
+
 // Disks of `radius` around the points, as one region.
 Paths disks(const std::vector<Point>& centres, Coord radius) {
     if (centres.empty() || radius <= 0) return {};
@@ -420,6 +455,9 @@ LayerRibs RibPlanner::add(const LayerRecord& layer, const RibSlice& slice) {
     // Ribs are paired, nearest pairs first, and each pair leans together: leaning each towards
     // its nearest other, a lattice's ties make ribs chase one another in a row at one speed and
     // never meet (the flat box kept some 480 ribs down to its floor, 22,000 pieces).
+    PointGrid grid(attract);
+    for (size_t i = 0; i < nodes_.size(); ++i) grid.insert(nodes_[i].at, i);
+    PointGrid moved_grid(std::max(attract, 4.0 * double(r)));
     std::vector<size_t> partner(nodes_.size(), nodes_.size());
     {
         struct Pair {
@@ -429,7 +467,13 @@ LayerRibs RibPlanner::add(const LayerRecord& layer, const RibSlice& slice) {
         std::vector<Pair> pairs;
         for (size_t i = 0; i < nodes_.size(); ++i) {
             if (nodes_[i].fading || !hits[i].inside || hits[i].distance <= double(r)) continue;
-            for (size_t k = i + 1; k < nodes_.size(); ++k) {
+            // The ribs near i, in index order as the full scan took them.
+            std::vector<size_t> near;
+            grid.near(nodes_[i].at, attract, [&](size_t k) {
+                if (k > i) near.push_back(k);
+            });
+            std::sort(near.begin(), near.end());
+            for (const size_t k : near) {
                 if (nodes_[k].fading || !hits[k].inside || hits[k].distance <= double(r)) continue;
                 const double d = distance(nodes_[k].at, nodes_[i].at);
                 if (d > 0 && d < attract && d < hits[i].distance && d < hits[k].distance)
@@ -470,7 +514,10 @@ LayerRibs RibPlanner::add(const LayerRecord& layer, const RibSlice& slice) {
         if (other < nodes_.size()) {
             best = distance(nodes_[other].at, n.at);
         } else {
-            for (size_t k = 0; k < nodes_.size(); ++k) {
+            std::vector<size_t> near;
+            grid.near(n.at, best, [&](size_t k) { near.push_back(k); });
+            std::sort(near.begin(), near.end());
+            for (const size_t k : near) {
                 if (nodes_[k].fading) continue;
                 const double d = distance(nodes_[k].at, n.at);
                 if (k != i && d > 0 && d < best) best = d, other = k;
@@ -499,16 +546,17 @@ LayerRibs RibPlanner::add(const LayerRecord& layer, const RibSlice& slice) {
         m.dir = Point(static_cast<Coord>(std::llround(-dy / h.distance * kDirScale)),
                       static_cast<Coord>(std::llround(dx / h.distance * kDirScale)));
         // Ribs that meet go on as one: the one kept is within r of where the other was.
-        const bool merged = std::any_of(moved.begin(), moved.end(), [&](const Node& o) {
-            return distance(o.at, n.at) <= double(r) && distance(o.at, m.at) <= double(r);
+        size_t into = moved.size();
+        moved_grid.near(n.at, double(r), [&](size_t k) {
+            const Node& o = moved[k];
+            if (k < into && distance(o.at, n.at) <= double(r) && distance(o.at, m.at) <= double(r))
+                into = k;
         });
-        if (merged) {
-            const auto o = std::find_if(moved.begin(), moved.end(), [&](const Node& o) {
-                return distance(o.at, n.at) <= double(r) && distance(o.at, m.at) <= double(r);
-            });
-            if (n.target != kUntied) start_fade(n.anchor, o->at, o->id, fading);
+        if (into < moved.size()) {
+            if (n.target != kUntied) start_fade(n.anchor, moved[into].at, moved[into].id, fading);
             continue;
         }
+        moved_grid.insert(m.at, moved.size());
         moved.push_back(m);
     }
     // A fade's fixed end follows its wall, or the rib it closes on while that rib goes on.
