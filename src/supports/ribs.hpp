@@ -1,13 +1,22 @@
-// Ribs: thin columns inside the cavities that hold what the bridges and minima of the slice
-// above would leave hanging (issue #23). The carving makes every wall self-supporting, but a
-// bridge line longer than about 4 mm, or a minimum no printable bridge reaches, has parts more
-// than 2 mm from anything printed on the layer below. A rib is seeded under each such part and
-// grown downwards through the cavity, leaning at most r per layer towards the nearest thing
-// printed, until it stands on it (the idea of lightning infill, used inside a cavity).
+// Ribs: what holds up, inside the cavities, what the bridges and minima of the slice above
+// would leave hanging (issue #23). The carving makes every wall self-supporting, but a bridge
+// line longer than about 4 mm, or a minimum no printable bridge reaches, has parts more than
+// 2 mm from anything printed on the layer below. A rib is seeded under each such part and grown
+// downwards through the cavity, leaning at most r per layer towards the nearest thing printed,
+// until it stands on it (the idea of lightning infill, used inside a cavity).
+//
+// A rib is never a free-standing strand (issue #35: a 0.45 mm line 40 mm tall is pushed over by
+// the nozzle). On every slice it prints a short piece and a tie from the piece to the nearest
+// thing printed there: the wall, or the tie or piece of a rib nearer the wall, so that the ribs
+// of a slice are a forest rooted on the walls, as lightning infill's branches are. A tie that
+// cannot go on below (its rib merged, stood, or tied elsewhere) fades: its far end closes on the
+// rib by r a slice, a web whose edge leans like a cavity's wall, so each tie stands on the slice
+// below.
 //
 // The planner sees the layers top down, each once, after its bridges are placed: a rib printed
 // on slice i only depends on slices i and above, so nothing is held back, and the state is the
-// ribs' current positions plus the previous slice's empty region (memory flat in the height).
+// ribs' current positions and ties plus the previous slice's empty region (memory flat in the
+// height).
 #pragma once
 
 #include <memory>
