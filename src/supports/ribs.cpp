@@ -560,26 +560,30 @@ LayerRibs RibPlanner::add(const LayerRecord& layer, const RibSlice& slice) {
         moved.push_back(m);
     }
     // A fade's fixed end follows its wall, or the rib it closes on while that rib goes on.
+    std::unordered_map<long long, size_t> moved_index;
+    for (size_t k = 0; k < moved.size(); ++k) moved_index[moved[k].id] = k;
     for (Node f : faded) {
         if (f.target == kWall) {
             follow_wall(f, walls);
         } else {
-            auto o = std::find_if(moved.begin(), moved.end(),
-                                  [&](const Node& m) { return m.id == f.target; });
-            if (o == moved.end()) {
+            size_t o = moved.size();
+            if (const auto it = moved_index.find(f.target); it != moved_index.end()) o = it->second;
+            if (o == moved.size()) {
                 // The rib it closed on merged into another or stood: the nearest rib within
                 // reach takes its place, or the wall it stood on.
                 double best = 2.0 * double(r) + double(w);
-                for (auto k = moved.begin(); k != moved.end(); ++k)
-                    if (const double d = distance(k->at, f.anchor); d <= best) best = d, o = k;
-                if (o == moved.end()) {
+                moved_grid.near(f.anchor, best, [&](size_t k) {
+                    const double d = distance(moved[k].at, f.anchor);
+                    if (d < best || (d == best && (o == moved.size() || k > o))) best = d, o = k;
+                });
+                if (o == moved.size()) {
                     const Point at = walls.nearest(f.anchor).at;
                     if (!follows(f.anchor, at)) continue;
                     f.target = kWall;
                     f.anchor = at;
                 }
             }
-            if (o != moved.end()) f.target = o->id, f.anchor = o->at;
+            if (o < moved.size()) f.target = moved[o].id, f.anchor = moved[o].at;
         }
         if (fade_step(f)) fading.push_back(f);
     }
