@@ -154,7 +154,13 @@ void install_cleanup_handlers() {
     sa.sa_handler = on_signal;
     sigemptyset(&sa.sa_mask);
     sa.sa_flags = 0;
-    for (int sig : {SIGINT, SIGTERM, SIGHUP}) ::sigaction(sig, &sa, nullptr);
+    // Every signal whose default ends the process and that can be caught: SIGQUIT and SIGUSR1
+    // during the final write left temporaries of several MB (issue #38). SIGPIPE (a closed
+    // stdout or report reader) and SIGALRM without --timeout end it too. SIGXFSZ is ignored
+    // (cli/main.cpp): the write fails and the writer cleans up.
+    for (int sig : {SIGINT, SIGTERM, SIGHUP, SIGQUIT, SIGUSR1, SIGUSR2, SIGPIPE, SIGALRM, SIGVTALRM,
+                    SIGPROF, SIGXCPU, SIGIO})
+        ::sigaction(sig, &sa, nullptr);
 }
 
 void exit_after(double seconds) {

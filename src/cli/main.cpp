@@ -145,8 +145,9 @@ int run(int argc, char** argv) {
     slice->add_flag("--profile-shells", profile_options.profile_shells,
                     "Take covers and shells from the --load profile's top_solid_layers, "
                     "bottom_solid_layers and perimeters [off: carve's own]");
-    slice->add_option("--printer", printer_name,
-                      "Built-in printer preset: " + carve::printer_preset_names() + " [generic]");
+    CLI::Option* printer_option = slice->add_option(
+        "--printer", printer_name,
+        "Built-in printer preset: " + carve::printer_preset_names() + " [generic]");
     slice
         ->add_option("--preset", preset,
                      "The report's presets: 2c0s (2 covers, no shell) or "
@@ -347,7 +348,8 @@ int run(int argc, char** argv) {
 
         // Precedence: built-in printer, then profile file, then preset, then explicit options;
         // the options were only collected while parsing, so they are applied last and win.
-        if (!printer_name.empty()) carve::apply_printer_preset(printer_name, settings);
+        // Given, even empty: "" once meant generic silently.
+        if (printer_option->count() > 0) carve::apply_printer_preset(printer_name, settings);
         if (profile_path.empty() &&
             (!profile_options.choice.printer.empty() || !profile_options.choice.filament.empty() ||
              !profile_options.choice.print.empty() || profile_options.profile_shells))
@@ -379,8 +381,10 @@ int run(int argc, char** argv) {
               std::pair{"before_layer_gcode", &settings.before_layer_gcode},
               std::pair{"layer_gcode", &settings.layer_gcode}})
             try {
-                for (const std::string& u :
-                     carve::expand_custom_gcode(*text, settings, at_end).unresolved)
+                const carve::ExpandedGcode g = carve::expand_custom_gcode(*text, settings, at_end);
+                for (const std::string& u : g.unresolved)
+                    if (!quiet) std::fprintf(stderr, "carve: note: %s: %s\n", name, u.c_str());
+                for (const std::string& u : g.notes)
                     if (!quiet) std::fprintf(stderr, "carve: note: %s: %s\n", name, u.c_str());
             } catch (const carve::InputError& e) {
                 throw carve::InputError(fmt::format("{}: {}", name, e.what()));

@@ -167,6 +167,18 @@ ResolvedProfile read_ini_profile(std::istream& in, const std::string& path,
 
     ResolvedProfile out;
     for (const char* k : kKinds) out.bundle = out.bundle || !kinds[k].empty();
+    // A choice that selects nothing was silently ignored: the run went on with other settings
+    // than the user named.
+    for (const char* kind : kKinds) {
+        const std::string& given = kind == std::string("printer")    ? choice.printer
+                                   : kind == std::string("filament") ? choice.filament
+                                                                     : choice.print;
+        if (!given.empty() && kinds[kind].empty())
+            throw InputError(fmt::format(
+                "{}: --{}-profile '{}' selects nothing: the file has no [{}:...] sections{}", path,
+                kind, given, kind,
+                out.bundle ? "" : " (a flat profile, as File > Export > Export Config writes)"));
+    }
     if (!out.bundle) {
         out.values = std::move(flat);
         return out;

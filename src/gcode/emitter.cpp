@@ -14,6 +14,7 @@
 #include <utility>
 
 #include "base/error.hpp"
+#include "config/config_keys.hpp"
 #include "gcode/cooling.hpp"
 #include "gcode/labels.hpp"
 #include "gcode/limits.hpp"
@@ -166,11 +167,15 @@ void Emitter::end() {
     mark_progress(-1);  // 100 %: the total, known below
     custom(st_.end_filament_gcode);
     if (st_.flavor == GcodeFlavor::Klipper && st_.end_gcode.empty()) line("PRINT_END");
-    raw(expand_custom_gcode(st_.end_gcode, st_,
-                            {{"max_layer_z", to_mm(layer_z_)},
-                             {"layer_z", to_mm(layer_z_)},
-                             {"layer_num", std::max(0, layer_)}})
-            .text);
+    try {
+        raw(expand_custom_gcode(st_.end_gcode, st_,
+                                {{"max_layer_z", to_mm(layer_z_)},
+                                 {"layer_z", to_mm(layer_z_)},
+                                 {"layer_num", std::max(0, layer_)}})
+                .text);
+    } catch (const InputError& e) {
+        throw InputError(fmt::format("end_gcode: {}", e.what()));
+    }
     planner_.stop();
     close_section();
     run_stats_.estimated_print_time_s = time_base_;
@@ -295,11 +300,20 @@ bool resets_e(std::string_view g) {
 // "G92 E0" in it resets the firmware's E, as PrusaSlicer assumes.
 void Emitter::custom(const std::string& text) {
     if (text.empty()) return;
-    const std::string g = expand_custom_gcode(text, st_,
-                                              {{"layer_num", std::max(0, layer_)},
-                                               {"layer_z", to_mm(layer_z_)},
-                                               {"max_layer_z", to_mm(layer_z_)}})
-                              .text;
+    std::string g;
+    try {
+        g = expand_custom_gcode(text, st_,
+                                {{"layer_num", std::max(0, layer_)},
+                                 {"layer_z", to_mm(layer_z_)},
+                                 {"max_layer_z", to_mm(layer_z_)}})
+                .text;
+    } catch (const InputError& e) {
+        // Named by its key: a figure beyond range is found only on the layer that computes it.
+        std::string key = "custom G-code";
+        for (const CustomGcodeKey& c : custom_gcode_keys())
+            if (&(st_.*(c.text)) == &text) key = c.ini_key;
+        throw InputError(fmt::format("{} (layer {}): {}", key, layer_ + 1, e.what()));
+    }
     // Bounded in total too: layer_gcode is expanded on every layer.
     custom_bytes_ += g.size();
     check_custom_bytes(custom_bytes_);

@@ -383,6 +383,42 @@ std::string expand_brackets(const std::string& in, const Context& ctx,
 
 }  // namespace
 
+std::string figure_beyond_range(const std::string& line) {
+    const size_t b = line.find_first_not_of(" \t");
+    if (b == std::string::npos || (line[b] != 'M' && line[b] != 'm')) return {};
+    const std::string_view code_line = std::string_view(line).substr(b, line.find(';') - b);
+    int code = -1;
+    size_t i = 1;
+    while (i < code_line.size() && std::isdigit(static_cast<unsigned char>(code_line[i]))) {
+        code = std::max(code, 0) * 10 + (code_line[i] - '0');
+        if (code > 1000) return {};
+        ++i;
+    }
+    double limit = 0;
+    const char* what = "";
+    if (code == 104 || code == 109)
+        limit = 450, what = "a nozzle temperature";
+    else if (code == 140 || code == 190)
+        limit = 150, what = "a bed temperature";
+    else if (code == 106)
+        limit = 255, what = "a fan speed";
+    else
+        return {};
+    for (size_t k = i; k < code_line.size(); ++k) {
+        const char c = code_line[k];
+        if ((c != 'S' && c != 's' && c != 'R' && c != 'r') || (k > 0 && code_line[k - 1] != ' '))
+            continue;
+        size_t end = k + 1;
+        while (end < code_line.size() && code_line[end] != ' ' && code_line[end] != '\t') ++end;
+        const std::optional<double> v =
+            parse_decimal(std::string(code_line.substr(k + 1, end - k - 1)));
+        if (v && !(*v >= 0 && *v <= limit))
+            return fmt::format("sets {} of {}, beyond 0 to {}", what, plain_number(*v),
+                               plain_number(limit));
+    }
+    return {};
+}
+
 ExpandedGcode expand_custom_gcode(const std::string& text, const Settings& settings,
                                   const std::map<std::string, double>& runtime) {
     const Context ctx(settings, runtime);
@@ -480,6 +516,15 @@ ExpandedGcode expand_custom_gcode(const std::string& text, const Settings& setti
     std::stringstream lines(out);
     std::string line;
     while (std::getline(lines, line)) {
+        // A figure beyond the machine's range that carve computed (M104 S{layer_num*1000}) is
+        // refused; one the profile wrote as it stands is passed through, as PrusaSlicer does.
+        if (const std::string beyond = figure_beyond_range(line); !beyond.empty()) {
+            if (text.find(line) == std::string::npos)
+                throw InputError(fmt::format("the profile's custom G-code computes '{}': {}",
+                                             comment_text(line), beyond));
+            result.notes.push_back(
+                fmt::format("'{}' {} (written as the profile has it)", comment_text(line), beyond));
+        }
         if (line.find(kBad) != std::string::npos) {
             std::erase(line, kBad);
             // A carriage return inside the line would end the comment on the firmware.

@@ -17,7 +17,15 @@ struct ExpandedGcode {
     // written as a comment rather than sent to the printer with the raw placeholder in it; an
     // {if} whose condition cannot be evaluated counts as false.
     std::vector<std::string> unresolved;
+    // Lines written as the profile has them that set a temperature or fan speed beyond the
+    // machine's range (PrusaSlicer passes them through too; said once).
+    std::vector<std::string> notes;
 };
+
+// A line of expanded custom G-code that sets a temperature (M104, M109: 0 to 450 C; M140,
+// M190: 0 to 150 C, the ranges of the temperature settings) or a fan speed (M106: 0 to 255)
+// beyond its range: what it sets and the range, else empty.
+std::string figure_beyond_range(const std::string& line);
 
 // Values come first from the fields of `settings` (so command-line options win over the
 // profile), then from `runtime` (max_layer_z, layer_z, ... known while writing), then from the

@@ -211,8 +211,9 @@ TEST(HostileCheck, NumbersInTheFileDoNotSetItsMemory) {
         EXPECT_EQ(r.err.find("internal"), std::string::npos) << name << ": " << r.err;
     }
     // A dwell and a feed rate that would make the time infinite: finite figures.
-    write(d / "time.gcode", "G90\nM83\nG1 Z0.2 F600\nG1 X10 Y10 E1\nG4 S1e300\nG4 S1e300\n"
-                            "G1 X20 E1 F0.0000000001\nG1 X10 E1 F0.0000000001\n");
+    write(d / "time.gcode",
+          "G90\nM83\nG1 Z0.2 F600\nG1 X10 Y10 E1\nG4 S1e300\nG4 S1e300\n"
+          "G1 X20 E1 F0.0000000001\nG1 X10 E1 F0.0000000001\n");
     const CarveRun r = run_capped("check " + (d / "time.gcode").string() + " --json", 400);
     ASSERT_EQ(r.status, 0) << r.err;
     EXPECT_EQ(r.out.find("null"), std::string::npos) << r.out;
@@ -224,9 +225,10 @@ TEST(HostileCheck, LayersInMidAirHang) {
     // A 10 mm square drawn on every layer: on the bed, then the same square 15 mm above the
     // last layer printed.
     auto square = [](double z) {
-        return fmt::format("G1 Z{:.2f}\nG1 X10 Y10\nG1 X20 Y10 E1\nG1 X20 Y20 E1\nG1 X10 Y20 E1\n"
-                           "G1 X10 Y10 E1\n",
-                           z);
+        return fmt::format(
+            "G1 Z{:.2f}\nG1 X10 Y10\nG1 X20 Y10 E1\nG1 X20 Y20 E1\nG1 X10 Y20 E1\n"
+            "G1 X10 Y10 E1\n",
+            z);
     };
     std::string text = "G90\nM83\nG1 F1200\n";
     for (int i = 1; i <= 5; ++i) text += square(0.2 * i);
@@ -275,4 +277,57 @@ TEST(HostileCheck, ManyZReversalsAreReadInBoundedMemory) {
     const CarveRun r = run_capped("check " + (d / "rev.gcode").string() + " --json", 400);
     EXPECT_EQ(r.status, 0) << r.err;
     EXPECT_NE(r.out.find("\"z_reversals\": 9999"), std::string::npos) << r.out.substr(0, 200);
+}
+
+// --- figures beyond the machine's range
+
+TEST(HostileFigures, ComputedTemperaturesBeyondRangeAreRefusedNamingTheKey) {
+    const fs::path d = folder("figures");
+    const fs::path model = box(d, "m.stl", 20, 20, 2);
+    const fs::path g = d / "o.gcode";
+    write(d / "computed.ini", "layer_gcode = M104 S{layer_num*1000}\n");
+    CarveRun r = run_carve("slice " + model.string() + " -q --cavities 1 --load " +
+                           (d / "computed.ini").string() + " -o " + g.string());
+    EXPECT_EQ(r.status, kExitBadInput) << r.err;
+    EXPECT_EQ(lines(r.err), 1) << r.err;
+    EXPECT_NE(r.err.find("layer_gcode"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("nozzle temperature"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(g));
+    write(d / "fan.ini", "before_layer_gcode = M106 S{300+layer_num}\n");
+    r = run_carve("slice " + model.string() + " -q --cavities 1 --load " +
+                  (d / "fan.ini").string() + " -o " + g.string());
+    EXPECT_EQ(r.status, kExitBadInput) << r.err;
+    EXPECT_NE(r.err.find("before_layer_gcode"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(g));
+    // Written as it stands in the profile: passed through, with a note.
+    write(d / "verbatim.ini", "end_gcode = M104 S600\\nM140 S0\\n\n");
+    r = run_carve("slice " + model.string() + " --cavities 1 --load " +
+                  (d / "verbatim.ini").string() + " -o " + g.string());
+    EXPECT_EQ(r.status, 0) << r.err;
+    EXPECT_NE(r.err.find("note: end_gcode: 'M104 S600' sets a nozzle temperature of 600"),
+              std::string::npos)
+        << r.err;
+    EXPECT_NE(read(g).find("\nM104 S600\n"), std::string::npos);
+}
+
+// --- names that select nothing
+
+TEST(HostileNames, EmptyOrUnknownPrinterNamesAreRefused) {
+    const fs::path d = folder("printer_names");
+    const fs::path model = box(d, "m.stl", 20, 20, 2);
+    const fs::path g = d / "o.gcode";
+    for (const std::string& name : {std::string("''"), std::string("nosuch")}) {
+        const CarveRun r =
+            run_carve("slice " + model.string() + " -q --printer " + name + " -o " + g.string());
+        EXPECT_EQ(r.status, kExitBadInput) << name << ": " << r.err;
+        EXPECT_NE(r.err.find("unknown printer"), std::string::npos) << r.err;
+        EXPECT_FALSE(fs::exists(g));
+    }
+    write(d / "flat.ini", "layer_height = 0.2\n");
+    const CarveRun r =
+        run_carve("slice " + model.string() + " -q --load " + (d / "flat.ini").string() +
+                  " --printer-profile 'Original Prusa i3 MK3S' -o " + g.string());
+    EXPECT_EQ(r.status, kExitBadInput) << r.err;
+    EXPECT_NE(r.err.find("selects nothing"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(g));
 }

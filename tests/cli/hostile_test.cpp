@@ -562,7 +562,10 @@ pid_t spawn_carve(const std::vector<std::string>& args) {
 }  // namespace
 
 TEST(HostileInterruption, SignalsRemoveEveryOutputAndTemporary) {
-    for (const int sig : {SIGINT, SIGTERM, SIGHUP}) {
+    // Every signal that ends carve by default and can be caught (SIGQUIT and SIGUSR1 once left
+    // temporaries of several MB, issue #38).
+    for (const int sig :
+         {SIGINT, SIGTERM, SIGHUP, SIGQUIT, SIGUSR1, SIGUSR2, SIGPIPE, SIGALRM, SIGXCPU}) {
         const fs::path d = folder("signal");
         const std::string model = repo_model("elephant.stl");
         test::RunningCarve run = test::start_carve(
