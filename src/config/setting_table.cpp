@@ -267,8 +267,8 @@ std::vector<SettingSpec> make_table() {
                       "With --carving whole: a part of the volume to carve narrower than this is "
                       "carved whole and its ceiling printed as bridges, mm; also a part up to "
                       "--whole-width-max wide whose ceiling (what lies under the model's "
-                      "surface) is narrower than this; the ribs hold ceilings of any width; 0 "
-                      "is --carving report [1000]"}),
+                      "surface) is narrower than this; the ribs hold ceilings of any width; 0, "
+                      "which would tear every part, is refused: that is --carving report [1000]"}),
         only(kWhole, {"whole-width-max", "", "mm", 0.0, 1000.0, &S::whole_width_max,
                       "With --carving whole: how wide a part whose ceiling is narrower than "
                       "--whole-width may be and still be carved whole, mm [1000]"}),
