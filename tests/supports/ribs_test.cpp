@@ -248,3 +248,44 @@ TEST(Ribs, EveryTieStandsOnTheLayerBelow) {
         }
     }
 }
+
+// Issue #35, end to end on the shapes it names: a wide flat ceiling, a dome and a tall box with
+// a shelf high inside print with no thin interior column over 5 mm, skins closed and nothing
+// hanging inside, as `carve check --mesh` (through --stats-check) measures the G-code.
+TEST(Ribs, SyntheticShapesPrintTheFirstTime) {
+    struct Shape {
+        const char* name;
+        std::vector<test::StlTriangle> t;
+    };
+    std::vector<Shape> shapes(3);
+    shapes[0].name = "flat_ceiling";
+    test::add_box(shapes[0].t, 0, 0, 0, 60, 60, 12);
+    shapes[1].name = "dome";
+    test::add_cut_ball(shapes[1].t, 25, 0, 24, 48);
+    // A 30 mm box 40 mm tall with a 20 mm pocket from the top whose floor, 30 mm up, is the
+    // ceiling of the interior: four walls overlapping the base (non-zero fill unites them).
+    shapes[2].name = "tall_shelf";
+    test::add_box(shapes[2].t, 0, 0, 0, 30, 30, 30.5f);
+    test::add_box(shapes[2].t, 0, 0, 30, 5, 30, 40);
+    test::add_box(shapes[2].t, 25, 0, 30, 30, 30, 40);
+    test::add_box(shapes[2].t, 4, 0, 30, 26, 5, 40);
+    test::add_box(shapes[2].t, 4, 25, 30, 26, 30, 40);
+    for (const Shape& s : shapes) {
+        const auto stl = test::write_stl(std::string(s.name) + ".stl", s.t);
+        const auto gcode = test::scratch() / (std::string(s.name) + ".gcode");
+        const auto stats = test::scratch() / (std::string(s.name) + ".json");
+        const test::CarveRun r =
+            test::run_carve("slice " + stl.string() + " -o " + gcode.string() + " --stats " +
+                            stats.string() + " --stats-check -q");
+        ASSERT_EQ(r.status, 0) << s.name << ": " << r.err;
+        const nlohmann::json p = nlohmann::json::parse(test::read(stats))["check"]["printability"];
+        EXPECT_EQ(p["columns"]["over_5mm"].get<int>(), 0)
+            << s.name << ": tallest " << p["columns"]["tallest"].dump();
+        EXPECT_LE(p["top_skin"]["open_percent"].get<double>(), 0.25) << s.name;
+        EXPECT_LE(p["bottom_skin"]["open_percent"].get<double>(), 0.25) << s.name;
+        EXPECT_EQ(p["top_skin"]["holes_1mm2"].get<int>(), 0) << s.name;
+        EXPECT_EQ(p["bottom_skin"]["holes_1mm2"].get<int>(), 0) << s.name;
+        EXPECT_LE(p["hanging_inside_mm2"].get<double>(), 1.0) << s.name;
+        EXPECT_TRUE(p["passes"].get<bool>()) << s.name << ": " << p["failed_rules"].dump();
+    }
+}
