@@ -6,6 +6,7 @@
 #include <zip.h>
 
 #include <algorithm>
+#include <cctype>
 #include <charconv>
 #include <memory>
 #include <stdexcept>
@@ -101,6 +102,80 @@ class XmlScanner {
     size_t pos_ = 0;
 };
 
+// An attribute's text with XML's character and entity references read (x="2&#48;" is 20, a
+// name "A&amp;B" is A&B): valid XML that was refused as "a vertex without a valid x". The text
+// is returned as it is when it holds none, else from one of two buffers, so that two values
+// read one after the other are both valid.
+std::string_view decode_references(std::string_view raw) {
+    if (raw.find('&') == std::string_view::npos) return raw;
+    thread_local std::string buffers[2];
+    thread_local int which = 0;
+    which ^= 1;
+    std::string& out = buffers[which];
+    out.clear();
+    for (size_t i = 0; i < raw.size(); ++i) {
+        const size_t end = raw[i] == '&' ? raw.find(';', i) : std::string_view::npos;
+        if (end == std::string_view::npos || end - i > 12) {
+            out += raw[i];
+            continue;
+        }
+        const std::string_view ref = raw.substr(i + 1, end - i - 1);
+        unsigned long code = 0;
+        bool ok = true;
+        if (ref == "amp")
+            code = '&';
+        else if (ref == "lt")
+            code = '<';
+        else if (ref == "gt")
+            code = '>';
+        else if (ref == "quot")
+            code = '"';
+        else if (ref == "apos")
+            code = '\'';
+        else if (ref.size() > 1 && ref[0] == '#') {
+            const bool hex = ref[1] == 'x' || ref[1] == 'X';
+            const std::string_view digits = ref.substr(hex ? 2 : 1);
+            ok = !digits.empty();
+            for (char c : digits) {
+                const int d = std::isdigit(static_cast<unsigned char>(c)) ? c - '0'
+                              : hex && std::isxdigit(static_cast<unsigned char>(c))
+                                  ? std::tolower(static_cast<unsigned char>(c)) - 'a' + 10
+                                  : -1;
+                if (d < 0)
+                    ok = false;
+                else
+                    code = code * (hex ? 16 : 10) + static_cast<unsigned long>(d);
+                if (code > 0x10ffff) ok = false;
+            }
+            ok = ok && code > 0;
+        } else {
+            ok = false;
+        }
+        if (!ok) {
+            out += raw[i];
+            continue;
+        }
+        // UTF-8.
+        if (code < 0x80) {
+            out += static_cast<char>(code);
+        } else if (code < 0x800) {
+            out += static_cast<char>(0xc0 | (code >> 6));
+            out += static_cast<char>(0x80 | (code & 0x3f));
+        } else if (code < 0x10000) {
+            out += static_cast<char>(0xe0 | (code >> 12));
+            out += static_cast<char>(0x80 | ((code >> 6) & 0x3f));
+            out += static_cast<char>(0x80 | (code & 0x3f));
+        } else {
+            out += static_cast<char>(0xf0 | (code >> 18));
+            out += static_cast<char>(0x80 | ((code >> 12) & 0x3f));
+            out += static_cast<char>(0x80 | ((code >> 6) & 0x3f));
+            out += static_cast<char>(0x80 | (code & 0x3f));
+        }
+        i = end;
+    }
+    return out;
+}
+
 // The value of attribute `name` (local name), or false if the element has none.
 bool attribute(std::string_view attrs, std::string_view name, std::string_view& value) {
     size_t i = 0;
@@ -119,7 +194,7 @@ bool attribute(std::string_view attrs, std::string_view name, std::string_view& 
         while (i < attrs.size() && attrs[i] != quote) ++i;
         if (i >= attrs.size()) return false;
         if (local_name(attr_name) == name) {
-            value = attrs.substr(value_start, i - value_start);
+            value = decode_references(attrs.substr(value_start, i - value_start));
             return true;
         }
         ++i;

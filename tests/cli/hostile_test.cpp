@@ -885,3 +885,21 @@ TEST(HostilePlaceholders, ExpansionIsBoundedAsItGrows) {
     expect_one_line(r, kExitBadInput, "more than 64 MB", "layer gcode");
     EXPECT_EQ(extra_files(d, {"p.ini"}), std::vector<std::string>{});
 }
+
+// Valid XML with character references (&#48; is '0', &#x30; too) was refused as "a vertex
+// without a valid x" (issue #38).
+TEST(HostileLoaders, XmlCharacterReferencesAreRead) {
+    const fs::path d = folder("xml_refs");
+    std::string tetra = kTetra;
+    tetra.replace(tetra.find("x=\"10\""), 6, "x=\"1&#48;\"");
+    tetra.replace(tetra.find("y=\"10\""), 6, "y=\"1&#x30;\"");
+    const std::string model =
+        "<?xml version=\"1.0\"?><model unit=\"millimeter\"><resources>"
+        "<object id=\"1\" name=\"A&amp;B\"><mesh>" +
+        tetra + "</mesh></object></resources><build><item objectid=\"1\"/></build></model>";
+    write_3mf(d / "refs.3mf", model);
+    const CarveRun r = run_carve("info " + (d / "refs.3mf").string() + " --json");
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_NE(r.out.find("\"size_mm\": [\n    10.0,\n    10.0,\n    10.0\n  ]"), std::string::npos)
+        << r.out;
+}
