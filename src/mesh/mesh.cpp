@@ -197,9 +197,11 @@ std::string read_whole_file(std::FILE* f, const std::string& path, long size) {
         char buf[1 << 16];
         size_t got;
         while ((got = std::fread(buf, 1, sizeof buf, f)) > 0) {
-            data.append(buf, got);
-            if (data.size() > static_cast<size_t>(kMaxModelBytes))
+            // Refused before the string grows past the limit: appending first doubled its
+            // capacity to 1 GB, so /dev/zero was refused only after taking 1,040 MB.
+            if (data.size() + got > static_cast<size_t>(kMaxModelBytes))
                 fail(path, "larger than 512 MB; carve reads models up to 512 MB");
+            data.append(buf, got);
         }
     }
     if (std::ferror(f)) fail(path, std::string("cannot read the file: ") + std::strerror(errno));

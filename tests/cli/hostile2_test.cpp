@@ -331,3 +331,21 @@ TEST(HostileNames, EmptyOrUnknownPrinterNamesAreRefused) {
     EXPECT_NE(r.err.find("selects nothing"), std::string::npos) << r.err;
     EXPECT_FALSE(fs::exists(g));
 }
+
+// --- work bounded by the input
+
+// Refused at the limit: the string once doubled to 1 GB before the check (1,040 MB peak).
+TEST(HostileWork, DevZeroIsRefusedAtTheSizeLimit) {
+    if (!fs::exists("/usr/bin/time")) GTEST_SKIP() << "/usr/bin/time (GNU time) is missing";
+    const fs::path d = folder("dev_zero");
+    const fs::path g = d / "z.gcode", rss = d / "rss.txt";
+    const CarveRun r =
+        run_carve("slice /dev/zero -q -o " + g.string(), "/usr/bin/time -f %M -o " + rss.string());
+    EXPECT_EQ(r.status, kExitBadInput) << r.err;
+    EXPECT_NE(r.err.find("larger than 512 MB"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(g));
+    // Peak resident kB: the 512 MB read, not twice it.
+    const std::string kb = read(rss);
+    ASSERT_FALSE(kb.empty());
+    EXPECT_LT(std::stol(kb.substr(kb.find_last_of("\n", kb.size() - 2) + 1)), 800L * 1024) << kb;
+}
