@@ -204,7 +204,11 @@ void Analyser::finish_layer() {
     if (opt_.keep_layers) r.per_layer.push_back(layer_);
 
     // The last layer is read from prev_footprint_, the ones before from recent_.
-    if (have_prev_) recent_.back().footprint = prev_footprint_;
+    if (have_prev_) recent_.back().footprint = std::move(prev_footprint_);
+    // Layers at or above this one lie below none of the next ones that this one does not
+    // cover: a file going up and down (200,000 Z reversals) kept them all and merged dozens of
+    // footprints for every layer.
+    while (!recent_.empty() && recent_.back().z > layer_.z_mm - kZTolerance) recent_.pop_back();
     recent_.push_back({layer_.z_mm, {}, std::move(support_footprint)});
     prev_footprint_ = std::move(footprint);
     have_prev_ = true;
