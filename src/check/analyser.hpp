@@ -114,6 +114,7 @@ class Analyser {
     double feed_mm_s_ = 50;      // until the file sets F
     std::string type_;           // the last ;TYPE: comment
     bool support_type_ = false;  // it names support
+    bool skirt_type_ = false;    // it names a skirt or brim (PrusaSlicer's "Skirt/Brim")
     double line_height_ = 0;     // the last ;HEIGHT: comment (PrusaSlicer), 0 = none
     bool have_model_z_ = false;  // a layer with more than support was read
     double model_z_ = 0;         // the last one's z

@@ -130,6 +130,8 @@ void Analyser::comment(std::string_view c) {
         std::string lower = type_;
         for (char& ch : lower) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
         support_type_ = lower.find("support") != std::string::npos;
+        skirt_type_ =
+            lower.find("skirt") != std::string::npos || lower.find("brim") != std::string::npos;
         return;
     }
     if (starts_with(c, "HEIGHT:")) {
@@ -392,6 +394,14 @@ void Analyser::extrude(double nx, double ny, double nz, double de, double length
     }
     take_pending();
     result_.volume_by_type_mm3[type_.empty() ? "none" : type_] += de * filament_area_;
+    // A skirt or brim lies on the bed around the model: it neither places the model nor is
+    // measured as the model's (what hangs, what lies outside it); its material counts.
+    if (skirt_type_) {
+        layer_.extruded_volume_mm3 += de * filament_area_;
+        layer_.path_length_mm += length;
+        drawing_ = false;
+        return;
+    }
     auto grow = [&](ExtrusionBounds& box) {
         for (auto [px, py] : {std::pair{x_, y_}, std::pair{nx, ny}}) {
             if (!box.any) box = {true, px, py, px, py};

@@ -17,6 +17,16 @@ const std::vector<ConfigOnlyValue>& config_only_values() {
         // Written, but a profile's is not read (the loading note names it): carve's bridges
         // are sized for its own flow.
         {"bridge_flow_ratio", [](const S& s) { return plain_number(s.bridge_flow); }},
+        // What hosts show of the filament and the printer (Moonraker's filament_type,
+        // filament_name, filament_colors; PrusaSlicer's printer check), the profile's when one
+        // was loaded. An id without a preset is "" as PrusaSlicer writes it.
+        {"filament_type", [](const S& s) { return s.filament_type; }},
+        {"filament_settings_id",
+         [](const S& s) {
+             return s.filament_settings_id.empty() ? std::string("\"\"") : s.filament_settings_id;
+         }},
+        {"filament_colour", [](const S& s) { return s.filament_colour; }},
+        {"printer_model", [](const S& s) { return s.printer_model; }},
     };
     return list;
 }

@@ -46,6 +46,9 @@ const std::vector<Preset>& presets() {
              s.max_jerk_x = s.max_jerk_y = 8, s.max_jerk_z = 0.4, s.max_jerk_e = 4.5;
              s.junction_deviation = 0;
              s.m73 = 1;
+             s.silent_mode = 1;
+             s.printer_model = "MK3S";
+             s.thumbnails = {{16, 16}, {220, 124}};  // PrusaSlicer's MK3S profile's
              s.retract_length = 0.8, s.retract_speed = 35;
              s.start_gcode =
                  "M862.3 P \"MK3S\" ; printer model check\n"
@@ -65,9 +68,11 @@ const std::vector<Preset>& presets() {
                  "G1 X60 E9 F1000 ; intro line\n"
                  "G1 X100 E12.5 F1000 ; intro line\n"
                  "G92 E0\n";
-             // carve has retracted already, in either extrusion mode.
+             // carve has retracted already, in either extrusion mode. The lift is
+             // PrusaSlicer's: 49 mm above the part, within the printer's height.
              s.end_gcode =
-                 "G91\nG1 Z1 F720 ; lift the nozzle off the print\nG90\n"
+                 "{if max_layer_z < max_print_height}G1 Z{z_offset+min(max_layer_z+49, "
+                 "max_print_height)} F720 ; move the print head up{endif}\n"
                  "M104 S0 ; turn off temperature\n"
                  "M140 S0 ; turn off heatbed\n"
                  "M107 ; turn off fan\n"
@@ -106,11 +111,13 @@ const std::vector<Preset>& presets() {
          }},
         {"klipper",
          [](Settings& s) {
-             // The heating is PRINT_START's, with one spelling: carve writes no M104/M109 before
-             // a start G-code that calls it. printer.cfg holds the limits, so none are written;
-             // M204 S follows the moves.
+             // PRINT_START gets the temperatures, but carve heats and waits before it too: the
+             // stock macros of Klipper's own configs read no parameters. printer.cfg holds the
+             // limits, so none are written; M204 S follows the moves. Thumbnails as Mainsail
+             // and Fluidd show them (their documentation's sizes).
              s.printer_name = "Klipper generic";
              s.bed_x = 300, s.bed_y = 300, s.max_print_height = 300;
+             s.thumbnails = {{32, 32}, {400, 300}};
              s.flavor = GcodeFlavor::Klipper;
              s.acceleration = 3000, s.travel_acceleration = 5000;
              s.travel_speed = 250, s.max_print_speed = 200;
@@ -134,6 +141,21 @@ double number(const std::string& key, const std::string& value) {
     const std::string v = trim_whitespace(value.substr(0, value.find(',')));
     if (const std::optional<double> d = decimal(v)) return *d;
     throw InputError(fmt::format("profile key '{}': '{}' is not a number", key, value));
+}
+
+// The first of a per-extruder list ("PLA;PETG" or "PLA,PETG"), unquoted, for the configuration
+// block: one line, no control characters.
+std::string one_line(const std::string& value) {
+    std::string out;
+    for (char c : value)
+        if (static_cast<unsigned char>(c) >= 0x20 && c != 0x7f) out += c;
+    return trim_whitespace(out.substr(0, std::min<size_t>(out.size(), 200)));
+}
+std::string first_item(const std::string& value) {
+    std::string v = one_line(value);
+    v = trim_whitespace(v.substr(0, v.find_first_of(",;")));
+    if (v.size() >= 2 && v.front() == '"' && v.back() == '"') v = v.substr(1, v.size() - 2);
+    return v;
 }
 
 // A whole number from 0 to 50 (layers, perimeters).
@@ -201,8 +223,6 @@ const char* const kPrintKeys[] = {"bridge_fan_speed",
                                   "z_offset",
                                   "elefant_foot_compensation",
                                   "xy_size_compensation",
-                                  "brim_width",
-                                  "skirts",
                                   "raft_layers",
                                   "support_material",
                                   "external_perimeters_first",
@@ -328,6 +348,12 @@ std::vector<std::string> read_prusa_profile(std::istream& in, const std::string&
         // Solid layers and perimeters would be carve's covers and shells; read (and checked)
         // here, applied below only with --profile-shells.
         {"top_solid_layers", [&](auto& k, auto& v) { solid[0] = count(k, v); }},
+        // What the configuration block tells hosts: the first extruder's, as the profile spells
+        // it (a bundle's filament_settings_id is quoted, as PrusaSlicer's export has it).
+        {"filament_type", [&](auto&, auto& v) { s.filament_type = first_item(v); }},
+        {"filament_colour", [&](auto&, auto& v) { s.filament_colour = first_item(v); }},
+        {"filament_settings_id", [&](auto&, auto& v) { s.filament_settings_id = one_line(v); }},
+        {"printer_model", [&](auto&, auto& v) { s.printer_model = one_line(v); }},
         {"bottom_solid_layers", [&](auto& k, auto& v) { solid[1] = count(k, v); }},
         {"perimeters",
          [&](auto& k, auto& v) {
@@ -405,6 +431,13 @@ std::vector<std::string> read_prusa_profile(std::istream& in, const std::string&
             fmt::format("external_perimeter_extrusion_width ({} mm; carve prints "
                         "every wall {} mm wide)",
                         ext->second, s.width_mm()));
+
+    // PrusaSlicer 2.5 writes classic jerk (M205 X Y Z E) for every Marlin flavour: a printer
+    // profile without a junction deviation of its own corners by its jerk, not by carve's
+    // default M205 J (which the MK3S firmware ignores).
+    if (!values.count("machine_max_junction_deviation") &&
+        (values.count("machine_max_jerk_x") || values.count("gcode_flavor")))
+        s.junction_deviation = 0;
 
     std::vector<std::string> notes;
     std::string structure;

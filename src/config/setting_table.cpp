@@ -166,6 +166,36 @@ SettingSpec only(CarvingScheme scheme, SettingSpec spec) {
 constexpr CarvingScheme kWhole = CarvingScheme::Whole;
 constexpr CarvingScheme kReport = CarvingScheme::Report;
 
+// Heights "10,25.5": mm of the model, each from 0 to 10000, at most 100 of them.
+TextField pause_at_field() {
+    TextField t;
+    t.get = [](const Settings& s) {
+        std::string out;
+        for (double z : s.pause_at) {
+            if (!out.empty()) out += ',';
+            out += plain_number(z);
+        }
+        return out;
+    };
+    t.set = [](Settings& s, const std::string& text, const std::string& source) {
+        std::vector<double> zs;
+        std::stringstream ss(text);
+        for (std::string item; std::getline(ss, item, ',');) {
+            const std::optional<double> z = parse_decimal(trim_whitespace(item));
+            if (!z || !(*z >= 0 && *z <= 10000))
+                throw InputError(fmt::format(
+                    "{}: '{}' is not a height in mm from 0 to 10000 (Z[,Z..])", source, item));
+            zs.push_back(*z);
+        }
+        if (zs.size() > 100)
+            throw InputError(fmt::format("{}: {} heights; at most 100", source, zs.size()));
+        std::sort(zs.begin(), zs.end());
+        s.pause_at = std::move(zs);
+    };
+    t.type_name = "Z[,Z..]";
+    return t;
+}
+
 std::vector<SettingSpec> make_table() {
     return {
         {"layer-height", "layer_height", "mm", 0.01, 2.0, &S::layer_height,
@@ -274,6 +304,19 @@ std::vector<SettingSpec> make_table() {
                       "--whole-width may be and still be carved whole, mm [1000]"}),
         {"scale", "", "ratio", 0.01, 100.0, &S::scale,
          "Scale the model uniformly by this factor, ratio [1]"},
+        // Skirt and brim (toolpath/skirt.hpp), PrusaSlicer's keys and defaults (its printer
+        // profiles' brim_separation).
+        {"skirts", "skirts", "loops", 0, 100, &S::skirts,
+         "Loops of skirt around the first layers, priming the nozzle; 0 = none, loops [1]"},
+        {"skirt-distance", "skirt_distance", "mm", 0.0, 500.0, &S::skirt_distance,
+         "Gap between the skirt and the part (or its brim), mm [6]"},
+        {"skirt-height", "skirt_height", "layers", 0, 10000, &S::skirt_height,
+         "Layers the skirt rises, layers [1]"},
+        {"brim-width", "brim_width", "mm", 0.0, 200.0, &S::brim_width,
+         "Width of the brim around the outside of each part on the first layer (the brims of "
+         "two copies join only where they touch); 0 = none, mm [0]"},
+        {"brim-separation", "brim_separation", "mm", 0.0, 10.0, &S::brim_separation,
+         "Gap between the part and its brim, so that it breaks off cleanly, mm [0.1]"},
         {"copies", "", "copies", 1, 400, &S::copies,
          "Print this many copies of the model side by side, each its own object (labelled for "
          "cancelling), copies [1]"},
@@ -387,9 +430,17 @@ std::vector<SettingSpec> make_table() {
          "Write M73 progress and remaining time for printer screens and hosts; --no-m73: none, "
          "whatever the printer [off; on with --printer mk3s or ender3]",
          false, "!--no-m73,--m73", "remaining_times"},
+        {"silent-mode", "silent_mode", "0/1", 0, 1, &S::silent_mode,
+         "The printer has a stealth mode: M73 also writes Q/S, the figures its screen shows "
+         "there (carve's one estimate) [off; on with --printer mk3s]",
+         false, "!--no-silent-mode,--silent-mode"},
+        {"pause-at", "", "mm", 0, 0, pause_at_field(),
+         "Pause before the first layer at or above each height, mm of the model: M600 "
+         "(filament change) on Marlin and RepRap, PAUSE on Klipper [none]"},
         {"thumbnails", "thumbnails", "", 0, 0, thumbnails_field(),
          "PNG previews of the model in the header, PrusaSlicer's format, sizes WxH,WxH (e.g. "
-         "16x16,220x124) [none]"},
+         "16x16,220x124) [none; 16x16,220x124 with --printer mk3s, 32x32,400x300 with --printer "
+         "klipper]"},
     };
 }
 

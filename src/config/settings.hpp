@@ -115,9 +115,35 @@ struct Settings {
     // slices stay under the per-layer limit can still be hours of work in all.
     long long max_vertices_total = 100'000'000;
 
+    // The first layer and the flow, PrusaSlicer's meanings (issue #36). Declared for the
+    // layer helpers below, not yet options nor read from a profile: all stay at these values
+    // (the profile note names the keys).
+    double first_layer_height = 0;           // mm; 0 = the layer height
+    double first_layer_extrusion_width = 0;  // mm; 0 = the line width
+    double extrusion_multiplier = 1.0;       // every extrusion's flow
+    double max_volumetric_speed = 0;        // mm^3/s every extrusion's speed is capped at; 0 = none
+    double elephant_foot_compensation = 0;  // mm the first layer is shrunk by
+    double xy_size_compensation = 0;        // mm every slice grows (shrinks if negative) by
+    double z_offset = 0;                    // mm added to every Z written
+
+    // Skirt, brim and raft (PrusaSlicer's names and defaults).
+    int skirts = 1;             // loops around the whole print on its first layers
+    double skirt_distance = 6;  // mm from the print (its brim included)
+    int skirt_height = 1;       // layers
+    double brim_width = 0;      // mm of outer brim around each part on the first layer
+    // mm between the part and its brim: PrusaSlicer's brim_separation, 0.1 as its own printer
+    // profiles set it, so that the brim breaks off cleanly.
+    double brim_separation = 0.1;
+    // Heights (mm of the model) before whose first layer at or above the print pauses (M600 on
+    // Marlin, PAUSE on Klipper).
+    std::vector<double> pause_at;
+
     // Printer and filament.
     GcodeFlavor flavor = GcodeFlavor::Marlin;
     std::string printer_name = "generic";
+    // What hosts show of the filament and printer (the configuration block's keys).
+    std::string filament_type = "PLA", filament_settings_id, filament_colour = "#FF8000";
+    std::string printer_model;
     double filament_diameter = 1.75;
     double filament_density = 1.24;   // g/cm^3 (PLA)
     double bed_x = 250, bed_y = 210;  // bed size; the model is centred on it
@@ -167,10 +193,16 @@ struct Settings {
     int disable_fan_first_layers = 1;
 
     // Host and printer conveniences.
-    int m73 = 0;  // M73 P<percent> R<minutes> progress (PrusaSlicer's remaining_times)
+    int m73 = 0;          // M73 P<percent> R<minutes> progress (PrusaSlicer's remaining_times)
+    int silent_mode = 0;  // the printer has a stealth mode: M73 Q/S too (PrusaSlicer's key)
     std::vector<std::pair<int, int>> thumbnails;  // sizes of the PNG previews, WxH
     std::string start_gcode = "G28 ; home all axes\nG1 Z5 F3000\nG92 E0\n";
-    std::string end_gcode = "M104 S0\nM140 S0\nM107\nG91\nG1 Z10 F600\nG90\nG28 X0\nM84\n";
+    // The end lifts 10 mm clear of the part (within the printer's height) and moves the head
+    // aside (G28 X0).
+    std::string end_gcode =
+        "M104 S0\nM140 S0\nM107\n{if max_layer_z < max_print_height}G1 "
+        "Z{z_offset+min(max_layer_z+10, max_print_height)} F600 ; lift clear of the "
+        "part{endif}\nG28 X0\nM84\n";
     // A profile's filament G-code (after the start G-code, before the end G-code) and layer-change
     // G-code (before and after ;LAYER_CHANGE, with [layer_num] and [layer_z]); empty = none.
     std::string start_filament_gcode, end_filament_gcode, before_layer_gcode, layer_gcode;
@@ -180,6 +212,17 @@ struct Settings {
 
     // Derived quantities, in micrometres.
     double width_mm() const { return extrusion_width > 0 ? extrusion_width : nozzle; }
+    // The first layer's thickness, and layer i's: slices, nozzle heights and flows follow it.
+    double first_layer_mm() const {
+        return first_layer_height > 0 ? first_layer_height : layer_height;
+    }
+    double layer_thickness_mm(int i) const { return i == 0 ? first_layer_mm() : layer_height; }
+    // The top of layer i above the bed (the nozzle's height, before z_offset).
+    double layer_top_mm(int i) const { return first_layer_mm() + i * layer_height; }
+    // The line width on layer i.
+    double layer_width_mm(int i) const {
+        return i == 0 && first_layer_extrusion_width > 0 ? first_layer_extrusion_width : width_mm();
+    }
     Coord nozzle_radius() const { return to_units(width_mm() / 2); }  // s
     Coord line_width() const { return to_units(width_mm()); }         // w
     Coord dilation_per_layer() const {                                // r

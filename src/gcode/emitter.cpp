@@ -14,6 +14,7 @@
 #include <utility>
 
 #include "base/error.hpp"
+#include "base/numbers.hpp"
 #include "config/config_keys.hpp"
 #include "gcode/cooling.hpp"
 #include "gcode/labels.hpp"
@@ -86,28 +87,25 @@ void Emitter::start() {
           "S (temperature)");
     const std::string start_text = expand_custom_gcode(st_.start_gcode, st_).text;
     const bool klipper_macro = st_.flavor == GcodeFlavor::Klipper && st_.start_gcode.empty();
-    // Klipper's PRINT_START macro heats, given the temperatures: heating before it would
-    // wait for the bed twice and leave the macro's own order (soak, mesh) without effect.
-    const bool macro_heats =
-        st_.flavor == GcodeFlavor::Klipper && start_text.find("PRINT_START") != std::string::npos;
     for (const std::string& l : machine_limit_lines(st_, kZSpeed)) line(l);
     set_fan(0);
-    if (klipper_macro) {
+    // Like PrusaSlicer: heat and wait unless the start G-code waits for it itself, judged from
+    // the text the printer will get (an M109 inside a false {if} heats nothing). A Klipper
+    // macro's parameters count for nothing: the stock PRINT_START of Klipper's own configs
+    // (config/kit-voron2-250mm.cfg) reads none, and Klipper then refused the first extrusion
+    // ("Extrude below minimum temp"). A macro that does read them finds both at temperature.
+    const bool user_bed = waits_for(start_text, "M190");
+    const bool user_nozzle = waits_for(start_text, "M109");
+    if (!user_bed) line(fmt::format("M140 S{} ; bed", st_.first_layer_bed_temperature));
+    if (!user_nozzle) line(fmt::format("M104 S{} ; nozzle", st_.first_layer_nozzle_temperature));
+    if (!user_bed) line(fmt::format("M190 S{} ; wait for bed", st_.first_layer_bed_temperature));
+    if (!user_nozzle)
+        line(fmt::format("M109 S{} ; wait for nozzle", st_.first_layer_nozzle_temperature));
+    // Viewers colour what follows as custom G-code, not as the first feature's.
+    line(";TYPE:Custom");
+    if (klipper_macro)
         line(fmt::format("PRINT_START BED_TEMP={} EXTRUDER_TEMP={}",
                          st_.first_layer_bed_temperature, st_.first_layer_nozzle_temperature));
-    } else if (!macro_heats) {
-        // Like PrusaSlicer: heat unless the user's start G-code waits for it itself, judged
-        // from the text the printer will get (an M109 inside a false {if} heats nothing).
-        const bool user_bed = waits_for(start_text, "M190");
-        const bool user_nozzle = waits_for(start_text, "M109");
-        if (!user_bed) line(fmt::format("M140 S{} ; bed", st_.first_layer_bed_temperature));
-        if (!user_nozzle)
-            line(fmt::format("M104 S{} ; nozzle", st_.first_layer_nozzle_temperature));
-        if (!user_bed)
-            line(fmt::format("M190 S{} ; wait for bed", st_.first_layer_bed_temperature));
-        if (!user_nozzle)
-            line(fmt::format("M109 S{} ; wait for nozzle", st_.first_layer_nozzle_temperature));
-    }
     raw(start_text);
     custom(st_.start_filament_gcode);
     line("G21 ; millimetres");
@@ -121,8 +119,17 @@ void Emitter::start() {
 void Emitter::layer(const LayerToolpaths& layer) {
     layer_ = layer.index;
     layer_z_ = to_units(layer.z);
+    // PrusaSlicer's profiles write ";BEFORE_LAYER_CHANGE" and the layer's height on the next
+    // lines; Moonraker reads the object's height from them before anything else.
+    if (st_.before_layer_gcode.find(";BEFORE_LAYER_CHANGE") == std::string::npos) {
+        put("\n;BEFORE_LAYER_CHANGE\n;");
+        fixed(layer_z_, 3);
+        buf_.push_back('\n');
+    } else {
+        buf_.push_back('\n');
+    }
     custom(st_.before_layer_gcode);
-    put("\n;LAYER_CHANGE\n;Z:");
+    put(";LAYER_CHANGE\n;Z:");
     fixed(layer_z_, 3);
     put("\n;HEIGHT:");
     fixed(to_units(st_.layer_height), 3);
@@ -133,6 +140,16 @@ void Emitter::layer(const LayerToolpaths& layer) {
             line(fmt::format("M104 S{}", st_.nozzle_temperature));
         if (st_.bed_temperature != st_.first_layer_bed_temperature)
             line(fmt::format("M140 S{}", st_.bed_temperature));
+    }
+    // --pause-at: before the first layer whose top reaches the height (PrusaSlicer's colour
+    // change at a layer), a test of this layer's index alone, so that every chunk agrees.
+    for (double z : st_.pause_at) {
+        const double below = layer.index > 0 ? st_.layer_top_mm(layer.index - 1) : -1e9;
+        if (z > below + 1e-9 && z <= st_.layer_top_mm(layer.index) + 1e-9) {
+            line(fmt::format(";PAUSE_AT {}", plain_number(z)));
+            line(st_.flavor == GcodeFlavor::Klipper ? "PAUSE" : "M600");
+            break;
+        }
     }
     mark_progress(planner_.time());
     type_known_ = false;
@@ -166,6 +183,7 @@ void Emitter::end() {
     if (!retracted_ && !first_travel_) retract();
     mark_progress(-1);  // 100 %: the total, known below
     custom(st_.end_filament_gcode);
+    line(";TYPE:Custom");
     if (st_.flavor == GcodeFlavor::Klipper && st_.end_gcode.empty()) line("PRINT_END");
     try {
         raw(expand_custom_gcode(st_.end_gcode, st_,

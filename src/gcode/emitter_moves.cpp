@@ -115,6 +115,10 @@ void Emitter::move_z(Coord z) {
     if (z == z_) return;
     put("G1 Z");
     fixed(z, 3);
+    // A move to the layer's own height always states its feed, modal or not: Moonraker takes
+    // the object's height from the highest "G1 Z.. F.." when a file has no
+    // ;BEFORE_LAYER_CHANGE comments (it said 67.4 mm of the 120 mm cat).
+    if (z == layer_z_) feed_ = -1;
     feed(kZSpeed);
     buf_.push_back('\n');
     const double dz = z_ < 0 ? to_mm(z) : std::abs(to_mm(z - z_));
@@ -138,9 +142,14 @@ void Emitter::travel_to(const Point& p, const Path& via, TravelKind kind) {
     for (const Point& q : via) d += std::hypot(to_mm(q.X - at.X), to_mm(q.Y - at.Y)), at = q;
     d += std::hypot(to_mm(p.X - at.X), to_mm(p.Y - at.Y));
     const bool retract_now =
-        !first_travel_ && can_retract() && kind != TravelKind::Inside && d > st_.retract_min_travel;
+        can_retract() && kind != TravelKind::Inside && d > st_.retract_min_travel;
     if (retract_now) retract();
-    const Coord hop = retract_now ? to_units(st_.z_hop) : 0;
+    Coord hop = retract_now ? to_units(st_.z_hop) : 0;
+    // The first travel crosses the bed from wherever the start G-code left the nozzle (the end
+    // of a purge line, at the first layer's height): retracted and lifted by a layer at least,
+    // as PrusaSlicer's MK3S profile does (0.8 mm, to Z 0.4), not dragged through the first
+    // layer's height.
+    if (first_travel_) hop = std::max(hop, to_units(st_.first_layer_mm()));
     if (hop > 0)
         move_z(std::max(z_, layer_z_) + hop);
     else if (layer_z_ > z_)
@@ -233,6 +242,10 @@ double Emitter::speed_of(Feature f) const {
             break;
         case Feature::Bridge:
             v = st_.bridge_speed;
+            break;
+        case Feature::Skirt:  // as PrusaSlicer: at the perimeters' speed
+        case Feature::Brim:
+            v = st_.perimeter_speed;
             break;
     }
     if (st_.max_print_speed > 0) v = std::min(v, st_.max_print_speed);

@@ -492,7 +492,8 @@ PrintStats GcodeWriter::finish(const std::vector<std::string>& header_comments) 
             io_error(std::strerror(errno), m.output_path);
         bodies.push_back(c.body.file);
     }
-    copy_with_progress(bodies, out, marks, s.estimated_print_time_s, m.output_path);
+    copy_with_progress(bodies, out, marks, s.estimated_print_time_s, m.output_path,
+                       m.settings.silent_mode != 0);
     chunks.clear();
     text.comment_block(m.tail(s));
     text.flush_all();

@@ -61,6 +61,11 @@ constexpr std::string_view kWordOrder[] = {
     "use_firmware_retraction",
     "bridge_flow_ratio",
     "thumbnails",
+    "filament_type",
+    "filament_settings_id",
+    "filament_colour",
+    "printer_model",
+    "pause_at",
 };
 
 // A word's value, spelt as the table or config_only_values() spell it.

@@ -21,7 +21,9 @@ struct ProgressMark {
 
 // "M73 P12 R34": the percentage is rounded down (100 only at the end), so that it never runs
 // ahead of the print; the minutes left are rounded to the nearest.
-std::string m73_line(double elapsed_s, double total_s);
+// With `stealth`, also "M73 Q12 S34", the figures a Prusa printer shows in its stealth mode
+// (carve has one estimate: the same figures; PrusaSlicer times that mode with its silent limits).
+std::string m73_line(double elapsed_s, double total_s, bool stealth = false);
 
 // Copies the `bodies` one after the other (each from its current position to its end) to
 // `out`, with the M73 line of each mark put before the byte it names, counted through the
@@ -29,6 +31,6 @@ std::string m73_line(double elapsed_s, double total_s);
 // failed write.
 void copy_with_progress(const std::vector<std::FILE*>& bodies, std::FILE* out,
                         const std::vector<ProgressMark>& marks, double total_s,
-                        const std::string& path);
+                        const std::string& path, bool stealth = false);
 
 }  // namespace carve

@@ -71,6 +71,9 @@ std::string HtmlReportWriter::Impl::drawing(const LayerRecord& layer, const Laye
             case Feature::SupportInterface:
                 kind = 6;
                 break;
+            case Feature::Skirt:  // on the bed around the part, not the part's: not drawn
+            case Feature::Brim:
+                continue;
         }
         groups[{kind, j}] += html::svg_path_data(Paths{e.points}, e.closed, tol, kGrid);
     }
@@ -149,6 +152,9 @@ void HtmlReportWriter::add_layer(const LayerRecord& record, const LayerToolpaths
             case Feature::Support:
             case Feature::SupportInterface:
                 r.support_mm += len;
+                break;
+            case Feature::Skirt:  // its material only
+            case Feature::Brim:
                 break;
         }
     }

@@ -21,6 +21,9 @@ inline constexpr const char* kSupportColour = "#0ca678";
 inline constexpr const char* kSupportInterfaceColour = "#087f5b";
 // carve's ribs, the supports inside the model: a saturated green no cavity has.
 inline constexpr const char* kRibColour = "#00c000";
+// Skirt and brim, on the bed around the part: grey and orange.
+inline constexpr const char* kSkirtColour = "#868e96";
+inline constexpr const char* kBrimColour = "#f08c00";
 
 // Index into kCavityColours of cavity C^j (j >= 1; the palette repeats after 12).
 inline size_t cavity_colour_index(int j) {

@@ -187,6 +187,8 @@ std::string layer_svg(const LayerRecord& record, const LayerToolpaths* paths,
         add_line(Feature::Rib, kRibColour, "ribs");
         add_line(Feature::Support, kSupport, "support lines");
         add_line(Feature::SupportInterface, kSupportInterface, "support interface");
+        add_line(Feature::Skirt, kSkirtColour, "skirt");
+        add_line(Feature::Brim, kBrimColour, "brim");
     }
     const double legend_w = options.legend ? 230 : 0;
     const double legend_h = options.legend ? 22.0 * double(legend.size()) + 50 : 0;
@@ -262,6 +264,8 @@ std::string layer_svg(const LayerRecord& record, const LayerToolpaths* paths,
         stroke(Feature::Rib, 0, "ribs", kRibColour, 1.2);
         stroke(Feature::Support, 0, "support-lines", kSupport, 1);
         stroke(Feature::SupportInterface, 0, "support-interface", kSupportInterface, 1);
+        stroke(Feature::Skirt, 0, "skirt", kSkirtColour, 1);
+        stroke(Feature::Brim, 0, "brim", kBrimColour, 1);
         svg += "</g>\n";
     }
 

@@ -16,6 +16,7 @@
 #include "resin/raster.hpp"
 #include "run/layer_figures.hpp"
 #include "run/thread_arenas.hpp"
+#include "toolpath/skirt.hpp"
 #include "toolpath/toolpath.hpp"
 
 namespace carve {
@@ -298,6 +299,8 @@ TokenPtr LayerPipeline::plan_paths(TokenPtr t) {
     t->record.ribs = clip_ribs(std::move(t->record.ribs), t->rib_slice, ribbing_);
     t->rib_slice = {};
     t->paths = plan_layer(t->record, settings_);
+    if (!outputs_.first_loops.empty())
+        add_skirt_and_brim(t->paths, outputs_.first_loops, settings_);
     if (options_.in_parallel_stage) options_.in_parallel_stage(t->record.partition().index);
     outputs_.writer.add_layer(t->paths);  // thread-safe: the spill is indexed by layer
     // Pictures of one layer each, to files of their own (the HTML report stays in the

@@ -91,6 +91,27 @@ void check_run_size(const Settings& settings, const RunOptions& options, const B
             kMaxLinesAcross, kMaxLayers));
 }
 
+void check_loops_on_bed(const FirstLayerLoops& loops, const Settings& settings,
+                        const RunOptions& options, double offset_x, double offset_y) {
+    if (!settings.bed_check) return;
+    auto check = [&](const Paths& paths, const char* what, const char* options_to_change) {
+        if (paths.empty()) return;
+        const BBox2 b = bounds(paths);
+        const double min_x = to_mm(b.min_x) + offset_x, max_x = to_mm(b.max_x) + offset_x;
+        const double min_y = to_mm(b.min_y) + offset_y, max_y = to_mm(b.max_y) + offset_y;
+        const double out =
+            std::max({-min_x, -min_y, max_x - settings.bed_x, max_y - settings.bed_y});
+        if (out > 1e-3)
+            throw InputError(fmt::format(
+                "{}: the {} reaches {:.1f} mm beyond the {:.0f} x {:.0f} mm bed (it spans X {:.1f} "
+                "to {:.1f}, Y {:.1f} to {:.1f}); lower {}, or pass --no-bed-check",
+                options.model_path, what, out, settings.bed_x, settings.bed_y, min_x, max_x, min_y,
+                max_y, options_to_change));
+    };
+    check(loops.brim, "brim", "--brim-width");
+    check(loops.skirt, "skirt", "--skirt-distance or --skirts (0: none)");
+}
+
 std::function<void(const Slice&)> vertex_limits(const Settings& settings,
                                                 const RunOptions& options) {
     if (settings.max_vertices_per_layer <= 0 && settings.max_vertices_total <= 0) return {};
@@ -162,6 +183,12 @@ RunOutputs::RunOutputs(const Settings& settings, const RunOptions& options, cons
     const BBox3& box = result.mesh.bbox;
     writer.commit_with(group);
     label_objects(writer, options, settings, run_mesh, result);
+    // Skirt and brim from the first layer's slice, cut ahead of the sweep (which reaches the
+    // first layer last, after the skirt's other layers), and held against the bed now: a run
+    // whose skirt or brim would leave the bed stops before any work, with one line.
+    first_loops =
+        plan_skirt_and_brim(slice_at(mesh, box.min.z + settings.first_layer_mm() / 2), settings);
+    check_loops_on_bed(first_loops, settings, options, place.offset_x, place.offset_y);
     if (!settings.thumbnails.empty())
         writer.set_thumbnails(thumbnail_blocks(mesh.vertices, mesh.triangles, settings.thumbnails));
     if (!options.svg_dir.empty()) {

@@ -19,6 +19,7 @@
 #include "resin/raster.hpp"
 #include "run/pipeline.hpp"
 #include "slice/slicer.hpp"
+#include "toolpath/skirt.hpp"
 
 namespace carve {
 
@@ -42,6 +43,10 @@ Placement centre_on_bed(const Settings& settings, const BBox3& box);
 // Refuses a model larger than the bed (unless --no-bed-check), or too large for the line width
 // and layer height.
 void check_run_size(const Settings& settings, const RunOptions& options, const BBox3& box);
+// Throws InputError (one line) when the skirt or brim, placed with the model's offsets on the
+// bed, would leave it: an error rather than a loop clipped at the bed's edge.
+void check_loops_on_bed(const FirstLayerLoops& loops, const Settings& settings,
+                        const RunOptions& options, double offset_x, double offset_y);
 
 // The vertex limits, checked on each slice in order as it is cut; empty when there are none.
 std::function<void(const Slice&)> vertex_limits(const Settings& settings,
@@ -75,6 +80,8 @@ struct RunOutputs {
     std::unique_ptr<SvgLayerWriter> svg;
     std::unique_ptr<HtmlReportWriter> html;
     std::unique_ptr<RasterWriter> raster;
+    // The skirt and brim (toolpath/skirt.hpp), added to the first layers' paths.
+    FirstLayerLoops first_loops;
 };
 
 }  // namespace carve

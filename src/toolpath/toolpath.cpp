@@ -397,6 +397,9 @@ std::string_view feature_name(Feature f) {
             return "Support material";
         case Feature::SupportInterface:
             return "Support material interface";
+        case Feature::Skirt:
+        case Feature::Brim:
+            return "Skirt/Brim";  // PrusaSlicer's one word for both
     }
     return "Custom";
 }
@@ -427,7 +430,7 @@ LayerToolpaths plan_layer(const LayerRecord& record, const Settings& settings) {
     const BridgedPartition& bridged = record.bridged;
     LayerToolpaths result;
     result.index = layer.index;
-    result.z = (layer.index + 1) * settings.layer_height;
+    result.z = settings.layer_top_mm(layer.index);
 
     const Paths& inner = innermost_wall(layer, settings);
     WallPaths walls = wall_paths(layer, inner, settings);                                     // 1.

@@ -14,9 +14,21 @@ namespace carve {
 
 // Rib: ribs under what would hang inside the model (supports/ribs.hpp). Support and
 // SupportInterface: supports under the model's own overhangs, outside the model.
-enum class Feature { OuterWall, Shell, Cover, CavityWall, Bridge, Rib, Support, SupportInterface };
+// Skirt and Brim: loops on the bed around the first layer (toolpath/skirt.hpp).
+enum class Feature {
+    OuterWall,
+    Shell,
+    Cover,
+    CavityWall,
+    Bridge,
+    Rib,
+    Support,
+    SupportInterface,
+    Skirt,
+    Brim
+};
 // How many features there are: the size of the tables indexed by one.
-inline constexpr size_t kFeatureCount = size_t(Feature::SupportInterface) + 1;
+inline constexpr size_t kFeatureCount = size_t(Feature::Brim) + 1;
 // How the travel to a path was planned: not at all (the first path of a layer: the G-code stage
 // plans it, knowing where the layer below ended), inside the part (no retraction), or leaving it.
 enum class TravelKind : unsigned char { Unplanned, Inside, Leaves };

@@ -79,10 +79,12 @@ LayerToolpaths sample_layer(int index, const Settings& st) {
 }
 
 struct Parsed {
-    std::vector<int> layers;      // ;LAYER:n in file order
-    std::vector<double> layer_z;  // Z of the first Z move after each ;LAYER:
-    double extruded = 0;          // filament pushed on XY moves (mm)
-    double retracted = 0;         // filament pulled back by E-only moves
+    std::vector<int> layers;  // ;LAYER:n in file order
+    // Z of each layer's first extrusion after its ;LAYER: (the first travel of the print is
+    // lifted above the first layer)
+    std::vector<double> layer_z;
+    double extruded = 0;   // filament pushed on XY moves (mm)
+    double retracted = 0;  // filament pulled back by E-only moves
     int retract_moves = 0;
     std::vector<std::string> lines;
     double min_x = 1e9, max_x = -1e9;
@@ -102,7 +104,7 @@ Parsed parse(const fs::path& file, bool relative) {
     Parsed p;
     std::ifstream in(file);
     std::string line;
-    double e = 0;
+    double e = 0, z = 0;
     bool want_z = false;
     while (std::getline(in, line)) {
         p.lines.push_back(line);
@@ -118,8 +120,9 @@ Parsed parse(const fs::path& file, bool relative) {
         }
         if (line.rfind("G0 ", 0) != 0 && line.rfind("G1 ", 0) != 0) continue;
         auto w = words(line);
-        if (w.count('Z') && want_z) {
-            p.layer_z.push_back(w['Z']);
+        if (w.count('Z')) z = w['Z'];
+        if (want_z && w.count('E') && (w.count('X') || w.count('Y'))) {
+            p.layer_z.push_back(z);
             want_z = false;
         }
         if (w.count('X')) p.min_x = std::min(p.min_x, w['X']), p.max_x = std::max(p.max_x, w['X']);
@@ -339,7 +342,9 @@ TEST(GcodeWriter, FlavoursDifferInStartAndFan) {
     }
     const std::string k = read_all(dir / "k.gcode");
     EXPECT_NE(k.find("PRINT_START BED_TEMP=60 EXTRUDER_TEMP=215"), std::string::npos);
-    EXPECT_EQ(k.find("M109"), std::string::npos);
+    // Heated and waited for before the macro too: the stock macros read no parameters.
+    EXPECT_LT(k.find("M190 S60"), k.find("PRINT_START"));
+    EXPECT_LT(k.find("M109 S215"), k.find("PRINT_START"));
     EXPECT_NE(k.find("PRINT_END"), std::string::npos);
     st = Settings{};
     st.flavor = GcodeFlavor::RepRap;

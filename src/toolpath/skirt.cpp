@@ -1,0 +1,100 @@
+// Skirt and brim loops (skirt.hpp).
+#include "toolpath/skirt.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "geometry/morphology.hpp"
+#include "geometry/polygon.hpp"
+
+namespace carve {
+
+namespace {
+
+// The outside of each part: its outer contours, holes filled (an outer brim only).
+Paths outsides(const Paths& region) {
+    Paths out;
+    for (const Path& p : region)
+        if (area(p) > 0) out.push_back(p);
+    return unite(out);
+}
+
+// The outer contours of `region` dilated by `d`: one loop per part at that distance.
+Paths loops_at(const Paths& region, Coord d) {
+    return outsides(dilate(region, d));
+}
+
+// Andrew's monotone chain: the convex hull, counter-clockwise.
+Path convex_hull(const Paths& region) {
+    std::vector<Point> pts;
+    for (const Path& p : region) pts.insert(pts.end(), p.begin(), p.end());
+    std::sort(pts.begin(), pts.end(), [](const Point& a, const Point& b) {
+        return a.X < b.X || (a.X == b.X && a.Y < b.Y);
+    });
+    pts.erase(std::unique(pts.begin(), pts.end()), pts.end());
+    if (pts.size() < 3) return pts;
+    auto cross = [](const Point& o, const Point& a, const Point& b) {
+        return double(a.X - o.X) * double(b.Y - o.Y) - double(a.Y - o.Y) * double(b.X - o.X);
+    };
+    Path hull(2 * pts.size());
+    size_t k = 0;
+    for (size_t i = 0; i < pts.size(); ++i) {
+        while (k >= 2 && cross(hull[k - 2], hull[k - 1], pts[i]) <= 0) --k;
+        hull[k++] = pts[i];
+    }
+    for (size_t i = pts.size() - 1, t = k + 1; i-- > 0;) {
+        while (k >= t && cross(hull[k - 2], hull[k - 1], pts[i]) <= 0) --k;
+        hull[k++] = pts[i];
+    }
+    hull.resize(k - 1);
+    return hull;
+}
+
+}  // namespace
+
+FirstLayerLoops plan_skirt_and_brim(const Paths& first_slice, const Settings& s) {
+    FirstLayerLoops out;
+    const Paths parts = outsides(first_slice);
+    if (parts.empty()) return out;
+    const double w = s.layer_width_mm(0);
+    Paths footprint = parts;
+    if (s.brim_width > 0) {
+        // PrusaSlicer's count: as many lines as fit in the width, one at least.
+        const int n = std::max(1, int(std::floor(s.brim_width / w + 1e-9)));
+        for (int k = n - 1; k >= 0; --k)
+            for (const Path& p : loops_at(parts, to_units(s.brim_separation + w / 2 + k * w)))
+                out.brim.push_back(p);
+        footprint = unite(parts, loops_at(parts, to_units(s.brim_separation + n * w)));
+    }
+    if (s.skirts > 0 && s.skirt_height > 0) {
+        const Paths hull{convex_hull(footprint)};
+        for (int k = s.skirts - 1; k >= 0; --k)
+            for (const Path& p : loops_at(hull, to_units(s.skirt_distance + w / 2 + k * w)))
+                out.skirt.push_back(p);
+    }
+    return out;
+}
+
+void add_skirt_and_brim(LayerToolpaths& layer, const FirstLayerLoops& loops, const Settings& s) {
+    std::vector<Extrusion> first;
+    auto add = [&](const Paths& paths, Feature feature) {
+        for (const Path& p : paths) {
+            if (p.size() < 3) continue;
+            Extrusion e;
+            e.feature = feature;
+            e.points = p;
+            e.closed = true;
+            first.push_back(std::move(e));
+        }
+    };
+    if (layer.index < s.skirt_height) add(loops.skirt, Feature::Skirt);
+    if (layer.index == 0) add(loops.brim, Feature::Brim);
+    if (first.empty()) return;
+    const size_t n = first.size();
+    layer.extrusions.insert(layer.extrusions.begin(), std::make_move_iterator(first.begin()),
+                            std::make_move_iterator(first.end()));
+    if (!layer.travels.empty()) layer.travels.insert(layer.travels.begin(), n, Travel{});
+    layer.island_starts.clear();
+}
+
+}  // namespace carve

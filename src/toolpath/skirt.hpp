@@ -1,0 +1,29 @@
+// Skirt and brim, as PrusaSlicer names and draws them. The brim: loops around each part's
+// outside on the first layer, brim_separation from it, brim_width wide (the brims of two parts
+// or copies become one only where they touch). The skirt: loops around the whole first layer
+// (brims included) following its convex hull, skirt_distance from it, on the first
+// skirt_height layers; it primes the nozzle before the part.
+#pragma once
+
+#include "config/settings.hpp"
+#include "geometry/types.hpp"
+#include "toolpath/toolpath.hpp"
+
+namespace carve {
+
+struct FirstLayerLoops {
+    Paths skirt;  // closed loops, model coordinates (um), outermost first
+    Paths brim;   // closed loops, outermost first
+    bool empty() const { return skirt.empty() && brim.empty(); }
+};
+
+// From the first layer's slice (every part and copy), with the settings' skirt and brim.
+FirstLayerLoops plan_skirt_and_brim(const Paths& first_slice, const Settings& settings);
+
+// The skirt (layers below skirt_height) and the brim (layer 0) printed before the layer's own
+// paths: the nozzle is primed before it reaches the part. The layer is then printed in the
+// order planned (its islands are not reordered).
+void add_skirt_and_brim(LayerToolpaths& layer, const FirstLayerLoops& loops,
+                        const Settings& settings);
+
+}  // namespace carve
