@@ -133,12 +133,6 @@ Paths disks(const std::vector<Point>& centres, Coord radius) {
     return unite(all);
 }
 
-Coord floor_to(Coord v, Coord step) {
-    Coord q = v / step;
-    if (q * step > v) --q;
-    return q * step;
-}
-
 }  // namespace
 
 Path RibPlanner::piece_of(const Node& n) const {
@@ -417,27 +411,34 @@ LayerRibs RibPlanner::add(const LayerRecord& layer, const RibSlice& slice) {
             hang = std::move(kept);
             if (!hang.empty() && std::abs(area(hang)) >= min_area) {
                 const Paths near = dilate(hang, rho);
-                const BBox2 b = bounds(near);
                 const Coord a = options_.spacing;
-                for (Coord y = floor_to(b.min_y, a); y <= b.max_y; y += a)
-                    for (Coord x = floor_to(b.min_x, a); x <= b.max_x; x += a) {
-                        const Point p(x, y);
-                        if (!point_in_region(p, near)) continue;
-                        const WallBoundary::Hit h = boundary.nearest(p);
-                        if (!h.inside || h.distance <= double(r)) continue;
-                        // The piece runs across the way to the nearest wall: over a bridge,
-                        // whose lines run wall to wall, it crosses several of them.
-                        const double dx = double(h.at.X - p.X), dy = double(h.at.Y - p.Y);
-                        const double len = std::hypot(dx, dy);
-                        Node n;
-                        n.id = next_id_++;
-                        n.at = p;
-                        n.dir = len > 0
+                // Each piece's lattice starts at its own corner: copies of one part (--copies,
+                // a plate of equal parts) get the same ribs wherever they stand.
+                for (const Path& outer : near) {
+                    if (area(outer) <= 0) continue;
+                    const Paths piece{outer};
+                    const BBox2 b = bounds(outer);
+                    for (Coord y = b.min_y; y <= b.max_y; y += a)
+                        for (Coord x = b.min_x; x <= b.max_x; x += a) {
+                            const Point p(x, y);
+                            if (!point_in_region(p, piece) || !point_in_region(p, near)) continue;
+                            const WallBoundary::Hit h = boundary.nearest(p);
+                            if (!h.inside || h.distance <= double(r)) continue;
+                            // The piece runs across the way to the nearest wall: over a bridge,
+                            // whose lines run wall to wall, it crosses several of them.
+                            const double dx = double(h.at.X - p.X), dy = double(h.at.Y - p.Y);
+                            const double len = std::hypot(dx, dy);
+                            Node n;
+                            n.id = next_id_++;
+                            n.at = p;
+                            n.dir =
+                                len > 0
                                     ? Point(static_cast<Coord>(std::llround(-dy / len * kDirScale)),
                                             static_cast<Coord>(std::llround(dx / len * kDirScale)))
                                     : Point(static_cast<Coord>(kDirScale), 0);
-                        nodes_.push_back(n);
-                    }
+                            nodes_.push_back(n);
+                        }
+                }
             }
         }
     }
