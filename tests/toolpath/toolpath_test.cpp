@@ -320,6 +320,9 @@ TEST(Toolpath, PrintOrderFollowsTheReport) {
     LayerToolpaths t = plan_layer(record, st);
     auto rank = [](const Extrusion& e) {
         switch (e.feature) {
+            case Feature::Skirt:
+            case Feature::Brim:
+                return -10;  // the first layer's, before the part
             case Feature::OuterWall:
                 return 0;
             case Feature::Shell:
