@@ -225,7 +225,9 @@ void RibPlanner::tie(std::vector<Node>& nodes, const WallBoundary& boundary,
                 for (const size_t j : it->second) {
                     Point q;
                     const double d = nearest_on(j, n.at, q);
-                    if (d < best) best = d, target = nodes[j].id, at = q;
+                    // Within one cell, which the 3 x 3 cells round it always hold: the same
+                    // ribs wherever the part stands.
+                    if (d < best && d <= cell) best = d, target = nodes[j].id, at = q;
                 }
             }
         if (n.target != kUntied && n.target != target) {
