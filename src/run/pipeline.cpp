@@ -84,9 +84,13 @@ void add_run_figures(RunResult& result, const LayerPipeline& layers,
 
 void refuse_empty_print(const RunResult& result, const Settings& settings,
                         const RunOptions& options) {
+    // The skirt and brim print around whatever the first layer holds, however thin the model:
+    // they are not a print of it.
     double material = 0;
     for (double v : result.layer_material_mm3) material += v;
-    if (material <= 0)
+    material -=
+        result.feature_mm3[size_t(Feature::Skirt)] + result.feature_mm3[size_t(Feature::Brim)];
+    if (material <= 1e-9)
         throw InputError(fmt::format(
             "{}: nothing to print: every part of the model is thinner than the {} mm line width",
             options.model_path, settings.nozzle));

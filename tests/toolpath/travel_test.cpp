@@ -407,6 +407,10 @@ Paths footprint(const Paths& model, const BBox2& box) {
     return out;
 }
 
+// The skirt lies outside the part by design, and the travel from it into the part leaves it
+// retracted: the runs that count the part's own travels print none.
+constexpr const char* kNoSkirt = " --skirts 0";
+
 TEST(TravelRun, CShapeCombsInsideAndNeverRetracts) {
     std::vector<Triangle> t;
     add_box(t, 0, 0, 0, 6, 30, 10);
@@ -415,8 +419,8 @@ TEST(TravelRun, CShapeCombsInsideAndNeverRetracts) {
     const fs::path stl = write_stl("c.stl", t);
     const Paths part = footprint(c_shape(), bounds(c_shape()));
     for (const char* mode : {"all", "off"}) {
-        const auto layers = read_moves(
-            slice(stl, std::string("c_") + mode + ".gcode", std::string("--combing ") + mode));
+        const auto layers = read_moves(slice(stl, std::string("c_") + mode + ".gcode",
+                                             std::string("--combing ") + mode + kNoSkirt));
         ASSERT_GT(layers.size(), 40u);
         int retracted = 0;
         double outside = 0;
@@ -449,7 +453,7 @@ TEST(TravelRun, StepsInwardsEnterTheNextLayerWithoutRetracting) {
         add_box(t, in, in, 3.0 * k, 24 - in, 24 - in, 3.0 * (k + 1) + (k < 3 ? 0.1 : 0));
     }
     const fs::path stl = write_stl("steps.stl", t);
-    const auto layers = read_moves(slice(stl, "steps.gcode", ""));
+    const auto layers = read_moves(slice(stl, "steps.gcode", kNoSkirt));
     ASSERT_GT(layers.size(), 50u);
     int retracted = 0, entries = 0;
     for (const auto& [index, l] : layers)
@@ -470,7 +474,7 @@ TEST(TravelRun, TwoIslandsRetractOnlyToLeaveAnIsland) {
     const Paths model =
         unite(rect(0, 0, 12 * kMm, 12 * kMm), rect(32 * kMm, 0, 44 * kMm, 12 * kMm));
     const Paths part = footprint(model, bounds(model));
-    const auto layers = read_moves(slice(stl, "two.gcode", ""));
+    const auto layers = read_moves(slice(stl, "two.gcode", kNoSkirt));
     ASSERT_GT(layers.size(), 30u);
     for (const auto& [index, l] : layers) {
         int leaving = 0;
@@ -631,7 +635,9 @@ TEST(TravelRun, HeaderCountsTheTravelWrittenAndEveryRetraction) {
             EXPECT_EQ(e_retractions, retractions) << options;
         }
         if (std::string(options) == " --wipe") {
-            EXPECT_EQ(wipes, retractions);
+            // The first retraction, before the travel to the first line, has nothing printed
+            // behind it to wipe over.
+            EXPECT_EQ(wipes, retractions - 1);
         }
         if (std::string(options) == " --combing off") {
             // Without combing every travel over 2 mm retracts: many more than one per island.
