@@ -87,8 +87,10 @@ std::string tallest_support_svg(const std::vector<RibPiece>& ribs,
         const Box& b = boxes[&p - ribs.data()];
         return std::pair{to_mm((b.x0 + b.x1) / 2), to_mm((b.y0 + b.y1) / 2)};
     };
-    const auto [bx, by] = centre(bottom);
-    const auto [tx, ty] = centre(top);
+    // Plain doubles, not a structured binding: clang 14 cannot capture those in the lambdas
+    // below (the sanitizer tree is clang's).
+    const double bx = centre(bottom).first, by = centre(bottom).second;
+    const double tx = centre(top).first, ty = centre(top).second;
     found.layers = depth[best];
     found.z_from = bottom.z - layer_height;
     found.z_to = top.z;
