@@ -7,10 +7,21 @@
 
 namespace carve {
 
+Paths compensated_slice(Paths region, int index, const Settings& settings) {
+    // PrusaSlicer's order: the whole slice by xy_size_compensation, then the first layer's by
+    // elefant_foot_compensation.
+    Coord grow = to_units(settings.xy_size_compensation);
+    if (index == 0) grow -= to_units(settings.elephant_foot_compensation);
+    if (grow > 0) return dilate(region, grow);
+    if (grow < 0) return erode(region, -grow);
+    return region;
+}
+
 CoverSlice cover_slice(Slice slice, const Settings& settings) {
     StageTimer timer(Stage::kCovers);
     const Coord s = settings.nozzle_radius();
     const Coord w = settings.line_width();
+    slice.region = compensated_slice(std::move(slice.region), slice.index, settings);
     CoverSlice e{std::move(slice), {}, {}};
     // The outer wall's centreline runs at s inside the model's outline, so that the printed
     // wall fills the outline exactly; each extra shell sits one line width further in.

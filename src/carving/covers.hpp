@@ -26,6 +26,10 @@ struct CoverSlice {
 // them for several slices at once: the erosions of one slice, and layer i from the slices of
 // its window (those with index i - covers .. i + covers, top down; others are ignored).
 CoverSlice cover_slice(Slice slice, const Settings& settings);
+// Slice `index`'s region as it is printed: grown (shrunk if negative) by --xy-size-compensation,
+// and the first layer's shrunk by --elephant-foot-compensation. cover_slice() applies it; the
+// skirt and brim are planned around it too.
+Paths compensated_slice(Paths region, int index, const Settings& settings);
 LayerPartition carvable_layer(int i, const std::vector<const CoverSlice*>& window,
                               const Settings& settings);
 

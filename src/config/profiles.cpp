@@ -207,22 +207,14 @@ const char* const kPrintKeys[] = {"bridge_fan_speed",
                                   "gap_fill_speed",
                                   "small_perimeter_speed",
                                   "travel_speed_z",
-                                  "max_volumetric_speed",
-                                  "filament_max_volumetric_speed",
                                   "deretract_speed",
-                                  "extrusion_multiplier",
                                   "bridge_flow_ratio",
-                                  "first_layer_height",
-                                  "first_layer_extrusion_width",
                                   "infill_extrusion_width",
                                   "solid_infill_extrusion_width",
                                   "top_infill_extrusion_width",
                                   "retract_restart_extra",
                                   "retract_layer_change",
                                   "retract_before_wipe",
-                                  "z_offset",
-                                  "elefant_foot_compensation",
-                                  "xy_size_compensation",
                                   "raft_layers",
                                   "support_material",
                                   "external_perimeters_first",
@@ -344,6 +336,7 @@ std::vector<std::string> read_prusa_profile(std::istream& in, const std::string&
 
     using Setter = std::function<void(const std::string&, const std::string&)>;
     int solid[2] = {-1, -1}, perimeters = -1;
+    double filament_cap = 0;  // filament_max_volumetric_speed, mm^3/s; 0 = none
     const std::map<std::string, Setter> keys = {
         // Solid layers and perimeters would be carve's covers and shells; read (and checked)
         // here, applied below only with --profile-shells.
@@ -355,6 +348,16 @@ std::vector<std::string> read_prusa_profile(std::istream& in, const std::string&
         {"filament_settings_id", [&](auto&, auto& v) { s.filament_settings_id = one_line(v); }},
         {"printer_model", [&](auto&, auto& v) { s.printer_model = one_line(v); }},
         {"bottom_solid_layers", [&](auto& k, auto& v) { solid[1] = count(k, v); }},
+        // The filament's cap on the flow, beside the print's max_volumetric_speed: the lower
+        // of the two that are set holds, as in PrusaSlicer.
+        {"filament_max_volumetric_speed",
+         [&](auto& k, auto& v) {
+             filament_cap = number(k, v);
+             if (!(filament_cap >= 0 && filament_cap <= 1000))
+                 throw InputError(fmt::format(
+                     "profile key '{}': '{}' is out of range; expected from 0 to 1000 mm^3/s", k,
+                     v));
+         }},
         {"perimeters",
          [&](auto& k, auto& v) {
              // The outer wall and up to 20 shells (the range of --shells).
@@ -365,7 +368,8 @@ std::vector<std::string> read_prusa_profile(std::istream& in, const std::string&
          }},
     };
     const std::set<std::string> widths = {"extrusion_width", "perimeter_extrusion_width",
-                                          "external_perimeter_extrusion_width"};
+                                          "external_perimeter_extrusion_width",
+                                          "first_layer_extrusion_width"};
 
     std::vector<std::string> ignored;  // keys that change the print, not applied
     for (const auto& [key, v] : values) {
@@ -425,6 +429,13 @@ std::vector<std::string> read_prusa_profile(std::istream& in, const std::string&
             s.extrusion_width = width[key];
             break;
         }
+    // The first layer's own width (0: the line width, as PrusaSlicer's automatic one).
+    if (const auto first = width.find("first_layer_extrusion_width"); first != width.end())
+        s.first_layer_extrusion_width = first->second;
+    if (filament_cap > 0)
+        s.max_volumetric_speed = s.max_volumetric_speed > 0
+                                     ? std::min(s.max_volumetric_speed, filament_cap)
+                                     : filament_cap;
     if (const auto ext = width.find("external_perimeter_extrusion_width");
         ext != width.end() && ext->second > 0 && std::abs(ext->second - s.width_mm()) > 1e-9)
         ignored.push_back(

@@ -317,6 +317,28 @@ std::vector<SettingSpec> make_table() {
          "two copies join only where they touch); 0 = none, mm [0]"},
         {"brim-separation", "brim_separation", "mm", 0.0, 10.0, &S::brim_separation,
          "Gap between the part and its brim, so that it breaks off cleanly, mm [0.1]"},
+        // The first layer and the flow (issue #36), PrusaSlicer's keys and meanings.
+        {"first-layer-height", "first_layer_height", "mm", 0.0, 2.0, &S::first_layer_height,
+         "Height of the first layer (no higher than the nozzle), mm; later layers stand on it "
+         "at --layer-height [0 = the layer height]",
+         true},
+        {"first-layer-extrusion-width", "", "mm", 0.0, 3.0, &S::first_layer_extrusion_width,
+         "Line width on the first layer (its E follows it; the paths keep their places); a "
+         "profile's first_layer_extrusion_width sets it, mm [0 = the line width]"},
+        {"extrusion-multiplier", "extrusion_multiplier", "ratio", 0.05, 5.0,
+         &S::extrusion_multiplier, "Scales the filament fed by every extrusion, ratio [1]"},
+        {"max-volumetric-speed", "max_volumetric_speed", "mm^3/s", 0.0, 1000.0,
+         &S::max_volumetric_speed,
+         "Cap on every extrusion's flow: a line is printed no faster than this over its width "
+         "x height; a profile's filament_max_volumetric_speed caps it too, mm^3/s [0 = none]"},
+        {"elephant-foot-compensation", "elefant_foot_compensation", "mm", 0.0, 5.0,
+         &S::elephant_foot_compensation,
+         "The first layer's slice is shrunk by this, against the squashed first layer's bulge, "
+         "mm [0]"},
+        {"xy-size-compensation", "xy_size_compensation", "mm", -5.0, 5.0, &S::xy_size_compensation,
+         "Every slice grows by this (shrinks if negative), holes shrinking with it, mm [0]"},
+        {"z-offset", "z_offset", "mm", -10.0, 10.0, &S::z_offset,
+         "Added to every Z written to the G-code (the printer's bed height), mm [0]"},
         {"copies", "", "copies", 1, 400, &S::copies,
          "Print this many copies of the model side by side, each its own object (labelled for "
          "cancelling), copies [1]"},
@@ -615,6 +637,44 @@ void check_scheme(const SettingSpec& spec, const Settings& s) {
         s.carving == CarvingScheme::Whole ? " (the default)" : ""));
 }
 
+namespace {
+
+// The first layer and the flow, as PrusaSlicer refuses them (and a first layer the nozzle
+// would print into the bed).
+void check_first_layer(const Settings& s) {
+    if (s.first_layer_height > 0 && s.first_layer_height < 0.01)
+        throw InputError(fmt::format(
+            "--first-layer-height {} mm is too thin; expected 0 (the layer height) or from 0.01 "
+            "to the {} mm nozzle",
+            plain_number(s.first_layer_height), plain_number(s.nozzle)));
+    // PrusaSlicer: "First layer height can't be greater than nozzle diameter".
+    if (s.first_layer_mm() > s.nozzle + 1e-9)
+        throw InputError(
+            fmt::format("--first-layer-height {} mm is higher than the {} mm nozzle can print",
+                        plain_number(s.first_layer_mm()), plain_number(s.nozzle)));
+    if (s.first_layer_extrusion_width > 0 && s.first_layer_extrusion_width < 0.05)
+        throw InputError(fmt::format(
+            "--first-layer-extrusion-width {} mm is too thin; expected 0 (the line width) or "
+            "from 0.05 to 3 mm",
+            plain_number(s.first_layer_extrusion_width)));
+    if (s.first_layer_mm() > s.layer_width_mm(0) + 1e-9)
+        throw InputError(fmt::format(
+            "--first-layer-height {} mm is thicker than the first layer's {} mm line width",
+            plain_number(s.first_layer_mm()), plain_number(s.layer_width_mm(0))));
+    if (s.max_volumetric_speed > 0 && s.max_volumetric_speed < 0.1)
+        throw InputError(fmt::format(
+            "--max-volumetric-speed {} mm^3/s is too low to print; expected 0 (no cap) or from "
+            "0.1 to 1000 mm^3/s",
+            plain_number(s.max_volumetric_speed)));
+    if (s.first_layer_mm() + s.z_offset < 0.01)
+        throw InputError(fmt::format(
+            "--z-offset {} mm would print the {} mm first layer at Z {} mm, into the bed",
+            plain_number(s.z_offset), plain_number(s.first_layer_mm()),
+            plain_number(s.first_layer_mm() + s.z_offset)));
+}
+
+}  // namespace
+
 void validate_settings(const Settings& s) {
     // A setting of the other scheme moved from its default: refused as the CLI refuses it.
     static const Settings defaults;
@@ -645,6 +705,7 @@ void validate_settings(const Settings& s) {
     if (s.layer_height > s.width_mm())
         throw InputError(fmt::format("--layer-height {} mm is thicker than the {} mm line width",
                                      s.layer_height, s.width_mm()));
+    check_first_layer(s);
 }
 
 }  // namespace carve

@@ -115,14 +115,14 @@ struct Settings {
     // slices stay under the per-layer limit can still be hours of work in all.
     long long max_vertices_total = 100'000'000;
 
-    // The first layer and the flow, PrusaSlicer's meanings (issue #36). Declared for the
-    // layer helpers below, not yet options nor read from a profile: all stay at these values
-    // (the profile note names the keys).
+    // The first layer and the flow, PrusaSlicer's meanings and keys (issue #36).
     double first_layer_height = 0;           // mm; 0 = the layer height
     double first_layer_extrusion_width = 0;  // mm; 0 = the line width
-    double extrusion_multiplier = 1.0;       // every extrusion's flow
-    double max_volumetric_speed = 0;        // mm^3/s every extrusion's speed is capped at; 0 = none
-    double elephant_foot_compensation = 0;  // mm the first layer is shrunk by
+    double extrusion_multiplier = 1.0;       // every extrusion's flow (E) is scaled by it
+    // mm^3/s every extrusion's width x height x speed is held to (PrusaSlicer's
+    // max_volumetric_speed, or its filament's, the lower); 0 = none.
+    double max_volumetric_speed = 0;
+    double elephant_foot_compensation = 0;  // mm the first layer's slice is shrunk by
     double xy_size_compensation = 0;        // mm every slice grows (shrinks if negative) by
     double z_offset = 0;                    // mm added to every Z written
 
@@ -217,8 +217,18 @@ struct Settings {
         return first_layer_height > 0 ? first_layer_height : layer_height;
     }
     double layer_thickness_mm(int i) const { return i == 0 ? first_layer_mm() : layer_height; }
-    // The top of layer i above the bed (the nozzle's height, before z_offset).
-    double layer_top_mm(int i) const { return first_layer_mm() + i * layer_height; }
+    // The top of layer i above the bed (the nozzle's height, before z_offset); (i + 1) h as it
+    // always was when the first layer is the layer height.
+    double layer_top_mm(int i) const {
+        return first_layer_height > 0 ? first_layer_height + i * layer_height
+                                      : (i + 1) * layer_height;
+    }
+    // The middle of layer i above the bed, where the slicer cuts it: (i + 0.5) h to the bit
+    // when the first layer is the layer height (their difference is then exactly 0).
+    double layer_middle_mm(int i) const {
+        return i == 0 ? first_layer_mm() / 2
+                      : (first_layer_mm() - layer_height) + (i + 0.5) * layer_height;
+    }
     // The line width on layer i.
     double layer_width_mm(int i) const {
         return i == 0 && first_layer_extrusion_width > 0 ? first_layer_extrusion_width : width_mm();

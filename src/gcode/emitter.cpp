@@ -76,6 +76,7 @@ Emitter::Emitter(const Settings& st, Coord off_x, Coord off_y, std::FILE* out, s
     const double r = st.filament_diameter / 2;
     filament_area_ = std::numbers::pi * r * r;
     retract_units_ = std::llround(std::max(0.0, st.retract_length) * kEScale);
+    z_offset_ = to_units(st.z_offset);
 }
 
 void Emitter::start() {
@@ -132,7 +133,7 @@ void Emitter::layer(const LayerToolpaths& layer) {
     put(";LAYER_CHANGE\n;Z:");
     fixed(layer_z_, 3);
     put("\n;HEIGHT:");
-    fixed(to_units(st_.layer_height), 3);
+    fixed(to_units(thickness()), 3);
     fmt::format_to(std::back_inserter(buf_), "\n;LAYER:{}\n", layer.index);
     custom(st_.layer_gcode);
     if (layer.index == 1) {

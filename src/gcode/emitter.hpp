@@ -195,6 +195,8 @@ class Emitter {
     // the nozzle can enter without leaving the part, or nearer.
     bool enter_reversed(const LayerToolpaths& layer);
     double speed_of(Feature f) const;
+    // The layer being written's thickness, mm (the first layer's may differ).
+    double thickness() const { return st_.layer_thickness_mm(layer_); }
     void extrude(const Extrusion& ex, const Travel& travel);
     void printed(const Point& q, double len, double e_per_mm, Feature feature);
     void arc_to(const std::vector<Point>& pts, size_t first, const Arc& arc, double speed,
@@ -237,6 +239,7 @@ class Emitter {
     fmt::memory_buffer buf_;
     double filament_area_ = 1;
     long long retract_units_ = 0;
+    Coord z_offset_ = 0;  // --z-offset, added to every Z written
 
     Point pos_{0, 0};  // output coordinates, um; the start G-code is assumed to home
     Coord z_ = -1;     // unknown until the first Z move

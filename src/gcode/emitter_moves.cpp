@@ -114,7 +114,7 @@ void Emitter::unretract() {
 void Emitter::move_z(Coord z) {
     if (z == z_) return;
     put("G1 Z");
-    fixed(z, 3);
+    fixed(z + z_offset_, 3);  // --z-offset: the printer's Z, not the layer's
     // A move to the layer's own height always states its feed, modal or not: Moonraker takes
     // the object's height from the highest "G1 Z.. F.." when a file has no
     // ;BEFORE_LAYER_CHANGE comments (it said 67.4 mm of the 120 mm cat).
@@ -274,7 +274,9 @@ void Emitter::extrude(const Extrusion& ex, const Travel& travel) {
         type_ = ex.feature;
         fmt::format_to(std::back_inserter(buf_), ";TYPE:{}\n", feature_name(ex.feature));
     }
-    const double width = st_.width_mm() * ex.flow;
+    // The layer's own line width and thickness: the first layer's may differ.
+    const double layer_width = st_.layer_width_mm(layer_), layer_height = thickness();
+    const double width = layer_width * ex.flow;
     if (width != width_) {
         width_ = width;
         fmt::format_to(std::back_inserter(buf_), ";WIDTH:{:.3f}\n", width);
@@ -282,9 +284,21 @@ void Emitter::extrude(const Extrusion& ex, const Travel& travel) {
     set_fan(fan_byte(ex.feature == Feature::Bridge ? bridge_fan_percent(st_, layer_) : layer_fan_));
     unretract();
     use_acceleration(st_.acceleration);
-    const double speed = speed_of(ex.feature);
-    // Filament per mm of path: the line's cross-section (width x height) over the filament's.
-    const double e_per_mm = st_.width_mm() * st_.layer_height * ex.flow / filament_area_;
+    // --max-volumetric-speed: no faster than the cap over the line's cross-section, rounded
+    // down to a whole mm/min so that the F written keeps under the cap. The cross-section is
+    // the larger of the real one and the one ;WIDTH and ;HEIGHT state (3 decimals): a viewer
+    // computing the flow from the file finds it under the cap too.
+    double speed = speed_of(ex.feature);
+    if (st_.max_volumetric_speed > 0) {
+        const double stated_w = std::max(width, std::round(width * 1000) / 1000);
+        const double stated_h = std::max(layer_height, std::round(layer_height * 1000) / 1000);
+        const double capped = std::floor(st_.max_volumetric_speed / (stated_w * stated_h) * 60);
+        speed = std::min(speed, std::max(1.0, capped) / 60);
+    }
+    // Filament per mm of path: the line's cross-section (width x height) over the filament's,
+    // scaled by --extrusion-multiplier.
+    const double e_per_mm =
+        layer_width * layer_height * ex.flow / filament_area_ * st_.extrusion_multiplier;
     const size_t n = ex.points.size() + (ex.closed ? 1 : 0);
     std::vector<Point>& pts = path_points_;
     pts.clear();

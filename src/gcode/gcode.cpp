@@ -111,7 +111,7 @@ struct GcodeWriter::Impl {
         if (offsets[index] < 0) {
             LayerToolpaths empty;
             empty.index = index;
-            empty.z = (index + 1) * settings.layer_height;
+            empty.z = settings.layer_top_mm(index);
             return empty;
         }
         std::string blob(static_cast<size_t>(sizes[index]), '\0');

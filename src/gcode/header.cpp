@@ -68,12 +68,13 @@ constexpr std::string_view kWordOrder[] = {
     "pause_at",
 };
 
-// A word's value, spelt as the table or config_only_values() spell it.
+// A word's value, spelt as config_only_values() or the table spell it (first_layer_height is
+// both: the table's 0 is written as the layer height it means).
 std::string word_value(std::string_view key, const Settings& s) {
-    for (const SettingSpec& spec : setting_table())
-        if (spec.config_key() == key) return spec.prusa_text(s);
     for (const ConfigOnlyValue& v : config_only_values())
         if (key == v.key) return v.get(s);
+    for (const SettingSpec& spec : setting_table())
+        if (spec.config_key() == key) return spec.prusa_text(s);
     throw std::logic_error("configuration block word without a declaration: " + std::string(key));
 }
 
@@ -117,6 +118,7 @@ std::vector<std::string> footer_figures(const PrintStats& s, int layer_count) {
 }
 
 std::vector<std::string> config_block(const Settings& s) {
+    static const Settings defaults;
     std::vector<std::pair<std::string, std::string>> kv;
     for (const SettingSpec& spec : setting_table()) {
         // Switches and words are written below, under PrusaSlicer's names and spellings.
@@ -128,6 +130,16 @@ std::vector<std::string> config_block(const Settings& s) {
         if (s.support == SupportMode::None &&
             std::string_view(spec.option).starts_with("support-") &&
             std::string_view(spec.option) != "support-angle")
+            continue;
+        // The first layer and the flow (issue #36) are written when they change the print,
+        // so that a print without them keeps the block it had before they existed; the first
+        // layer's height always is, among the words, as printed.
+        const std::string_view option = spec.option;
+        if (option == "first-layer-height") continue;
+        if ((option == "first-layer-extrusion-width" || option == "extrusion-multiplier" ||
+             option == "max-volumetric-speed" || option == "elephant-foot-compensation" ||
+             option == "xy-size-compensation" || option == "z-offset") &&
+            spec.get(s) == spec.get(defaults))
             continue;
         kv.emplace_back(spec.config_key(), spec.prusa_text(s));
     }

@@ -319,9 +319,10 @@ void HtmlReportWriter::Impl::write_details(std::ostream& out, const PageFigures&
     // How the figures are computed.
     double covers_mm3 = 0, carvable_mm3 = 0, perimeter_mm3 = 0;
     for (const ReportLayer& l : layers) {
-        covers_mm3 += l.covers_mm2 * st.layer_height;
-        carvable_mm3 += 0.15 * l.carvable_mm2 * st.layer_height;
-        perimeter_mm3 += 2 * l.perimeter_mm * st.width_mm() * st.layer_height;
+        const double h = st.layer_thickness_mm(l.index);  // the first layer's may differ
+        covers_mm3 += l.covers_mm2 * h;
+        carvable_mm3 += 0.15 * l.carvable_mm2 * h;
+        perimeter_mm3 += 2 * l.perimeter_mm * st.layer_width_mm(l.index) * h;
     }
     int min_tol_layers = 0;
     double max_tol = 0;
@@ -333,7 +334,15 @@ void HtmlReportWriter::Impl::write_details(std::ostream& out, const PageFigures&
         << "<h2>How these figures are computed</h2>\n"
         << "<p>Material, filament and time come from the G-code writer (extrusion width "
         << st.nozzle << " mm &times; layer height " << st.layer_height
-        << " mm &times; path length &times; flow). The per-layer plot adds up the print paths "
+        << " mm &times; path length &times; flow"
+        << (st.first_layer_height > 0 || st.first_layer_extrusion_width > 0
+                ? fmt::format("; the first layer {} mm thick, its lines {} mm wide",
+                              plain_number(st.first_layer_mm()), plain_number(st.layer_width_mm(0)))
+                : std::string())
+        << (st.extrusion_multiplier != 1
+                ? fmt::format("; every flow &times; {}", plain_number(st.extrusion_multiplier))
+                : std::string())
+        << "). The per-layer plot adds up the print paths "
            "of each layer the same way.</p>\n"
         << "<p><b>Ordinary 15 % infill</b> is an estimate on the same slices of what a "
            "conventional slicer would extrude with 2 perimeters, solid top and bottom layers and "

@@ -120,7 +120,7 @@ void HtmlReportWriter::add_layer(const LayerRecord& record, const LayerToolpaths
     const Settings& st = m.settings;
     ReportLayer r;
     r.index = layer.index;
-    r.z = paths.index == layer.index && paths.z > 0 ? paths.z : (layer.index + 1) * st.layer_height;
+    r.z = paths.index == layer.index && paths.z > 0 ? paths.z : st.layer_top_mm(layer.index);
     r.outline_mm2 = area_mm2(layer.outline);
     r.perimeter_mm = length(layer.outline, true) / kUnitsPerMm;
     r.covers_mm2 = area_mm2(layer.covers);
@@ -130,10 +130,12 @@ void HtmlReportWriter::add_layer(const LayerRecord& record, const LayerToolpaths
     while (!r.cavity_mm2.empty() && r.cavity_mm2.back() <= 0) r.cavity_mm2.pop_back();
     m.max_cavities = std::max(m.max_cavities, int(r.cavity_mm2.size()));
     r.bridges = int(record.bridged.bridges.size());
-    const double w = st.width_mm(), h = st.layer_height;
+    // The layer's own width and thickness and the flow the G-code extrudes, as the run's
+    // material figures (run/layer_figures.cpp).
+    const double w = st.layer_width_mm(layer.index), h = st.layer_thickness_mm(layer.index);
     for (const Extrusion& e : paths.extrusions) {
         const double len = length(Paths{e.points}, e.closed) / kUnitsPerMm;
-        r.material_mm3 += len * w * h * e.flow;
+        r.material_mm3 += len * w * h * e.flow * st.extrusion_multiplier;
         switch (e.feature) {
             case Feature::OuterWall:
             case Feature::Shell:

@@ -125,6 +125,9 @@ nlohmann::json stats_json(const RunResult& run, const Settings& settings) {
         settings.support_angle > 0 ? settings.support_angle : settings.max_overhang;
     // The gap is printed in whole layers.
     s["support_z_gap_mm"] = settings.support_gap_layers() * settings.layer_height;
+    // 0 means "the layer height" and "the line width".
+    s["first_layer_height_mm"] = settings.first_layer_mm();
+    s["first_layer_extrusion_width_mm"] = settings.layer_width_mm(0);
     // Without pruning no bridge is cut to a length.
     s["max_bridge_length_mm"] = settings.prune_bridges ? settings.max_bridge_length : 0.0;
     // Not a setting but where they came from (--printer's preset).

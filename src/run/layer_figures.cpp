@@ -8,15 +8,20 @@ namespace carve {
 std::vector<double> extrusion_volumes_mm3(const LayerToolpaths& paths, const Settings& settings) {
     std::vector<double> v;
     v.reserve(paths.extrusions.size());
+    // The layer's own line width and thickness (the first layer's may differ), and the flow
+    // the G-code extrudes (--extrusion-multiplier): the material is what the E words feed.
+    const double w = settings.layer_width_mm(paths.index);
+    const double h = settings.layer_thickness_mm(paths.index);
     for (const Extrusion& e : paths.extrusions)
-        v.push_back(to_mm(static_cast<Coord>(length(Paths{e.points}, e.closed))) *
-                    settings.width_mm() * settings.layer_height * e.flow);
+        v.push_back(to_mm(static_cast<Coord>(length(Paths{e.points}, e.closed))) * w * h * e.flow *
+                    settings.extrusion_multiplier);
     return v;
 }
 
-void add_layer_figures(const Token& t, double h, RunResult& result, double& sliced_volume,
-                       OverhangTally& overhangs) {
+void add_layer_figures(const Token& t, const Settings& settings, RunResult& result,
+                       double& sliced_volume, OverhangTally& overhangs) {
     const LayerPartition& layer = t.record.partition();
+    const double h = settings.layer_thickness_mm(layer.index);
     const BridgedPartition& bridged = t.record.bridged;
     sliced_volume += area_mm2(layer.outline) * h;
     result.carvable_volume_mm3 += area_mm2(layer.carvable) * h;
@@ -25,7 +30,7 @@ void add_layer_figures(const Token& t, double h, RunResult& result, double& slic
     result.remainder_volume_mm3 += area_mm2(bridged.remainder) * h;
     result.cover_volume_mm3 += area_mm2(layer.covers) * h;
     result.layer_material_mm3[layer.index] = t.material;
-    overhangs.add(layer.index, (layer.index + 1) * h, t.overhang);  // z as the G-code says
+    overhangs.add(layer.index, settings.layer_top_mm(layer.index), t.overhang);  // as the G-code
     result.supported_area_mm2 += t.support_new_mm2;
     if (const Paths& support = t.record.support.region; !support.empty())
         result.support_region_volume_mm3 += area_mm2(support) * h;

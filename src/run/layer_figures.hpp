@@ -19,8 +19,9 @@ namespace carve {
 std::vector<double> extrusion_volumes_mm3(const LayerToolpaths& paths, const Settings& settings);
 
 // Adds a layer's figures (its token as the sink receives it) to the run's: result, the sliced
-// volume (what the slices hold) and the overhangs; h is the layer height.
-void add_layer_figures(const Token& t, double h, RunResult& result, double& sliced_volume,
-                       OverhangTally& overhangs);
+// volume (what the slices hold) and the overhangs; each layer counts its own thickness (the
+// first layer's may differ).
+void add_layer_figures(const Token& t, const Settings& settings, RunResult& result,
+                       double& sliced_volume, OverhangTally& overhangs);
 
 }  // namespace carve

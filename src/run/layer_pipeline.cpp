@@ -88,7 +88,6 @@ LayerPipeline::LayerPipeline(const Settings& settings, const RunOptions& options
       start_(start),
       note_(std::move(note)),
       layer_count_(slicer.layer_count()),
-      h_(settings.layer_height),
       k_(sweep_iterations(settings)),
       c_(std::max(0, settings.covers)),
       supporting_(settings.support != SupportMode::None),
@@ -324,7 +323,7 @@ void LayerPipeline::write_layer(TokenPtr t) {
     for (const std::string& w : layer.warnings)
         if (note_) note_(w);
     if (outputs_.html) outputs_.html->add_layer(t->record, t->paths);
-    add_layer_figures(*t, h_, result_, sliced_volume_, overhangs_);
+    add_layer_figures(*t, settings_, result_, sliced_volume_, overhangs_);
     ++done_;
     report_progress(options_, done_, layer_count_, start_);
 }

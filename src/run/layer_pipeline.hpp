@@ -111,7 +111,6 @@ class LayerPipeline {
     std::chrono::steady_clock::time_point start_;
     std::function<void(const std::string&)> note_;
     const int layer_count_;
-    const double h_;
     const int k_;  // carving iterations
     const int c_;  // covers
     // Supports are decided from above too; a layer's support needs the outlines of the z gap's

@@ -155,7 +155,7 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
     clock.phase_ends("load");
     check_run_size(settings, options, result.mesh.bbox);
     const Placement place = centre_on_bed(settings, result.mesh.bbox);
-    TopDownSlicer slicer(run_mesh.mesh, settings.layer_height);
+    TopDownSlicer slicer(run_mesh.mesh, settings.layer_height, settings.first_layer_height);
     const int layer_count = checked_layer_count(slicer, settings, options);
     std::function<void(const Slice&)> check_slice = vertex_limits(settings, options);
     RunOutputs outputs(settings, options, run_mesh, result, layer_count, place);

@@ -10,6 +10,7 @@
 
 #include "base/error.hpp"
 #include "base/numbers.hpp"
+#include "carving/covers.hpp"
 #include "gcode/labels.hpp"
 #include "gcode/thumbnail.hpp"
 #include "geometry/polygon.hpp"
@@ -186,8 +187,9 @@ RunOutputs::RunOutputs(const Settings& settings, const RunOptions& options, cons
     // Skirt and brim from the first layer's slice, cut ahead of the sweep (which reaches the
     // first layer last, after the skirt's other layers), and held against the bed now: a run
     // whose skirt or brim would leave the bed stops before any work, with one line.
-    first_loops =
-        plan_skirt_and_brim(slice_at(mesh, box.min.z + settings.first_layer_mm() / 2), settings);
+    first_loops = plan_skirt_and_brim(
+        compensated_slice(slice_at(mesh, box.min.z + settings.layer_middle_mm(0)), 0, settings),
+        settings);
     check_loops_on_bed(first_loops, settings, options, place.offset_x, place.offset_y);
     if (!settings.thumbnails.empty())
         writer.set_thumbnails(thumbnail_blocks(mesh.vertices, mesh.triangles, settings.thumbnails));

@@ -369,10 +369,17 @@ class PlaneSlicer {
 }  // namespace
 
 struct TopDownSlicer::Impl {
-    Impl(const Mesh& m, double h) : mesh(m), layer_height(h) {}
+    Impl(const Mesh& m, double h, double first) : mesh(m), layer_height(h), first_layer(first) {}
+
+    // Where layer i is cut above zmin: the middle of the first layer, then of each layer above
+    // it. (i + 0.5) h to the bit when the first layer is h (first_layer - h is then 0).
+    double middle(int i) const {
+        return i == 0 ? first_layer / 2 : (first_layer - layer_height) + (i + 0.5) * layer_height;
+    }
 
     const Mesh& mesh;
     double layer_height;
+    double first_layer;
     double zmin = 0, zmax = 0;
     int count = 0;
     int next_index = -1;
@@ -383,10 +390,13 @@ struct TopDownSlicer::Impl {
     std::function<void(const Slice&)> on_slice;
 };
 
-TopDownSlicer::TopDownSlicer(const Mesh& mesh, double layer_height)
-    : impl_(std::make_unique<Impl>(mesh, layer_height)) {
+TopDownSlicer::TopDownSlicer(const Mesh& mesh, double layer_height, double first_layer_height)
+    : impl_(std::make_unique<Impl>(mesh, layer_height,
+                                   first_layer_height > 0 ? first_layer_height : layer_height)) {
     if (!(layer_height > 0) || !std::isfinite(layer_height))
         throw InputError("layer height must be a positive number of millimetres");
+    if (!std::isfinite(first_layer_height) || first_layer_height < 0)
+        throw InputError("first layer height must be a positive number of millimetres");
     Impl& m = *impl_;
     if (mesh.triangles.empty()) return;
     {
@@ -408,9 +418,11 @@ TopDownSlicer::TopDownSlicer(const Mesh& mesh, double layer_height)
     const double span = m.zmax - m.zmin;
     if (span / layer_height > 1e7)
         throw InputError("layer height too small for a model this tall (over 10 million layers)");
-    int n = int(std::max(0.0, std::ceil(span / layer_height - 0.5)));
-    while (n > 0 && (n - 0.5) * layer_height >= span) --n;
-    while ((n + 0.5) * layer_height < span) ++n;
+    // The layers whose middle lies below the top.
+    int n =
+        int(std::max(0.0, std::ceil((span - (m.first_layer - layer_height)) / layer_height - 0.5)));
+    while (n > 0 && m.middle(n - 1) >= span) --n;
+    while (m.middle(n) < span) ++n;
     m.count = n;
     m.next_index = n - 1;
 }
@@ -450,7 +462,7 @@ std::optional<PlaneCut> TopDownSlicer::next_cut() {
     if (m.next_index < 0) return std::nullopt;
     PlaneCut cut;
     cut.impl_->index = m.next_index--;
-    cut.impl_->z = m.zmin + (cut.impl_->index + 0.5) * m.layer_height;
+    cut.impl_->z = m.zmin + m.middle(cut.impl_->index);
     const double z = cut.impl_->z;
 
     // Triangles whose top reached the plane join the active set (a key may let one in a float

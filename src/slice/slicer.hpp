@@ -1,7 +1,8 @@
 // Streaming slicer: produces the slices O_i from the top layer down to layer 0.
 //
-// Layer i is cut at z = (i + 0.5) * h above the mesh's lowest point. Triangles are sorted by
-// their top z and kept in an active set while the plane sweeps down, so the whole stack of
+// Layer i is cut at the middle of its thickness above the mesh's lowest point: z = (i + 0.5) * h,
+// or with a first layer of its own height f, f / 2 and then f + (i - 0.5) * h. Triangles are sorted
+// by their top z and kept in an active set while the plane sweeps down, so the whole stack of
 // slices is never held: memory is the mesh plus one slice. Segments are chained through shared
 // edges (vertex indices); loops are united with non-zero fill so that overlapping shells merge.
 #pragma once
@@ -39,8 +40,8 @@ class PlaneCut {
 
 class TopDownSlicer {
   public:
-    // The mesh must outlive the slicer.
-    TopDownSlicer(const Mesh& mesh, double layer_height);
+    // The mesh must outlive the slicer. first_layer_height 0: the layer height.
+    TopDownSlicer(const Mesh& mesh, double layer_height, double first_layer_height = 0);
     ~TopDownSlicer();
     TopDownSlicer(const TopDownSlicer&) = delete;
     TopDownSlicer& operator=(const TopDownSlicer&) = delete;

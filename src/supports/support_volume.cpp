@@ -24,6 +24,7 @@ SupportOptions support_options(const Settings& settings, double z0) {
     o.trunk = std::max(o.lean + 1, to_units(1.5 * settings.width_mm() / 0.4));
     o.interface_layers = std::max(0, settings.support_interface_layers);
     o.layer_height = settings.layer_height;
+    o.first_layer = settings.first_layer_mm();
     o.z0 = z0;
     return o;
 }
@@ -156,7 +157,10 @@ SupportLayer SupportPlanner::plan(int j) {
         if (!fresh.empty() && o.mode == SupportMode::Buildplate && shadow_) {
             // Only where the model has nothing below this layer's middle: a column from here
             // down stays clear of it, since the support only narrows going down.
-            const double z = o.z0 + (j + 0.5) * o.layer_height;
+            // (As the slicer cuts it: (j + 0.5) h when the first layer is h.)
+            const double z =
+                o.z0 + (j == 0 ? o.first_layer / 2
+                               : (o.first_layer - o.layer_height) + (j + 0.5) * o.layer_height);
             fresh = subtract(fresh, shadow_->below(z, o.xy_gap));
         }
     }

@@ -35,7 +35,8 @@ struct SupportOptions {
     Coord line_width = 400;    // w
     int interface_layers = 2;  // dense layers at the top
     double layer_height = 0.2;
-    double z0 = 0;  // model z of the bottom of layer 0, mm
+    double first_layer = 0.2;  // the first layer's thickness, mm
+    double z0 = 0;             // model z of the bottom of layer 0, mm
 };
 SupportOptions support_options(const Settings& settings, double z0);
 

@@ -9,6 +9,7 @@
 #include <stdlib.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -423,4 +424,235 @@ TEST(PrinterPause, PauseAtWritesTheCommandBeforeTheRightLayer) {
     std::string err;
     slice(fandisk(), "--pause-at 10,x", "pause_bad", 1, &err);
     EXPECT_NE(err.find("--pause-at"), std::string::npos) << err;
+}
+
+namespace {
+
+// What the G-code says of each layer's extrusions: the Z they are printed at (G1 Z as written),
+// the filament they feed, and for each ;WIDTH the filament per mm of path.
+struct LayerMoves {
+    std::map<int, std::vector<double>> z;  // the Zs extruded at, by layer
+    double e_total = 0;                    // filament fed by moves in X/Y, mm
+    double max_flow = 0;                   // the largest ;WIDTH x ;HEIGHT x F / 60, mm^3/s
+    int extrusions = 0;
+    std::map<std::string, double> e_per_mm_layer0;  // by ;WIDTH on layer 0
+};
+
+LayerMoves read_moves(const std::string& g) {
+    LayerMoves m;
+    int layer = -1;
+    bool relative = false;
+    double x = 0, y = 0, z = 0, e = 0, f = 0, width = 0, height = 0;
+    std::string width_text;
+    for (const std::string& l : lines_of(g)) {
+        if (l.rfind(";LAYER:", 0) == 0) layer = std::stoi(l.substr(7));
+        if (l.rfind(";WIDTH:", 0) == 0) width = std::stod(l.substr(7)), width_text = l.substr(7);
+        if (l.rfind(";HEIGHT:", 0) == 0) height = std::stod(l.substr(8));
+        if (l.empty() || l[0] == ';') continue;
+        const std::string cmd = l.substr(0, l.find_first_of(" ;"));
+        std::map<char, double> w = words(l);
+        if (cmd == "M83") relative = true;
+        if (cmd == "M82") relative = false;
+        if (cmd == "G92" && w.count('E')) e = w['E'];
+        if (cmd != "G1" && cmd != "G0") continue;
+        if (w.count('F')) f = w['F'];
+        if (w.count('Z')) z = w['Z'];
+        const double nx = w.count('X') ? w['X'] : x, ny = w.count('Y') ? w['Y'] : y;
+        double de = 0;
+        if (w.count('E')) {
+            de = relative ? w['E'] : w['E'] - e;
+            e = relative ? e + w['E'] : w['E'];
+        }
+        const double len = std::hypot(nx - x, ny - y);
+        if (len > 0 && de > 0 && layer >= 0) {
+            std::vector<double>& zs = m.z[layer];
+            if (std::find(zs.begin(), zs.end(), z) == zs.end()) zs.push_back(z);
+            m.e_total += de;
+            m.max_flow = std::max(m.max_flow, width * height * f / 60);
+            ++m.extrusions;
+            if (layer == 0 && len > 1) m.e_per_mm_layer0[width_text] = de / len;
+        }
+        x = nx, y = ny;
+    }
+    return m;
+}
+
+// The bounding box of a layer's outer wall (its centreline), as x0, y0, x1, y1.
+std::array<double, 4> wall_box(const std::string& g, int layer) {
+    std::array<double, 4> b{1e9, 1e9, -1e9, -1e9};
+    for (const Polyline& p : of_type(layer_polylines(g, layer), "External perimeter"))
+        for (const auto& [x, y] : p.points)
+            b = {std::min(b[0], x), std::min(b[1], y), std::max(b[2], x), std::max(b[3], y)};
+    return b;
+}
+
+std::string flat_box() {
+    std::vector<carve::test::StlTriangle> t;
+    carve::test::add_box(t, 0, 0, 0, 20, 14, 3);
+    return carve::test::write_stl("first_layer_box.stl", t).string();
+}
+
+constexpr double kFilamentArea = 3.14159265358979 * 0.875 * 0.875;
+
+}  // namespace
+
+// --first-layer-height: the first layer is printed at its height and every later layer stands
+// on it at the layer height; its E per mm follows its own height and width
+// (--first-layer-extrusion-width), the others' theirs. --z-offset shifts every Z written.
+TEST(PrinterFirstLayer, FirstLayerHeightWidthAndZOffset) {
+    const std::string box = flat_box();
+    const LayerMoves plain = read_moves(slice(box, "--skirts 0", "fl_plain"));
+    const std::string g = slice(box, "--skirts 0 --first-layer-height 0.3", "fl_03");
+    const LayerMoves m = read_moves(g);
+    // 3 mm: 0.3, then 0.5 .. 2.9 (the 14th layer's middle, 2.8, is under the top; 3.0's is not).
+    ASSERT_EQ(m.z.size(), 14u);
+    for (const auto& [layer, zs] : m.z) {
+        ASSERT_EQ(zs.size(), 1u) << layer;
+        EXPECT_NEAR(zs[0], 0.3 + 0.2 * layer, 1e-9) << layer;
+    }
+    EXPECT_NE(g.find("\n;Z:0.300\n;HEIGHT:0.300\n;LAYER:0\n"), std::string::npos);
+    EXPECT_NE(g.find("\n;Z:0.500\n;HEIGHT:0.200\n;LAYER:1\n"), std::string::npos);
+    EXPECT_NE(g.find("\n; first_layer_height = 0.3\n"), std::string::npos);
+    EXPECT_EQ(plain.z.size(), 15u);
+    EXPECT_NEAR(plain.z.at(0)[0], 0.2, 1e-9);
+
+    const LayerMoves shifted =
+        read_moves(slice(box, "--skirts 0 --first-layer-height 0.3 --z-offset 0.15", "fl_zoff"));
+    ASSERT_EQ(shifted.z.size(), m.z.size());
+    for (const auto& [layer, zs] : shifted.z) EXPECT_NEAR(zs[0], m.z.at(layer)[0] + 0.15, 1e-9);
+    // The end G-code's lift counts the offset once ({z_offset+...}).
+    const std::string low = slice(box, "--skirts 0 --z-offset -0.05", "fl_zneg");
+    EXPECT_NEAR(read_moves(low).z.at(0)[0], 0.15, 1e-9);
+    EXPECT_NE(low.find("\nG1 Z12.95 F600 ; lift clear"), std::string::npos);
+
+    // E per mm of the outer wall (flow 1) on layer 0: its own width x height over the
+    // filament's section.
+    const LayerMoves wide = read_moves(slice(
+        box, "--skirts 0 --first-layer-height 0.3 --first-layer-extrusion-width 0.5", "fl_w"));
+    ASSERT_TRUE(wide.e_per_mm_layer0.count("0.500"));
+    EXPECT_NEAR(wide.e_per_mm_layer0.at("0.500"), 0.5 * 0.3 / kFilamentArea, 2e-4);
+    ASSERT_TRUE(plain.e_per_mm_layer0.count("0.400"));
+    EXPECT_NEAR(plain.e_per_mm_layer0.at("0.400"), 0.4 * 0.2 / kFilamentArea, 2e-4);
+}
+
+// --extrusion-multiplier scales every E; the footer's filament follows.
+TEST(PrinterFlow, ExtrusionMultiplierScalesEveryE) {
+    const std::string plain = slice(fandisk(), "--cavities 1", "em_plain");
+    const std::string less = slice(fandisk(), "--cavities 1 --extrusion-multiplier 0.9", "em_09");
+    const LayerMoves a = read_moves(plain), b = read_moves(less);
+    EXPECT_EQ(a.extrusions, b.extrusions);
+    EXPECT_NEAR(b.e_total / a.e_total, 0.9, 1e-4);
+    // The moves themselves are the same: only their E differs.
+    EXPECT_EQ(a.z, b.z);
+}
+
+// --max-volumetric-speed: no extruding move's width x height x speed exceeds the cap (read as
+// a viewer reads it: ;WIDTH, ;HEIGHT and F), and the estimate grows with the slower moves.
+TEST(PrinterFlow, MaxVolumetricSpeedCapsEveryExtrusion) {
+    const std::string plain = slice(fandisk(), "--cavities 1", "mv_plain");
+    const std::string capped = slice(fandisk(), "--cavities 1 --max-volumetric-speed 2", "mv_2");
+    const LayerMoves a = read_moves(plain), b = read_moves(capped);
+    EXPECT_GT(a.max_flow, 4);
+    EXPECT_LE(b.max_flow, 2 + 1e-9);
+    EXPECT_GT(b.max_flow, 1.9);
+    static const std::regex time(R"(\n;TIME:(\d+)\n)");
+    std::smatch ta, tb;
+    ASSERT_TRUE(std::regex_search(plain, ta, time));
+    ASSERT_TRUE(std::regex_search(capped, tb, time));
+    EXPECT_GT(std::stod(tb[1]), 1.1 * std::stod(ta[1]));
+    // The filament's own cap from a profile holds when lower than the print's.
+    const fs::path ini = scratch() / "cap.ini";
+    std::ofstream(ini) << "max_volumetric_speed = 3\nfilament_max_volumetric_speed = 1.5\n";
+    EXPECT_LE(
+        read_moves(slice(fandisk(), "--cavities 1 --load " + ini.string(), "mv_ini")).max_flow,
+        1.5 + 1e-9);
+}
+
+// --elephant-foot-compensation shrinks the first layer's outer wall by its amount on every
+// side and leaves the second's; --xy-size-compensation grows every layer's.
+TEST(PrinterFirstLayer, ElephantFootAndXySizeCompensation) {
+    const std::string box = flat_box();
+    const std::string plain = slice(box, "--skirts 0", "ef_plain");
+    const std::string foot = slice(box, "--skirts 0 --elephant-foot-compensation 0.3", "ef_03");
+    const std::string grown = slice(box, "--skirts 0 --xy-size-compensation 0.2", "xy_02");
+    const std::array<double, 4> p0 = wall_box(plain, 0), p1 = wall_box(plain, 1),
+                                pt = wall_box(plain, 14);
+    const std::array<double, 4> f0 = wall_box(foot, 0), f1 = wall_box(foot, 1);
+    const std::array<double, 4> g0 = wall_box(grown, 0), g1 = wall_box(grown, 1),
+                                gt = wall_box(grown, 14);
+    EXPECT_NEAR(p0[2] - p0[0], 20 - 0.4, 0.01);  // the wall's centreline, half a line in
+    for (int k = 0; k < 4; ++k) {
+        const double out = k < 2 ? -1 : 1;  // outwards on this side
+        EXPECT_NEAR(f0[k], p0[k] - out * 0.3, 0.01) << k;
+        EXPECT_NEAR(f1[k], p1[k], 1e-9) << k;
+        EXPECT_NEAR(g0[k], p0[k] + out * 0.2, 0.01) << k;
+        EXPECT_NEAR(g1[k], p1[k] + out * 0.2, 0.01) << k;
+        EXPECT_NEAR(gt[k], pt[k] + out * 0.2, 0.01) << k;
+    }
+}
+
+// The same keys in a PrusaSlicer profile give the very G-code the options give, and none of
+// them is named as ignored.
+TEST(PrinterFirstLayer, ProfileKeysGiveTheOptionsGcode) {
+    const fs::path ini = scratch() / "first_layer.ini";
+    std::ofstream(ini) << "first_layer_height = 0.3\nfirst_layer_extrusion_width = 125%\n"
+                          "extrusion_multiplier = 0.95\nmax_volumetric_speed = 0\n"
+                          "filament_max_volumetric_speed = 4\nelefant_foot_compensation = 0.2\n"
+                          "xy_size_compensation = 0.05\nz_offset = 0.1\n";
+    std::string err;
+    const std::string from_ini =
+        slice(fandisk(), "--cavities 1 --load " + ini.string(), "fl_ini", 0, &err);
+    const std::string from_options = slice(fandisk(),
+                                           "--cavities 1 --first-layer-height 0.3 "
+                                           "--first-layer-extrusion-width 0.5 "
+                                           "--extrusion-multiplier 0.95 --max-volumetric-speed 4 "
+                                           "--elephant-foot-compensation 0.2 "
+                                           "--xy-size-compensation 0.05 --z-offset 0.1",
+                                           "fl_options");
+    ASSERT_FALSE(from_ini.empty());
+    EXPECT_TRUE(from_ini == from_options);
+    EXPECT_EQ(err.find("ignores"), std::string::npos) << err;
+    for (const char* key : {"; z_offset = 0.1", "; extrusion_multiplier = 0.95",
+                            "; elefant_foot_compensation = 0.2", "; max_volumetric_speed = 4"})
+        EXPECT_NE(from_ini.find(std::string("\n") + key + "\n"), std::string::npos) << key;
+}
+
+// Nonsense is refused with one line and no file: negative or too high a first layer (PrusaSlicer
+// refuses one higher than the nozzle), a multiplier of 0, a negative cap, a Z offset that puts
+// the first layer into the bed, the same from a profile.
+TEST(PrinterFirstLayer, BadValuesAreRefused) {
+    const std::string box = flat_box();
+    const std::vector<std::pair<std::string, std::string>> bad = {
+        {"--first-layer-height -0.1", "--first-layer-height"},
+        {"--first-layer-height 0.5", "nozzle"},
+        {"--first-layer-height 0.001", "too thin"},
+        {"--first-layer-height 0.35 --first-layer-extrusion-width 0.3", "line width"},
+        {"--extrusion-multiplier 0", "--extrusion-multiplier"},
+        {"--extrusion-multiplier -1", "--extrusion-multiplier"},
+        {"--max-volumetric-speed -1", "--max-volumetric-speed"},
+        {"--max-volumetric-speed 0.01", "too low"},
+        {"--elephant-foot-compensation -0.1", "--elephant-foot-compensation"},
+        {"--xy-size-compensation 9", "--xy-size-compensation"},
+        {"--z-offset -0.2", "into the bed"},
+        {"--first-layer-extrusion-width 0.01", "too thin"},
+    };
+    int n = 0;
+    for (const auto& [args, says] : bad) {
+        std::string err;
+        const std::string name = "bad" + std::to_string(n++);
+        slice(box, args, name, 1, &err);
+        EXPECT_NE(err.find(says), std::string::npos) << args << ": " << err;
+        EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << args << ": " << err;
+        EXPECT_FALSE(fs::exists(scratch() / (name + ".gcode"))) << args;
+    }
+    for (const std::string line :  // NOLINT
+         {"first_layer_height = 0.6", "extrusion_multiplier = 0", "z_offset = -1",
+          "filament_max_volumetric_speed = -2"}) {
+        const fs::path ini = scratch() / "bad_first_layer.ini";
+        std::ofstream(ini) << line << "\n";
+        std::string err;
+        slice(box, "--load " + ini.string(), "bad_ini", 1, &err);
+        EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << line << ": " << err;
+        EXPECT_FALSE(fs::exists(scratch() / "bad_ini.gcode")) << line;
+    }
 }
