@@ -9,8 +9,6 @@ using S = Settings;
 
 const std::vector<ConfigOnlyValue>& config_only_values() {
     static const std::vector<ConfigOnlyValue> list = {
-        // The first layer's thickness as printed (its setting's 0 is the layer height).
-        {"first_layer_height", [](const S& s) { return plain_number(s.first_layer_mm()); }},
         {"restriction_factor", [](const S& s) { return plain_number(s.restriction_factor); }},
         {"opening_factor", [](const S& s) { return plain_number(s.opening_factor); }},
         {"bridge_angle_step", [](const S& s) { return plain_number(s.bridge_angle_step); }},

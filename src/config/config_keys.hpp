@@ -11,9 +11,8 @@
 
 namespace carve {
 
-// Values the G-code's configuration block states that are no settings of the table, or that
-// it states as the run uses them: first_layer_height as printed (its option's 0 is the layer
-// height), internal (restriction_factor) or not an option (printer_name). Kept out of the table
+// Values the G-code's configuration block states that are no settings of the table: internal
+// (restriction_factor) or not an option (printer_name). Kept out of the table
 // because everything in it is an option or profile key, a stats JSON key and a report row, and
 // those must not change.
 struct ConfigOnlyValue {

@@ -196,6 +196,20 @@ TextField pause_at_field() {
     return t;
 }
 
+// PrusaSlicer's files state the first layer's height as printed: carve's 0 ("the layer
+// height") is written as that height (the configuration block, which hosts and viewers read),
+// and a file's height is read as given.
+TextField first_layer_prusa() {
+    TextField t;
+    t.get = [](const Settings& s) { return plain_number(s.first_layer_mm()); };
+    t.set = [](Settings& s, const std::string& text, const std::string& source) {
+        const std::string problem = range_problem(text, 0.0, 2.0, false, "mm");
+        if (!problem.empty()) throw InputError(source + ": " + problem);
+        s.first_layer_height = *parse_decimal(text);
+    };
+    return t;
+}
+
 std::vector<SettingSpec> make_table() {
     return {
         {"layer-height", "layer_height", "mm", 0.01, 2.0, &S::layer_height,
@@ -321,7 +335,7 @@ std::vector<SettingSpec> make_table() {
         {"first-layer-height", "first_layer_height", "mm", 0.0, 2.0, &S::first_layer_height,
          "Height of the first layer (no higher than the nozzle), mm; later layers stand on it "
          "at --layer-height [0 = the layer height]",
-         true},
+         true, "", "", first_layer_prusa()},
         {"first-layer-extrusion-width", "", "mm", 0.0, 3.0, &S::first_layer_extrusion_width,
          "Line width on the first layer (its E follows it; the paths keep their places); a "
          "profile's first_layer_extrusion_width sets it, mm [0 = the line width]"},

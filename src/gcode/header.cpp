@@ -68,13 +68,12 @@ constexpr std::string_view kWordOrder[] = {
     "pause_at",
 };
 
-// A word's value, spelt as config_only_values() or the table spell it (first_layer_height is
-// both: the table's 0 is written as the layer height it means).
+// A word's value, spelt as the table or config_only_values() spell it.
 std::string word_value(std::string_view key, const Settings& s) {
-    for (const ConfigOnlyValue& v : config_only_values())
-        if (key == v.key) return v.get(s);
     for (const SettingSpec& spec : setting_table())
         if (spec.config_key() == key) return spec.prusa_text(s);
+    for (const ConfigOnlyValue& v : config_only_values())
+        if (key == v.key) return v.get(s);
     throw std::logic_error("configuration block word without a declaration: " + std::string(key));
 }
 
@@ -133,7 +132,8 @@ std::vector<std::string> config_block(const Settings& s) {
             continue;
         // The first layer and the flow (issue #36) are written when they change the print,
         // so that a print without them keeps the block it had before they existed; the first
-        // layer's height always is, among the words, as printed.
+        // layer's height always is, in its place among the words (it was a fixed word before,
+        // the layer height), as printed.
         const std::string_view option = spec.option;
         if (option == "first-layer-height") continue;
         if ((option == "first-layer-extrusion-width" || option == "extrusion-multiplier" ||

@@ -100,12 +100,15 @@ class Context {
 
     std::optional<Value> lookup(const std::string& name, size_t index) const {
         // Carve's own fields first: an option given on the command line overrides the profile.
-        // The few names PrusaSlicer defines that carve fixes (one extruder) or states as used
-        // (the first layer's thickness, whose setting's 0 is the layer height), then the
-        // table's settings under their profile keys.
+        // The table's settings under their profile keys, and the few names PrusaSlicer
+        // defines that carve fixes (one extruder) or states as printed (the first layer's
+        // height, whose setting's 0 is the layer height).
         // A word (gcode_flavor, bed_shape) is the profile's own text, below: carve writes one
         // spelling for several of PrusaSlicer's ("marlin" and "marlin2" are both marlin2), and
         // a template tests the profile's. get() reads only numbers and switches.
+        if (const SettingSpec* spec = find_setting_by_ini_key(name);
+            spec && !spec->text() && !spec->prusa)
+            return num(spec->get(s_));
         const std::map<std::string, double> fields = {
             {"first_layer_height", s_.first_layer_mm()},
             {"initial_tool", 0},
@@ -113,9 +116,6 @@ class Context {
             {"current_extruder", 0},
         };
         if (auto it = fields.find(name); it != fields.end()) return num(it->second);
-        if (const SettingSpec* spec = find_setting_by_ini_key(name);
-            spec && !spec->text() && !spec->prusa)
-            return num(spec->get(s_));
         if (auto it = runtime_.find(name); it != runtime_.end()) return num(it->second);
         if (auto it = s_.profile_values.find(name); it != s_.profile_values.end())
             return profile_element(it->second, index);

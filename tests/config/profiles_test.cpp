@@ -415,6 +415,10 @@ TEST(ConfigBlock, WritesTheTablesSpellingsAndReadsBack) {
     s.avoid_crossing_perimeters = false;
     s.thumbnails = {{16, 16}, {32, 24}};
     s.support = SupportMode::Buildplate;  // the support rows are written only with supports
+    // ... and the first layer's width and the flow only away from their defaults (issue #36).
+    s.first_layer_extrusion_width = 0.45, s.extrusion_multiplier = 0.95;
+    s.max_volumetric_speed = 11, s.elephant_foot_compensation = 0.1;
+    s.xy_size_compensation = -0.05, s.z_offset = 0.05;
     s.start_gcode = "G28 ; home\nG1 Z5 \\ done\n";
     s.start_filament_gcode = "M900 K0\n";
     s.layer_gcode = "";
