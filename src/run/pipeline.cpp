@@ -114,13 +114,15 @@ PrintStats finish_gcode(GcodeWriter& writer, const RunOptions& options, const Ru
 // The written G-code measured as `carve check --mesh` does (RunOptions::check_output).
 void check_written_gcode(const GcodeWriter& writer, const Mesh& mesh, const Settings& settings,
                          const Placement& place, RunResult& result) {
-    // The mesh is where the slicer had it: moved by the bed offset, its lowest point on z = 0.
+    // The mesh is where the slicer had it: moved by the bed offset, its lowest point on z = 0,
+    // and raised by --z-offset as every Z written is.
     const auto check_start = std::chrono::steady_clock::now();
     GcodeAnalysisOptions check_options;
     check_options.filament_diameter_mm = settings.filament_diameter;
     check_options.keep_layers = false;
-    result.check = analyse_gcode_on_mesh(writer.written_path(), mesh, check_options,
-                                         Vec3{place.offset_x, place.offset_y, -place.z0});
+    result.check =
+        analyse_gcode_on_mesh(writer.written_path(), mesh, check_options,
+                              Vec3{place.offset_x, place.offset_y, settings.z_offset - place.z0});
     result.check_time_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - check_start).count();
 }

@@ -656,3 +656,29 @@ TEST(PrinterFirstLayer, BadValuesAreRefused) {
         EXPECT_FALSE(fs::exists(scratch() / "bad_ini.gcode")) << line;
     }
 }
+
+// The run's material figures (the stats' material by feature, summed from the paths) follow the
+// real first layer and the multiplier: they add up to what the G-code extrudes, as at the
+// defaults.
+TEST(PrinterFlow, MaterialFiguresFollowTheFirstLayerAndTheMultiplier) {
+    setenv("SOURCE_DATE_EPOCH", "1767225600", 1);
+    auto figures = [](const std::string& args, const std::string& name) {
+        const fs::path out = scratch() / (name + ".gcode"), json = scratch() / (name + ".json");
+        const carve::test::CarveRun r =
+            run_carve("slice " + fandisk() + " -o " + out.string() + " -q --skirts 0 --stats " +
+                      json.string() + " " + args);
+        EXPECT_EQ(r.status, 0) << r.err;
+        const nlohmann::json j = nlohmann::json::parse(read(json));
+        double by_feature = 0;
+        for (const auto& [k, v] : j["material_by_feature"].items())
+            if (v.is_number()) by_feature += v.get<double>();
+        return std::pair{by_feature, j["extruded_volume_mm3"].get<double>()};
+    };
+    const auto [plain_features, plain] = figures("", "mf_plain");
+    const auto [features, extruded] = figures(
+        "--first-layer-height 0.3 --first-layer-extrusion-width 0.6 --extrusion-multiplier 0.9",
+        "mf_first");
+    EXPECT_NEAR(plain_features, plain, 1e-3 * plain);
+    EXPECT_NEAR(features, extruded, 1e-3 * extruded);
+    EXPECT_LT(extruded, 0.92 * plain);
+}

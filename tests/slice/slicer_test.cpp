@@ -262,6 +262,28 @@ TEST(Slicer, LayerCountOnlyCountsPlanesInsideTheMesh) {
 
 // ---- areas against the analytic cross-sections ----
 
+// A first layer of its own height (--first-layer-height): cut at its middle, the layers above
+// at theirs, counted while the middle lies inside the mesh; 0 is the layer height.
+TEST(Slicer, FirstLayerOfItsOwnHeightIsCutAtItsMiddle) {
+    const Mesh b = box(0, 0, 1.5, 10, 10, 4.5);  // 3 mm
+    TopDownSlicer slicer(b, 0.2, 0.3);
+    // 0.15, then 0.4, 0.6 .. 2.8 (2.8 + 0.2 = 3.0 is the top): 1 + 13 layers.
+    ASSERT_EQ(slicer.layer_count(), 14);
+    int expected = 13;
+    while (auto s = slicer.next()) {
+        EXPECT_EQ(s->index, expected);
+        EXPECT_NEAR(s->z, 1.5 + (expected == 0 ? 0.15 : 0.3 + (expected - 0.5) * 0.2), 1e-9);
+        EXPECT_NEAR(area_mm2(s->region), 100.0, 1e-6);
+        --expected;
+    }
+    EXPECT_EQ(expected, -1);
+    EXPECT_EQ(TopDownSlicer(box(0, 0, 0, 1, 1, 0.2), 0.2, 0.3).layer_count(), 1);   // 0.15
+    EXPECT_EQ(TopDownSlicer(box(0, 0, 0, 1, 1, 0.1), 0.2, 0.3).layer_count(), 0);   // above
+    EXPECT_EQ(TopDownSlicer(box(0, 0, 0, 1, 1, 0.45), 0.2, 0.1).layer_count(), 3);  // .05 .2 .4
+    EXPECT_EQ(TopDownSlicer(box(0, 0, 0, 1, 1, 40), 0.2, 0).layer_count(), 200);
+    EXPECT_THROW(TopDownSlicer(box(0, 0, 0, 1, 1, 1), 0.2, -0.1), InputError);
+}
+
 TEST(Slicer, SphereAreaMatchesAnalyticAndPolyhedralSection) {
     const double r = 20;
     const Mesh sphere = uv_sphere(r, 512, 256);
