@@ -235,7 +235,8 @@ bool set_to_something(const std::string& value) {
     return false;
 }
 
-// An extrusion width: mm, or a percentage of the nozzle (PrusaSlicer 2.4 on); 0 = automatic.
+// An extrusion width: mm, or a percentage of `nozzle` (the nozzle, PrusaSlicer 2.4 on; for
+// first_layer_extrusion_width the first layer's height, its ratio_over); 0 = automatic.
 double width_value(const std::string& key, const std::string& value, double nozzle) {
     std::string v = trim_whitespace(value.substr(0, value.find(',')));
     const bool percent = !v.empty() && v.back() == '%';
@@ -418,7 +419,9 @@ std::vector<std::string> read_prusa_profile(std::istream& in, const std::string&
     for (const std::string& key : widths)
         if (auto it = values.find(key); it != values.end()) {
             try {
-                width[key] = width_value(key, it->second.value, s.nozzle);
+                width[key] = width_value(
+                    key, it->second.value,
+                    key == "first_layer_extrusion_width" ? s.first_layer_mm() : s.nozzle);
             } catch (const InputError& e) {
                 throw relabel(key, it->second, e);
             }

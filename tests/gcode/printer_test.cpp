@@ -595,7 +595,8 @@ TEST(PrinterFirstLayer, ElephantFootAndXySizeCompensation) {
 // them is named as ignored.
 TEST(PrinterFirstLayer, ProfileKeysGiveTheOptionsGcode) {
     const fs::path ini = scratch() / "first_layer.ini";
-    std::ofstream(ini) << "first_layer_height = 0.3\nfirst_layer_extrusion_width = 125%\n"
+    // A first layer's width in % is of the first layer's height (PrusaSlicer's ratio_over).
+    std::ofstream(ini) << "first_layer_height = 0.25\nfirst_layer_extrusion_width = 200%\n"
                           "extrusion_multiplier = 0.95\nmax_volumetric_speed = 0\n"
                           "filament_max_volumetric_speed = 4\nelefant_foot_compensation = 0.2\n"
                           "xy_size_compensation = 0.05\nz_offset = 0.1\n";
@@ -603,7 +604,7 @@ TEST(PrinterFirstLayer, ProfileKeysGiveTheOptionsGcode) {
     const std::string from_ini =
         slice(fandisk(), "--cavities 1 --load " + ini.string(), "fl_ini", 0, &err);
     const std::string from_options = slice(fandisk(),
-                                           "--cavities 1 --first-layer-height 0.3 "
+                                           "--cavities 1 --first-layer-height 0.25 "
                                            "--first-layer-extrusion-width 0.5 "
                                            "--extrusion-multiplier 0.95 --max-volumetric-speed 4 "
                                            "--elephant-foot-compensation 0.2 "
