@@ -93,8 +93,8 @@ void Emitter::start() {
     // Like PrusaSlicer: heat and wait unless the start G-code waits for it itself, judged from
     // the text the printer will get (an M109 inside a false {if} heats nothing). A Klipper
     // macro's parameters count for nothing: the stock PRINT_START of Klipper's own configs
-    // (config/kit-voron2-250mm.cfg) reads none, and Klipper then refused the first extrusion
-    // ("Extrude below minimum temp"). A macro that does read them finds both at temperature.
+    // (config/kit-voron2-250mm.cfg) reads none. A macro that does read them finds both at
+    // temperature; one that purges without heating too.
     const bool user_bed = waits_for(start_text, "M190");
     const bool user_nozzle = waits_for(start_text, "M109");
     if (!user_bed) line(fmt::format("M140 S{} ; bed", st_.first_layer_bed_temperature));
@@ -108,6 +108,13 @@ void Emitter::start() {
         line(fmt::format("PRINT_START BED_TEMP={} EXTRUDER_TEMP={}",
                          st_.first_layer_bed_temperature, st_.first_layer_nozzle_temperature));
     raw(start_text);
+    // What a Klipper macro does is out of sight: the stock PRINT_START of kit-voron2-250mm.cfg
+    // turns the hot end off ("M104 S0") while the bed heats, and klippy then stopped at the
+    // first extrusion, "Extrude below minimum temp". So wait for the nozzle again after the
+    // start G-code, where PrusaSlicer writes its M109.
+    if (st_.flavor == GcodeFlavor::Klipper && !user_nozzle)
+        line(fmt::format("M109 S{} ; wait for nozzle (a start macro may have turned it off)",
+                         st_.first_layer_nozzle_temperature));
     custom(st_.start_filament_gcode);
     line("G21 ; millimetres");
     line("G90 ; absolute coordinates");

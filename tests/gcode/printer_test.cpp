@@ -97,6 +97,9 @@ Start read_start(const std::string& g) {
         if (cmd == "M82") relative = false;
         if (cmd == "M190") s.bed_waited = std::max(w['S'], w['R']);
         if (cmd == "M109") s.nozzle_waited = std::max(w['S'], w['R']);
+        // A lower target lets the nozzle cool: what was waited for no longer holds (Klipper's
+        // heater drops below min_extrude_temp and refuses the extrusion).
+        if (cmd == "M104" && w['S'] < s.nozzle_waited) s.nozzle_waited = 0;
         if (cmd == "G92" && w.count('E')) e = w['E'];
         if ((cmd == "G1" || cmd == "G0") && w.count('E')) {
             const double d = relative ? w['E'] : w['E'] - e;
@@ -243,6 +246,29 @@ TEST(PrinterStart, EveryPresetWaitsForBedAndNozzleBeforeTheFirstExtrusion) {
     EXPECT_EQ(own.find("wait for bed"), std::string::npos);
     EXPECT_EQ(own.find("wait for nozzle"), std::string::npos);
     EXPECT_EQ(read_start(own).bed_waited, 60);
+}
+
+// Klipper runs a macro's body where the file calls it. The stock PRINT_START of Klipper's
+// config/kit-voron2-250mm.cfg reads no parameters and turns the hot end off while the bed heats;
+// the file must wait for the nozzle again after it, as PrusaSlicer's does (M109 after the start
+// G-code). Before, klippy stopped at the first extrusion: "Extrude below minimum temp".
+TEST(PrinterStart, KlipperWaitsForTheNozzleAfterAStockPrintStartThatTurnsItOff) {
+    const std::string voron_print_start =
+        "M117 Homing...\nG28\nG1 Z20 F3000\nM117 Preheat (Print)\nM104 S0\n";
+    const std::string g = slice(fandisk(), "--cavities 1 --printer klipper", "klipper_voron");
+    std::string run;  // the file as Klipper executes it, the macro expanded
+    for (const std::string& l : lines_of(g))
+        run += l.rfind("PRINT_START", 0) == 0 ? voron_print_start : l + "\n";
+    const Start s = read_start(run);
+    ASSERT_GT(s.first_extrusion, 0);
+    EXPECT_EQ(s.bed_waited, 60);
+    EXPECT_EQ(s.nozzle_waited, 215);
+    // A start G-code that waits for the nozzle itself is not followed by another wait.
+    const fs::path ini = scratch() / "klipper_own.ini";
+    std::ofstream(ini) << "gcode_flavor = klipper\nstart_gcode = PRINT_START\\nM109 "
+                          "S[first_layer_temperature]\n";
+    const std::string own = slice(fandisk(), "--cavities 1 --load " + ini.string(), "k_own");
+    EXPECT_EQ(own.find("wait for nozzle"), std::string::npos);
 }
 
 // The mk3s's intro line ends at Z 0.2 on the bed's edge: the nozzle retracts and lifts before
