@@ -9,6 +9,7 @@
 #include <unordered_map>
 
 #include "base/stage_timer.hpp"
+#include "geometry/lines.hpp"
 #include "geometry/morphology.hpp"
 #include "geometry/polygon.hpp"
 
@@ -369,7 +370,22 @@ LayerRibs clip_ribs(LayerRibs ribs, const RibSlice& slice, const RibOptions& opt
         }
         ties.push_back(Path{from, end});
     }
-    ribs.ties = std::move(ties);
+    // Ties run along each other and over the pieces where ribs pair up or tie in a row: each
+    // spot printed once (flat_box, layer 30: 2,007 mm of rib lines covered what 1,404 mm
+    // print). The pieces stay whole: each rib stands on its own piece of the slice below. The
+    // ties are trimmed against them and each other, longest first, so that a row of ties is
+    // one line and the short ones end on it. Trimmed within half a width only: what is taken
+    // off a tie lies under the line that took it, and a cut end, even one facing another cut
+    // end, fuses with it. No stub is dropped, however short: the part of a tie past a cut may
+    // be all that joins what cut it to the tie's own target, and through it the wall.
+    std::sort(ties.begin(), ties.end(), [](const Path& a, const Path& b) {
+        return distance(a.front(), a.back()) > distance(b.front(), b.back());
+    });
+    LineSet printed(w / 2, 0);
+    for (const Path& l : ribs.lines) printed.keep(l);
+    ribs.ties.clear();
+    for (const Path& t : ties)
+        for (Path& p : printed.add(t)) ribs.ties.push_back(std::move(p));
     return ribs;
 }
 
