@@ -36,23 +36,6 @@ namespace fs = std::filesystem;
 using namespace carve;
 using namespace carve::test;
 
-// AddressSanitizer reserves terabytes of shadow memory when a program starts, so nothing runs
-// under `ulimit -v` in the sanitizer build: the tests of memory limits run in the normal build.
-// GCC says so with __SANITIZE_ADDRESS__, clang (scripts/sanitize.sh's compiler) with __has_feature.
-#if defined(__SANITIZE_ADDRESS__)
-#define CARVE_TEST_ASAN 1
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define CARVE_TEST_ASAN 1
-#endif
-#endif
-#if defined(CARVE_TEST_ASAN)
-#define SKIP_UNDER_ULIMIT_V() \
-    GTEST_SKIP() << "ulimit -v cannot run under AddressSanitizer (shadow memory)"
-#else
-#define SKIP_UNDER_ULIMIT_V() (void)0
-#endif
-
 namespace {
 
 // A small closed model of the test's own (a 20 x 20 x 6 mm box as ASCII STL), so that the
