@@ -203,8 +203,11 @@ void Analyser::finish_layer() {
     r.wall_crossings += layer_.wall_crossings;
     if (opt_.keep_layers) r.per_layer.push_back(layer_);
 
-    // The last layer is read from prev_footprint_, the ones before from recent_.
-    if (have_prev_) recent_.back().footprint = std::move(prev_footprint_);
+    // The last layer is read from prev_footprint_, the ones before from recent_. Its entry may
+    // be gone already, dropped above as out of this layer's reach (a layer in mid-air): then
+    // nothing of it is kept (back() of the empty deque wrote through a dangling reference, which
+    // AddressSanitizer found as a leak in HostileCheck.LayersInMidAirHang).
+    if (have_prev_ && !recent_.empty()) recent_.back().footprint = std::move(prev_footprint_);
     // Layers at or above this one lie below none of the next ones that this one does not
     // cover: a file going up and down (200,000 Z reversals) kept them all and merged dozens of
     // footprints for every layer.
