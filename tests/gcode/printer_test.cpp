@@ -66,6 +66,22 @@ std::map<char, double> words(const std::string& line) {
     return w;
 }
 
+// The extruder's E as the firmware follows it: absolute or relative (M82 / M83), reset by G92.
+struct EAxis {
+    bool relative = false;
+    double e = 0;
+    // Reads the modes and resets of any command; for a move, the E it adds (0 without an E).
+    double step(const std::string& cmd, std::map<char, double>& w) {
+        if (cmd == "M83") relative = true;
+        if (cmd == "M82") relative = false;
+        if (cmd == "G92" && w.count('E')) e = w['E'];
+        if ((cmd != "G1" && cmd != "G0") || !w.count('E')) return 0;
+        const double de = relative ? w['E'] : w['E'] - e;
+        e = relative ? e + w['E'] : w['E'];
+        return de;
+    }
+};
+
 std::string fandisk() {
     return carve::test::repo_model("fandisk.stl");
 }
@@ -85,29 +101,21 @@ struct Start {
 
 Start read_start(const std::string& g) {
     Start s;
-    bool relative = false;
-    double e = 0;
+    EAxis axis;
     int n = 0;
     for (const std::string& l : lines_of(g)) {
         ++n;
         if (l.empty() || l[0] == ';') continue;
         std::map<char, double> w = words(l);
         const std::string cmd = l.substr(0, l.find_first_of(" ;"));
-        if (cmd == "M83") relative = true;
-        if (cmd == "M82") relative = false;
         if (cmd == "M190") s.bed_waited = std::max(w['S'], w['R']);
         if (cmd == "M109") s.nozzle_waited = std::max(w['S'], w['R']);
         // A lower target lets the nozzle cool: what was waited for no longer holds (Klipper's
         // heater drops below min_extrude_temp and refuses the extrusion).
         if (cmd == "M104" && w['S'] < s.nozzle_waited) s.nozzle_waited = 0;
-        if (cmd == "G92" && w.count('E')) e = w['E'];
-        if ((cmd == "G1" || cmd == "G0") && w.count('E')) {
-            const double d = relative ? w['E'] : w['E'] - e;
-            e = relative ? e + w['E'] : w['E'];
-            if (d > 0 && (w.count('X') || w.count('Y'))) {
-                s.first_extrusion = n;
-                return s;
-            }
+        if (axis.step(cmd, w) > 0 && (w.count('X') || w.count('Y'))) {
+            s.first_extrusion = n;
+            return s;
         }
     }
     return s;
@@ -154,24 +162,18 @@ std::vector<Polyline> layer_polylines(const std::string& g, int layer) {
     std::vector<Polyline> out;
     int at = -1;
     std::string type;
-    bool relative = false, drawing = false;
-    double x = 0, y = 0, e = 0;
+    bool drawing = false;
+    EAxis axis;
+    double x = 0, y = 0;
     for (const std::string& l : lines_of(g)) {
         if (l.rfind(";LAYER:", 0) == 0) at = std::stoi(l.substr(7)), drawing = false;
         if (l.rfind(";TYPE:", 0) == 0) type = l.substr(6), drawing = false;
         if (l.empty() || l[0] == ';') continue;
         const std::string cmd = l.substr(0, l.find_first_of(" ;"));
         std::map<char, double> w = words(l);
-        if (cmd == "M83") relative = true;
-        if (cmd == "M82") relative = false;
-        if (cmd == "G92" && w.count('E')) e = w['E'];
+        const double de = axis.step(cmd, w);
         if (cmd != "G1" && cmd != "G0") continue;
         const double nx = w.count('X') ? w['X'] : x, ny = w.count('Y') ? w['Y'] : y;
-        double de = 0;
-        if (w.count('E')) {
-            de = relative ? w['E'] : w['E'] - e;
-            e = relative ? e + w['E'] : w['E'];
-        }
         const bool moves = nx != x || ny != y;
         if (moves && de > 0 && at == layer) {
             if (!drawing) out.push_back({type, {{x, y}}});
@@ -467,8 +469,8 @@ struct LayerMoves {
 LayerMoves read_moves(const std::string& g) {
     LayerMoves m;
     int layer = -1;
-    bool relative = false;
-    double x = 0, y = 0, z = 0, e = 0, f = 0, width = 0, height = 0;
+    EAxis axis;
+    double x = 0, y = 0, z = 0, f = 0, width = 0, height = 0;
     std::string width_text;
     for (const std::string& l : lines_of(g)) {
         if (l.rfind(";LAYER:", 0) == 0) layer = std::stoi(l.substr(7));
@@ -477,18 +479,11 @@ LayerMoves read_moves(const std::string& g) {
         if (l.empty() || l[0] == ';') continue;
         const std::string cmd = l.substr(0, l.find_first_of(" ;"));
         std::map<char, double> w = words(l);
-        if (cmd == "M83") relative = true;
-        if (cmd == "M82") relative = false;
-        if (cmd == "G92" && w.count('E')) e = w['E'];
+        const double de = axis.step(cmd, w);
         if (cmd != "G1" && cmd != "G0") continue;
         if (w.count('F')) f = w['F'];
         if (w.count('Z')) z = w['Z'];
         const double nx = w.count('X') ? w['X'] : x, ny = w.count('Y') ? w['Y'] : y;
-        double de = 0;
-        if (w.count('E')) {
-            de = relative ? w['E'] : w['E'] - e;
-            e = relative ? e + w['E'] : w['E'];
-        }
         const double len = std::hypot(nx - x, ny - y);
         if (len > 0 && de > 0 && layer >= 0) {
             std::vector<double>& zs = m.z[layer];
