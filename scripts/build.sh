@@ -7,7 +7,12 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 werror=OFF
 [ "${CI:-}" = true ] && werror=ON
-cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DCARVE_WERROR="$werror" >/dev/null
+# A new tree is configured with Ninja, which starts compiling a target's sources while the
+# libraries it links are still building (the Makefile generator leaves a core idle at each step
+# of that chain); an existing tree keeps the generator it was made with.
+generator=()
+[ -f build/CMakeCache.txt ] || ! command -v ninja >/dev/null || generator=(-G Ninja)
+cmake -S . -B build "${generator[@]}" -DCMAKE_BUILD_TYPE=Release -DCARVE_WERROR="$werror" >/dev/null
 if [ $# -gt 0 ]; then
     cmake --build build -j "$(nproc)" --target "$@"
 else

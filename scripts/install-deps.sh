@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Installs everything carve needs to build and test, from Debian 12 packages only.
 set -euo pipefail
-pkgs=(build-essential cmake pkg-config libpolyclipping-dev libboost-dev nlohmann-json3-dev
+pkgs=(build-essential cmake ninja-build pkg-config libpolyclipping-dev libboost-dev nlohmann-json3-dev
       libcli11-dev libfmt-dev libzip-dev zlib1g-dev libpng-dev libgtest-dev libgmock-dev
       libbenchmark-dev libjemalloc-dev libtbb-dev python3 python3-numpy python3-matplotlib clang-14 libclang-rt-14-dev
       clang-format-14)

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "support/sanitizers.hpp"
 #include "support/scratch.hpp"
 
 namespace carve::test {
@@ -34,23 +35,6 @@ inline std::string read(const std::filesystem::path& p) {
     ss << in.rdbuf();
     return ss.str();
 }
-
-// AddressSanitizer reserves terabytes of shadow memory when a program starts, so nothing runs
-// under `ulimit -v` in the sanitizer build: the tests of memory limits run in the normal build.
-// GCC says so with __SANITIZE_ADDRESS__, clang (scripts/sanitize.sh's compiler) with __has_feature.
-#if defined(__SANITIZE_ADDRESS__)
-#define CARVE_TEST_ASAN 1
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define CARVE_TEST_ASAN 1
-#endif
-#endif
-#if defined(CARVE_TEST_ASAN)
-#define SKIP_UNDER_ULIMIT_V() \
-    GTEST_SKIP() << "ulimit -v cannot run under AddressSanitizer (shadow memory)"
-#else
-#define SKIP_UNDER_ULIMIT_V() (void)0
-#endif
 
 // Runs `carve ARGS` with no input; `prefix` goes before the command (e.g. "ulimit -f 8;").
 inline CarveRun run_carve(const std::string& args, const std::string& prefix = "") {
