@@ -37,6 +37,9 @@ if [ "$stage" != test ]; then
     cmake --build build-asan -j "$(nproc)"
 fi
 [ "$stage" != build ] || exit 0
-export ASAN_OPTIONS=${ASAN_OPTIONS:-abort_on_error=1:detect_stack_use_after_return=0:strict_string_checks=1}
+# A 64 MB quarantine of freed memory instead of 256: a use after free is still caught unless 64 MB
+# were freed in between, and carve runs a fifth faster with less than half the resident memory
+# (fandisk: 2.5 -> 2.0 s, 486 -> 214 MB; bench/results/ci_time.md).
+export ASAN_OPTIONS=${ASAN_OPTIONS:-abort_on_error=1:detect_stack_use_after_return=0:strict_string_checks=1:quarantine_size_mb=64}
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
 ctest --test-dir build-asan --output-on-failure -j "$(nproc)"

@@ -471,6 +471,9 @@ TEST(Cli, AnOptionOfOneSchemeIsRefusedUnderTheOther) {
 // --tear-limit (and any other option) leaves the scheme as chosen; the stats, the G-code and
 // the HTML report name it.
 TEST(Cli, TheSchemeIsTheOneChosenAndNamedInEveryOutput) {
+    SKIP_UNDER_SANITIZERS(
+        "Carving.ReportSchemeIsAnExactSelfSupportingPartitionOnTheModels and every slice of "
+        "fandisk");
     struct Case {
         std::string options, scheme;
     };

@@ -652,8 +652,9 @@ TEST(Estimate, EqualsAnIndependentReadingOfTheFile) {
                            "machine_max_feedrate_x = 80\nmachine_max_jerk_x = 5\n"
                            "machine_max_junction_deviation = 0\n";
     double generic_s = 0;
-    for (const std::string& args : {std::string("--printer generic"), std::string("--printer mk3s"),
-                                    std::string("--printer ender3"), "--load " + slow.string()}) {
+    for (const std::string& args : carve::test::first_under_sanitizers<std::string>(
+             {"--printer generic", "--printer mk3s", "--printer ender3",
+              "--load " + slow.string()})) {
         const Sliced s = slice(fandisk(), "--cavities 2 " + args, "estimate");
         const Replay r(s.gcode);
         EXPECT_TRUE(r.saw_limits()) << args;
@@ -709,6 +710,7 @@ TopLayers check_top_layers(const std::string& cat, const std::string& args, doub
 }
 
 TEST(Cooling, EveryLayerOfCatLastsTheMinimumLayerTime) {
+    SKIP_UNDER_SANITIZERS("Cooling.FanFollowsTheLayerTimeAndBridgesTheirOwnSpeed");
     CARVE_MODEL(cat, "cat.stl");
     const TopLayers defaults = check_top_layers(cat, "", 5, 10, "cat_cooled");
     EXPECT_EQ(defaults.slowed, 50);

@@ -5,9 +5,10 @@
 
 #include <vector>
 
-// GCC says it builds with AddressSanitizer through __SANITIZE_ADDRESS__, clang through
-// __has_feature.
-#if defined(__SANITIZE_ADDRESS__)
+// The sanitizer tree defines CARVE_TEST_SANITIZED for the tests, whose own code it does not
+// instrument (tests/CMakeLists.txt); GCC and clang also say when a file is compiled with
+// AddressSanitizer, through __SANITIZE_ADDRESS__ and __has_feature.
+#if defined(CARVE_TEST_SANITIZED) || defined(__SANITIZE_ADDRESS__)
 #define CARVE_TEST_ASAN 1
 #elif defined(__has_feature)
 #if __has_feature(address_sanitizer)
@@ -43,3 +44,12 @@ std::vector<T> first_under_sanitizers(std::vector<T> all) {
 }
 
 }  // namespace carve::test
+
+// A test whose every run of carve repeats what other tests run under the sanitizers, and checks
+// what carve writes rather than how it gets there, runs in the Release suite alone: `why` names
+// where its code runs under the sanitizers.
+#define SKIP_UNDER_SANITIZERS(why)        \
+    if (!::carve::test::kUnderSanitizers) \
+        ;                                 \
+    else                                  \
+        GTEST_SKIP() << "left to the Release suite (the sanitizers run its code in " << why << ")"
