@@ -11,7 +11,9 @@ Paths compensated_slice(Paths region, int index, const Settings& settings) {
     // PrusaSlicer's order: the whole slice by xy_size_compensation, then the first layer's by
     // elefant_foot_compensation.
     Coord grow = to_units(settings.xy_size_compensation);
-    if (index == 0) grow -= to_units(settings.elephant_foot_compensation);
+    // The print's first layer alone: above a raft the model's first layer is not squashed.
+    if (index == settings.first_print_layer())
+        grow -= to_units(settings.elephant_foot_compensation);
     if (grow > 0) return dilate(region, grow);
     if (grow < 0) return erode(region, -grow);
     return region;

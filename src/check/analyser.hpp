@@ -33,7 +33,11 @@ class Analyser {
     void line(std::string_view s);
     GcodeAnalysis finish();
 
-    ExtrusionBounds bounds() const { return above_first_.any ? above_first_ : all_layers_; }
+    ExtrusionBounds bounds() const {
+        ExtrusionBounds b = above_first_.any ? above_first_ : all_layers_;
+        b.model_bottom_z = model_bottom_z_;
+        return b;
+    }
 
   private:
     // Reading the file (gcode_analysis.cpp).
@@ -130,6 +134,8 @@ class Analyser {
     Paths layer_travel_;
 
     ExtrusionBounds above_first_, all_layers_;
+    bool model_seen_ = false;     // an extrusion that is neither support nor skirt
+    double model_bottom_z_ = -1;  // ExtrusionBounds::model_bottom_z
 };
 
 }  // namespace carve::check

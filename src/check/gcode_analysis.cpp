@@ -411,6 +411,12 @@ void Analyser::extrude(double nx, double ny, double nz, double de, double length
     };
     // Supports stand beside the model: the model is placed by the rest.
     if (!support_type_) {
+        // Layers of supports alone below the model's first: a raft, which lifts the model by
+        // its height and the gap above it. The layer's ;HEIGHT: is its thickness; without one,
+        // its height above the layer below (which counts the gap too).
+        if (!model_seen_ && layer_z_ > first_z_ + kZTolerance)
+            model_bottom_z_ = layer_z_ - (line_height_ > 0 ? line_height_ : layer_.height_mm);
+        model_seen_ = true;
         grow(all_layers_);
         if (!on_bed_) grow(above_first_);
     }

@@ -60,6 +60,9 @@ struct GcodeAnalysisOptions {
 struct ExtrusionBounds {
     bool any = false;
     double min_x = 0, min_y = 0, max_x = 0, max_y = 0;  // mm, machine coordinates
+    // Where the model's bottom lies when layers of supports alone are printed under its first
+    // layer (a raft): that layer's Z less its thickness; -1 when the model starts on the bed.
+    double model_bottom_z = -1;
 };
 
 struct LayerFigures {

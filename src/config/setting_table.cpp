@@ -331,6 +331,20 @@ std::vector<SettingSpec> make_table() {
          "two copies join only where they touch); 0 = none, mm [0]"},
         {"brim-separation", "brim_separation", "mm", 0.0, 10.0, &S::brim_separation,
          "Gap between the part and its brim, so that it breaks off cleanly, mm [0.1]"},
+        // The raft (toolpath/raft.hpp), PrusaSlicer's keys and defaults.
+        {"raft-layers", "raft_layers", "layers", 0, 100, &S::raft_layers,
+         "Layers of raft printed under the model, wider than its first layer, for a part that "
+         "holds the bed poorly; the raft's first layer takes the first-layer settings, the "
+         "model starts --raft-contact-distance above its top; 0 = none, layers [0]"},
+        {"raft-contact-distance", "raft_contact_distance", "mm", 0.0, 2.0,
+         &S::raft_contact_distance,
+         "Gap between the raft's top and the model's first layer, so that the raft peels off, "
+         "mm [0.1]"},
+        {"raft-expansion", "raft_expansion", "mm", 0.0, 100.0, &S::raft_expansion,
+         "How far the raft reaches beyond the model's first layer, mm [1.5]"},
+        {"raft-first-layer-expansion", "raft_first_layer_expansion", "mm", 0.0, 100.0,
+         &S::raft_first_layer_expansion,
+         "How far the raft's first layer reaches beyond the raft's other layers, mm [3]"},
         // The first layer and the flow (issue #36), PrusaSlicer's keys and meanings.
         {"first-layer-height", "first_layer_height", "mm", 0.0, 2.0, &S::first_layer_height,
          "Height of the first layer (no higher than the nozzle), mm; later layers stand on it "
@@ -671,10 +685,11 @@ void check_first_layer(const Settings& s) {
             "--first-layer-extrusion-width {} mm is too thin; expected 0 (the line width) or "
             "from 0.05 to 3 mm",
             plain_number(s.first_layer_extrusion_width)));
-    if (s.first_layer_mm() > s.layer_width_mm(0) + 1e-9)
+    if (s.first_layer_mm() > s.layer_width_mm(s.first_print_layer()) + 1e-9)
         throw InputError(fmt::format(
             "--first-layer-height {} mm is thicker than the first layer's {} mm line width",
-            plain_number(s.first_layer_mm()), plain_number(s.layer_width_mm(0))));
+            plain_number(s.first_layer_mm()),
+            plain_number(s.layer_width_mm(s.first_print_layer()))));
     if (s.max_volumetric_speed > 0 && s.max_volumetric_speed < 0.1)
         throw InputError(fmt::format(
             "--max-volumetric-speed {} mm^3/s is too low to print; expected 0 (no cap) or from "

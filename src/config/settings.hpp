@@ -134,6 +134,13 @@ struct Settings {
     // mm between the part and its brim: PrusaSlicer's brim_separation, 0.1 as its own printer
     // profiles set it, so that the brim breaks off cleanly.
     double brim_separation = 0.1;
+    // Layers of raft under the model (toolpath/raft.hpp): the raft's first layer is the print's
+    // first layer (first_layer_height, first-layer width, speed and temperatures), the model's
+    // first layer a normal layer raft_contact_distance above the raft's top. 0 = none.
+    int raft_layers = 0;
+    double raft_contact_distance = 0.1;       // mm of air between the raft's top and the model
+    double raft_expansion = 1.5;              // mm the raft reaches beyond the model's first layer
+    double raft_first_layer_expansion = 3.0;  // mm the raft's first layer reaches beyond that
     // Heights (mm of the model) before whose first layer at or above the print pauses (M600 on
     // Marlin, PAUSE on Klipper).
     std::vector<double> pause_at;
@@ -212,26 +219,53 @@ struct Settings {
 
     // Derived quantities, in micrometres.
     double width_mm() const { return extrusion_width > 0 ? extrusion_width : nozzle; }
-    // The first layer's thickness, and layer i's: slices, nozzle heights and flows follow it.
+    // Layers are numbered as the model's: 0 is the model's first layer, and a raft's layers are
+    // -raft_layers .. -1 below it. The print's first layer is first_print_layer(): it alone has
+    // the first layer's height and width.
+    int first_print_layer() const { return -raft_layers; }
+    // The print's first layer thickness.
     double first_layer_mm() const {
         return first_layer_height > 0 ? first_layer_height : layer_height;
     }
-    double layer_thickness_mm(int i) const { return i == 0 ? first_layer_mm() : layer_height; }
+    // The thickness of the model's layer i as sliced: its first layer's is the first layer's,
+    // or the layer height on a raft.
+    double model_layer_mm(int i) const {
+        return i == 0 && raft_layers == 0 ? first_layer_mm() : layer_height;
+    }
+    // What layer i is printed as: the nozzle's height above what lies under it, which its
+    // flow fills. The model's first layer on a raft fills the gap above the raft too.
+    double layer_thickness_mm(int i) const {
+        if (i == first_print_layer()) return first_layer_mm();
+        return i == 0 && raft_layers > 0 ? layer_height + raft_contact_distance : layer_height;
+    }
+    // The raft's top above the bed, and where the model's first layer starts (0 without a raft).
+    double raft_top_mm() const {
+        return raft_layers > 0 ? first_layer_mm() + (raft_layers - 1) * layer_height : 0.0;
+    }
+    double model_base_mm() const {
+        return raft_layers > 0 ? raft_top_mm() + raft_contact_distance : 0.0;
+    }
     // The top of layer i above the bed (the nozzle's height, before z_offset); (i + 1) h as it
-    // always was when the first layer is the layer height.
+    // always was when the first layer is the layer height and there is no raft.
     double layer_top_mm(int i) const {
+        if (raft_layers > 0)
+            return i < 0 ? first_layer_mm() + (i + raft_layers) * layer_height
+                         : model_base_mm() + (i + 1) * layer_height;
         return first_layer_height > 0 ? first_layer_height + i * layer_height
                                       : (i + 1) * layer_height;
     }
-    // The middle of layer i above the bed, where the slicer cuts it: (i + 0.5) h to the bit
-    // when the first layer is the layer height (their difference is then exactly 0).
+    // The middle of the model's layer i above the model's bottom, where the slicer cuts it:
+    // (i + 0.5) h to the bit when its first layer is the layer height (their difference is then
+    // exactly 0).
     double layer_middle_mm(int i) const {
-        return i == 0 ? first_layer_mm() / 2
-                      : (first_layer_mm() - layer_height) + (i + 0.5) * layer_height;
+        const double first = model_layer_mm(0);
+        return i == 0 ? first / 2 : (first - layer_height) + (i + 0.5) * layer_height;
     }
     // The line width on layer i.
     double layer_width_mm(int i) const {
-        return i == 0 && first_layer_extrusion_width > 0 ? first_layer_extrusion_width : width_mm();
+        return i == first_print_layer() && first_layer_extrusion_width > 0
+                   ? first_layer_extrusion_width
+                   : width_mm();
     }
     Coord nozzle_radius() const { return to_units(width_mm() / 2); }  // s
     Coord line_width() const { return to_units(width_mm()); }         // w

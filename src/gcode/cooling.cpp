@@ -7,7 +7,7 @@
 namespace carve {
 
 int layer_fan_percent(const Settings& s, int layer, double t) {
-    if (layer < s.disable_fan_first_layers) return 0;
+    if (layer - s.first_print_layer() < s.disable_fan_first_layers) return 0;
     int fan = s.fan_always_on ? s.min_fan_speed : 0;
     if (!s.cooling) return fan;
     if (t < s.slowdown_below_layer_time) {
@@ -23,7 +23,7 @@ int layer_fan_percent(const Settings& s, int layer, double t) {
 }
 
 int bridge_fan_percent(const Settings& s, int layer) {
-    return layer < s.disable_fan_first_layers ? 0 : s.bridge_fan_speed;
+    return layer - s.first_print_layer() < s.disable_fan_first_layers ? 0 : s.bridge_fan_speed;
 }
 
 bool needs_slowdown(const Settings& s, double t) {

@@ -77,6 +77,7 @@ Emitter::Emitter(const Settings& st, Coord off_x, Coord off_y, std::FILE* out, s
     filament_area_ = std::numbers::pi * r * r;
     retract_units_ = std::llround(std::max(0.0, st.retract_length) * kEScale);
     z_offset_ = to_units(st.z_offset);
+    layer_ = st.first_print_layer();
 }
 
 void Emitter::start() {
@@ -139,21 +140,26 @@ void Emitter::layer(const LayerToolpaths& layer) {
     custom(st_.before_layer_gcode);
     put(";LAYER_CHANGE\n;Z:");
     fixed(layer_z_, 3);
+    // The layer's height as PrusaSlicer states it: the model's first layer on a raft is a layer
+    // height, the gap under it apart (`carve check` places the model at Z less it), though its
+    // flow fills the gap too.
     put("\n;HEIGHT:");
-    fixed(to_units(thickness()), 3);
-    fmt::format_to(std::back_inserter(buf_), "\n;LAYER:{}\n", layer.index);
+    fixed(to_units(layer_ >= 0 ? st_.model_layer_mm(layer_) : thickness()), 3);
+    fmt::format_to(std::back_inserter(buf_), "\n;LAYER:{}\n", print_layer());
     custom(st_.layer_gcode);
-    if (layer.index == 1) {
+    if (print_layer() == 1) {
         if (st_.nozzle_temperature != st_.first_layer_nozzle_temperature)
             line(fmt::format("M104 S{}", st_.nozzle_temperature));
         if (st_.bed_temperature != st_.first_layer_bed_temperature)
             line(fmt::format("M140 S{}", st_.bed_temperature));
     }
     // --pause-at: before the first layer whose top reaches the height (PrusaSlicer's colour
-    // change at a layer), a test of this layer's index alone, so that every chunk agrees.
-    for (double z : st_.pause_at) {
-        const double below = layer.index > 0 ? st_.layer_top_mm(layer.index - 1) : -1e9;
-        if (z > below + 1e-9 && z <= st_.layer_top_mm(layer.index) + 1e-9) {
+    // change at a layer), a test of this layer's index alone, so that every chunk agrees. The
+    // heights are the model's: above a raft, from the model's bottom.
+    for (double z : layer.index >= 0 ? st_.pause_at : std::vector<double>{}) {
+        const double base = st_.model_base_mm();
+        const double below = layer.index > 0 ? st_.layer_top_mm(layer.index - 1) - base : -1e9;
+        if (z > below + 1e-9 && z <= st_.layer_top_mm(layer.index) - base + 1e-9) {
             line(fmt::format(";PAUSE_AT {}", plain_number(z)));
             line(st_.flavor == GcodeFlavor::Klipper ? "PAUSE" : "M600");
             break;
@@ -197,7 +203,7 @@ void Emitter::end() {
         raw(expand_custom_gcode(st_.end_gcode, st_,
                                 {{"max_layer_z", to_mm(layer_z_)},
                                  {"layer_z", to_mm(layer_z_)},
-                                 {"layer_num", std::max(0, layer_)}})
+                                 {"layer_num", std::max(0, print_layer())}})
                 .text);
     } catch (const InputError& e) {
         throw InputError(fmt::format("end_gcode: {}", e.what()));
@@ -329,7 +335,7 @@ void Emitter::custom(const std::string& text) {
     std::string g;
     try {
         g = expand_custom_gcode(text, st_,
-                                {{"layer_num", std::max(0, layer_)},
+                                {{"layer_num", std::max(0, print_layer())},
                                  {"layer_z", to_mm(layer_z_)},
                                  {"max_layer_z", to_mm(layer_z_)}})
                 .text;
@@ -338,7 +344,7 @@ void Emitter::custom(const std::string& text) {
         std::string key = "custom G-code";
         for (const CustomGcodeKey& c : custom_gcode_keys())
             if (&(st_.*(c.text)) == &text) key = c.ini_key;
-        throw InputError(fmt::format("{} (layer {}): {}", key, layer_ + 1, e.what()));
+        throw InputError(fmt::format("{} (layer {}): {}", key, print_layer() + 1, e.what()));
     }
     // Bounded in total too: layer_gcode is expanded on every layer.
     custom_bytes_ += g.size();

@@ -244,7 +244,9 @@ class Emitter {
     Point pos_{0, 0};  // output coordinates, um; the start G-code is assumed to home
     Coord z_ = -1;     // unknown until the first Z move
     Coord layer_z_ = 0;
-    int layer_ = 0;
+    int layer_ = 0;  // the layer being written, numbered as Settings numbers them (a raft's < 0)
+    // Its number in the print, from 0: what ;LAYER:, [layer_num] and the first-layer rules count.
+    int print_layer() const { return layer_ - st_.first_print_layer(); }
     // The expanded custom G-code written so far: 64 MB is some 60x what a 4 MB layer_gcode
     // could sensibly add, far beyond any real profile's few kB per layer.
     static constexpr size_t kMaxCustomBytes = size_t(64) << 20;

@@ -249,7 +249,7 @@ double Emitter::speed_of(Feature f) const {
             break;
     }
     if (st_.max_print_speed > 0) v = std::min(v, st_.max_print_speed);
-    if (layer_ == 0) v = std::min(v, st_.first_layer_speed);
+    if (print_layer() == 0) v = std::min(v, st_.first_layer_speed);
     return slowed_speed(v, speed_factor_, st_.min_print_speed);
 }
 

@@ -90,7 +90,8 @@ struct GcodeWriter::Impl {
     std::string written;  // where the complete file is (written_path())
     Settings settings;
     Coord off_x = 0, off_y = 0;
-    int layer_count = 0;
+    int layer_count = 0;  // the print's layers, a raft's included
+    int first = 0;        // the first one's index (Settings::first_print_layer)
     std::FILE* spill = nullptr;
     long long spill_end = 0;
     std::vector<long long> offsets, sizes;
@@ -106,19 +107,20 @@ struct GcodeWriter::Impl {
     ChunkCount chunk_count;
     std::mutex mutex;
 
-    // Thread-safe: pread, no shared file position.
-    LayerToolpaths load(int index) const {
-        if (offsets[index] < 0) {
+    // The layer in the print's `slot` (from 0 at the bottom). Thread-safe: pread, no shared
+    // file position.
+    LayerToolpaths load(int slot) const {
+        if (offsets[slot] < 0) {
             LayerToolpaths empty;
-            empty.index = index;
-            empty.z = settings.layer_top_mm(index);
+            empty.index = slot + first;
+            empty.z = settings.layer_top_mm(empty.index);
             return empty;
         }
-        std::string blob(static_cast<size_t>(sizes[index]), '\0');
+        std::string blob(static_cast<size_t>(sizes[slot]), '\0');
         size_t got = 0;
         while (got < blob.size()) {
             const ssize_t n = pread(fileno(spill), blob.data() + got, blob.size() - got,
-                                    offsets[index] + static_cast<long long>(got));
+                                    offsets[slot] + static_cast<long long>(got));
             if (n <= 0) throw std::runtime_error("carve: cannot read back the layer spill file");
             got += static_cast<size_t>(n);
         }
@@ -194,6 +196,7 @@ GcodeWriter::GcodeWriter(std::string output_path, const Settings& settings, doub
     m.settings = settings;
     m.off_x = to_units(offset_x_mm);
     m.off_y = to_units(offset_y_mm);
+    m.first = settings.first_print_layer();
     m.layer_count = std::max(0, layer_count);
     m.offsets.assign(m.layer_count, -1);
     m.sizes.assign(m.layer_count, 0);
@@ -234,14 +237,15 @@ void GcodeWriter::add_layer(const LayerToolpaths& layer) {
     std::lock_guard lock(impl_->mutex);
     Impl& m = *impl_;
     if (m.finished) throw std::logic_error("GcodeWriter::add_layer after finish()");
-    if (layer.index < 0 || layer.index >= m.layer_count)
+    const int slot = layer.index - m.first;
+    if (slot < 0 || slot >= m.layer_count)
         throw std::out_of_range("GcodeWriter::add_layer: layer index out of range");
     if (fseeko(m.spill, m.spill_end, SEEK_SET) != 0 ||
         std::fwrite(blob.data(), 1, blob.size(), m.spill) != blob.size())
         io_error(std::strerror(errno), m.output_path + " (temporary layer file)");
-    m.offsets[layer.index] = m.spill_end;
-    m.settled[layer.index] = layer.island_starts.size() < 3;
-    m.sizes[layer.index] = static_cast<long long>(blob.size());
+    m.offsets[size_t(slot)] = m.spill_end;
+    m.settled[size_t(slot)] = layer.island_starts.size() < 3;
+    m.sizes[size_t(slot)] = static_cast<long long>(blob.size());
     m.spill_end += static_cast<long long>(blob.size());
 }
 

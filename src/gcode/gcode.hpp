@@ -32,14 +32,15 @@ struct PrintStats {
 class GcodeWriter {
   public:
     // `offset_mm` is added to every XY point (centres the model on the bed); z values are nozzle
-    // heights above the bed.
+    // heights above the bed. `layer_count` counts the print's layers, a raft's included: they
+    // are indexed from settings.first_print_layer().
     GcodeWriter(std::string output_path, const Settings& settings, double offset_x_mm,
                 double offset_y_mm, int layer_count);
     ~GcodeWriter();  // removes the temporary files if finish() was not reached
     GcodeWriter(const GcodeWriter&) = delete;
     GcodeWriter& operator=(const GcodeWriter&) = delete;
 
-    // Layers arrive top down (index n-1 first); each is turned into text and spilled.
+    // Layers arrive in any order (the sweep's top down); each is turned into text and spilled.
     void add_layer(const LayerToolpaths& layer);
     // finish() leaves the complete file to `group` (renamed with the run's other outputs)
     // instead of renaming it at once.

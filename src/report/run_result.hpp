@@ -45,6 +45,7 @@ struct RunResult {
     // walls of each cavity (index j; 0 unused).
     double feature_mm3[kFeatureCount] = {};
     double remainder_fill_mm3 = 0;
+    double raft_mm3 = 0;  // the raft's lines (--raft-layers), its skirt and brim apart
     std::vector<double> cavity_wall_mm3;
     double bridge_length_mm = 0;
     double carvable_volume_mm3 = 0;

@@ -104,6 +104,7 @@ nlohmann::json stats_json(const RunResult& run, const Settings& settings) {
     m["support_mm3"] = run.feature_mm3[size_t(Feature::Support)];
     m["support_interface_mm3"] = run.feature_mm3[size_t(Feature::SupportInterface)];
     m["remainder_mm3"] = run.remainder_fill_mm3;
+    m["raft_mm3"] = run.raft_mm3;
     std::vector<double> walls(run.cavity_wall_mm3.begin() + (run.cavity_wall_mm3.empty() ? 0 : 1),
                               run.cavity_wall_mm3.end());
     m["walls_of_cavity_mm3"] = walls;
@@ -127,7 +128,7 @@ nlohmann::json stats_json(const RunResult& run, const Settings& settings) {
     s["support_z_gap_mm"] = settings.support_gap_layers() * settings.layer_height;
     // 0 means "the layer height" and "the line width".
     s["first_layer_height_mm"] = settings.first_layer_mm();
-    s["first_layer_extrusion_width_mm"] = settings.layer_width_mm(0);
+    s["first_layer_extrusion_width_mm"] = settings.layer_width_mm(settings.first_print_layer());
     // Without pruning no bridge is cut to a length.
     s["max_bridge_length_mm"] = settings.prune_bridges ? settings.max_bridge_length : 0.0;
     // Not a setting but where they came from (--printer's preset).
@@ -271,7 +272,8 @@ GcodeAnalysis analyse_gcode_on_mesh(const std::string& gcode_path, const Mesh& m
             mismatch = std::max(std::fabs((b.max_x - b.min_x) - (box.max.x - box.min.x)),
                                 std::fabs((b.max_y - b.min_y) - (box.max.y - box.min.y)));
         }
-        shift.z = -box.min.z;
+        // On the bed, or on the raft the G-code prints under it.
+        shift.z = (b.model_bottom_z > 0 ? b.model_bottom_z : 0.0) - box.min.z;
     }
     const Coord ux = to_units(shift.x), uy = to_units(shift.y);
     options.model_slice = [&mesh, shift, ux, uy](double z) {

@@ -21,7 +21,7 @@ std::vector<double> extrusion_volumes_mm3(const LayerToolpaths& paths, const Set
 void add_layer_figures(const Token& t, const Settings& settings, RunResult& result,
                        double& sliced_volume, OverhangTally& overhangs) {
     const LayerPartition& layer = t.record.partition();
-    const double h = settings.layer_thickness_mm(layer.index);
+    const double h = settings.model_layer_mm(layer.index);
     const BridgedPartition& bridged = t.record.bridged;
     sliced_volume += area_mm2(layer.outline) * h;
     result.carvable_volume_mm3 += area_mm2(layer.carvable) * h;

@@ -84,12 +84,12 @@ void add_run_figures(RunResult& result, const LayerPipeline& layers,
 
 void refuse_empty_print(const RunResult& result, const Settings& settings,
                         const RunOptions& options) {
-    // The skirt and brim print around whatever the first layer holds, however thin the model:
-    // they are not a print of it.
-    double material = 0;
-    for (double v : result.layer_material_mm3) material += v;
-    material -=
-        result.feature_mm3[size_t(Feature::Skirt)] + result.feature_mm3[size_t(Feature::Brim)];
+    // The skirt, brim and raft print around and under whatever the first layer holds, however
+    // thin the model: they are not a print of it.
+    double material = result.remainder_fill_mm3;
+    for (size_t f = 0; f < kFeatureCount; ++f)
+        if (f != size_t(Feature::Skirt) && f != size_t(Feature::Brim))
+            material += result.feature_mm3[f];
     if (material <= 1e-9)
         throw InputError(fmt::format(
             "{}: nothing to print: every part of the model is thinner than the {} mm line width",
@@ -115,14 +115,15 @@ PrintStats finish_gcode(GcodeWriter& writer, const RunOptions& options, const Ru
 void check_written_gcode(const GcodeWriter& writer, const Mesh& mesh, const Settings& settings,
                          const Placement& place, RunResult& result) {
     // The mesh is where the slicer had it: moved by the bed offset, its lowest point on z = 0,
-    // and raised by --z-offset as every Z written is.
+    // and raised by --z-offset as every Z written is, and by the raft under it.
     const auto check_start = std::chrono::steady_clock::now();
     GcodeAnalysisOptions check_options;
     check_options.filament_diameter_mm = settings.filament_diameter;
     check_options.keep_layers = false;
     result.check =
         analyse_gcode_on_mesh(writer.written_path(), mesh, check_options,
-                              Vec3{place.offset_x, place.offset_y, settings.z_offset - place.z0});
+                              Vec3{place.offset_x, place.offset_y,
+                                   settings.z_offset + settings.model_base_mm() - place.z0});
     result.check_time_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - check_start).count();
 }
@@ -157,7 +158,7 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
     clock.phase_ends("load");
     check_run_size(settings, options, result.mesh.bbox);
     const Placement place = centre_on_bed(settings, result.mesh.bbox);
-    TopDownSlicer slicer(run_mesh.mesh, settings.layer_height, settings.first_layer_height);
+    TopDownSlicer slicer(run_mesh.mesh, settings.layer_height, settings.model_layer_mm(0));
     const int layer_count = checked_layer_count(slicer, settings, options);
     std::function<void(const Slice&)> check_slice = vertex_limits(settings, options);
     RunOutputs outputs(settings, options, run_mesh, result, layer_count, place);

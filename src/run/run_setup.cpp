@@ -15,6 +15,9 @@
 #include "gcode/thumbnail.hpp"
 #include "geometry/polygon.hpp"
 #include "report/stats.hpp"
+#include "run/layer_figures.hpp"
+#include "toolpath/raft.hpp"
+#include "toolpath/skirt.hpp"
 
 namespace carve {
 
@@ -67,14 +70,16 @@ void check_run_size(const Settings& settings, const RunOptions& options, const B
             size_y, settings.bed_x, settings.bed_y,
             settings.copies > 1 ? "print fewer copies, " : ""));
 
-    // Printed into the gantry otherwise; the supports and brim add nothing above the model.
-    const double height = box.max.z - box.min.z;
+    // Printed into the gantry otherwise; the supports and brim add nothing above the model, a
+    // raft the height it lifts the model by.
+    const double height = box.max.z - box.min.z + settings.model_base_mm();
     if (settings.bed_check && height > settings.max_print_height + 1e-6)
         throw InputError(fmt::format(
-            "{}: the model is {:.1f} mm tall, taller than the {} mm the printer prints "
+            "{}: the model is {:.1f} mm tall{}, taller than the {} mm the printer prints "
             "(--max-print-height, a profile's max_print_height); scale it down, choose a "
             "taller printer, or pass --no-bed-check",
-            options.model_path, height, plain_number(settings.max_print_height)));
+            options.model_path, height, settings.raft_layers > 0 ? " on its raft" : "",
+            plain_number(settings.max_print_height)));
 
     // Scale times size: the work grows with (size / line width)^2 per layer and with the
     // number of layers. A model 5 m across at 0.05 mm lines, or a million layers, is refused
@@ -92,7 +97,7 @@ void check_run_size(const Settings& settings, const RunOptions& options, const B
             kMaxLinesAcross, kMaxLayers));
 }
 
-void check_loops_on_bed(const FirstLayerLoops& loops, const Settings& settings,
+void check_loops_on_bed(const FirstLayerLoops& loops, const Paths& raft, const Settings& settings,
                         const RunOptions& options, double offset_x, double offset_y) {
     if (!settings.bed_check) return;
     auto check = [&](const Paths& paths, const char* what, const char* options_to_change) {
@@ -109,6 +114,7 @@ void check_loops_on_bed(const FirstLayerLoops& loops, const Settings& settings,
                 options.model_path, what, out, settings.bed_x, settings.bed_y, min_x, max_x, min_y,
                 max_y, options_to_change));
     };
+    check(raft, "raft", "--raft-first-layer-expansion and --raft-expansion");
     check(loops.brim, "brim", "--brim-width");
     check(loops.skirt, "skirt", "--skirt-distance or --skirts (0: none)");
 }
@@ -179,7 +185,8 @@ int checked_layer_count(const TopDownSlicer& slicer, const Settings& settings,
 
 RunOutputs::RunOutputs(const Settings& settings, const RunOptions& options, const RunMesh& run_mesh,
                        RunResult& result, int layer_count, const Placement& place)
-    : writer(options.gcode_path, settings, place.offset_x, place.offset_y, layer_count) {
+    : writer(options.gcode_path, settings, place.offset_x, place.offset_y,
+             layer_count + settings.raft_layers) {
     const Mesh& mesh = run_mesh.mesh;
     const BBox3& box = result.mesh.bbox;
     writer.commit_with(group);
@@ -187,10 +194,27 @@ RunOutputs::RunOutputs(const Settings& settings, const RunOptions& options, cons
     // Skirt and brim from the first layer's slice, cut ahead of the sweep (which reaches the
     // first layer last, after the skirt's other layers), and held against the bed now: a run
     // whose skirt or brim would leave the bed stops before any work, with one line.
-    first_loops = plan_skirt_and_brim(
-        compensated_slice(slice_at(mesh, box.min.z + settings.layer_middle_mm(0)), 0, settings),
-        settings);
-    check_loops_on_bed(first_loops, settings, options, place.offset_x, place.offset_y);
+    const Paths first_slice =
+        compensated_slice(slice_at(mesh, box.min.z + settings.layer_middle_mm(0)), 0, settings);
+    Raft raft = plan_raft(first_slice, settings);
+    first_loops =
+        plan_skirt_and_brim(settings.raft_layers > 0 ? raft.footprint : first_slice, settings);
+    check_loops_on_bed(first_loops, raft.footprint, settings, options, place.offset_x,
+                       place.offset_y);
+    // The raft's layers, whole before the sweep starts: the skirt and brim on them, their
+    // material counted apart from the model's.
+    for (LayerToolpaths& layer : raft.layers) {
+        add_skirt_and_brim(layer, first_loops, settings);
+        const std::vector<double> v = extrusion_volumes_mm3(layer, settings);
+        for (size_t k = 0; k < v.size(); ++k) {
+            const Feature f = layer.extrusions[k].feature;
+            if (f == Feature::Skirt || f == Feature::Brim)
+                result.feature_mm3[size_t(f)] += v[k];
+            else
+                result.raft_mm3 += v[k];
+        }
+        writer.add_layer(layer);
+    }
     if (!settings.thumbnails.empty())
         writer.set_thumbnails(thumbnail_blocks(mesh.vertices, mesh.triangles, settings.thumbnails));
     if (!options.svg_dir.empty()) {

@@ -45,7 +45,8 @@ Placement centre_on_bed(const Settings& settings, const BBox3& box);
 void check_run_size(const Settings& settings, const RunOptions& options, const BBox3& box);
 // Throws InputError (one line) when the skirt or brim, placed with the model's offsets on the
 // bed, would leave it: an error rather than a loop clipped at the bed's edge.
-void check_loops_on_bed(const FirstLayerLoops& loops, const Settings& settings,
+// The raft's first layer likewise.
+void check_loops_on_bed(const FirstLayerLoops& loops, const Paths& raft, const Settings& settings,
                         const RunOptions& options, double offset_x, double offset_y);
 
 // The vertex limits, checked on each slice in order as it is cut; empty when there are none.

@@ -24,7 +24,7 @@ SupportOptions support_options(const Settings& settings, double z0) {
     o.trunk = std::max(o.lean + 1, to_units(1.5 * settings.width_mm() / 0.4));
     o.interface_layers = std::max(0, settings.support_interface_layers);
     o.layer_height = settings.layer_height;
-    o.first_layer = settings.first_layer_mm();
+    o.first_layer = settings.model_layer_mm(0);  // the model's (a normal layer on a raft)
     o.z0 = z0;
     return o;
 }

@@ -56,7 +56,7 @@ FirstLayerLoops plan_skirt_and_brim(const Paths& first_slice, const Settings& s)
     FirstLayerLoops out;
     const Paths parts = outsides(first_slice);
     if (parts.empty()) return out;
-    const double w = s.layer_width_mm(0);
+    const double w = s.layer_width_mm(s.first_print_layer());
     Paths footprint = parts;
     if (s.brim_width > 0) {
         // PrusaSlicer's count: as many lines as fit in the width, one at least.
@@ -87,8 +87,10 @@ void add_skirt_and_brim(LayerToolpaths& layer, const FirstLayerLoops& loops, con
             first.push_back(std::move(e));
         }
     };
-    if (layer.index < s.skirt_height) add(loops.skirt, Feature::Skirt);
-    if (layer.index == 0) add(loops.brim, Feature::Brim);
+    // Counted in the print's layers: a raft's first layer is the first.
+    const int printed_below = layer.index - s.first_print_layer();
+    if (printed_below < s.skirt_height) add(loops.skirt, Feature::Skirt);
+    if (printed_below == 0) add(loops.brim, Feature::Brim);
     if (first.empty()) return;
     const size_t n = first.size();
     layer.extrusions.insert(layer.extrusions.begin(), std::make_move_iterator(first.begin()),

@@ -17,10 +17,12 @@ struct FirstLayerLoops {
     bool empty() const { return skirt.empty() && brim.empty(); }
 };
 
-// From the first layer's slice (every part and copy), with the settings' skirt and brim.
+// From the first layer's slice (every part and copy; the raft's first layer when there is a
+// raft), with the settings' skirt and brim.
 FirstLayerLoops plan_skirt_and_brim(const Paths& first_slice, const Settings& settings);
 
-// The skirt (layers below skirt_height) and the brim (layer 0) printed before the layer's own
+// The skirt (the print's first skirt_height layers) and the brim (its first layer, the raft's
+// when there is one) printed before the layer's own
 // paths: the nozzle is primed before it reaches the part. The layer is then printed in the
 // order planned (its islands are not reordered).
 void add_skirt_and_brim(LayerToolpaths& layer, const FirstLayerLoops& loops,

@@ -327,7 +327,8 @@ TEST(PrinterStart, Mk3sRetractsAndLiftsAfterTheIntroLineAndEndsClearOfThePart) {
 // The height Moonraker shows is the model's, by either of its rules, on every model of the
 // repository and every preset; every layer's Z move states its feed.
 TEST(PrinterHosts, MoonrakerFindsTheModelsHeight) {
-    for (const std::string name : {"fandisk.stl", "elephant.stl", "man.stl"}) {  // NOLINT
+    for (const std::string& name : carve::test::first_under_sanitizers<std::string>(
+             {"fandisk.stl", "elephant.stl", "man.stl"})) {
         const std::string model = carve::test::repo_model(name);
         const double height = model_height(model);
         for (const std::string printer : {"generic", "klipper"}) {  // NOLINT
@@ -717,4 +718,130 @@ TEST(PrinterFlow, MaterialFiguresFollowTheFirstLayerAndTheMultiplier) {
     EXPECT_NEAR(plain_features, plain, 1e-3 * plain);
     EXPECT_NEAR(features, extruded, 1e-3 * extruded);
     EXPECT_LT(extruded, 0.92 * plain);
+}
+
+namespace {
+
+// The bounding box of a layer's polylines of one type, as x0, y0, x1, y1.
+std::array<double, 4> type_box(const std::string& g, int layer, const std::string& type) {
+    std::array<double, 4> b{1e9, 1e9, -1e9, -1e9};
+    for (const Polyline& p : of_type(layer_polylines(g, layer), type))
+        for (const auto& [x, y] : p.points)
+            b = {std::min(b[0], x), std::min(b[1], y), std::max(b[2], x), std::max(b[3], y)};
+    return b;
+}
+
+}  // namespace
+
+// --raft-layers: the raft's layers come first, its first at the first layer's height, typed as
+// supports (the top one as their interface); the model's first layer is a normal layer
+// raft_contact_distance above the raft's top, and every later layer stands on it. The raft
+// reaches raft_expansion beyond the model (its first layer raft_first_layer_expansion more),
+// nothing of it hangs by `carve check`'s measure, its material is counted apart, and the
+// --pause-at heights stay the model's.
+TEST(PrinterRaft, RaftLayersLieUnderTheModelAndTheModelStartsAboveTheGap) {
+    const std::string box = flat_box();
+    const fs::path stats = scratch() / "raft.json";
+    const std::string g =
+        slice(box,
+              "--skirts 0 --raft-layers 3 --first-layer-height 0.3 --pause-at 1 --stats " +
+                  stats.string(),
+              "raft");
+    const LayerMoves m = read_moves(g);
+    // 3 raft layers, then the box's 15 layers of 0.2 mm (its first is no first layer).
+    ASSERT_EQ(m.z.size(), 18u);
+    const double raft_z[] = {0.3, 0.5, 0.7};
+    for (const auto& [layer, zs] : m.z) {
+        ASSERT_EQ(zs.size(), 1u) << layer;
+        const double want = layer < 3 ? raft_z[layer] : 0.7 + 0.1 + 0.2 * (layer - 2);
+        EXPECT_NEAR(zs[0], want, 1e-9) << layer;
+    }
+    EXPECT_NE(g.find("\n;Z:0.300\n;HEIGHT:0.300\n;LAYER:0\n"), std::string::npos);
+    // The model's first layer is a layer height, as PrusaSlicer states it (its flow fills the
+    // 0.1 mm gap under it too).
+    EXPECT_NE(g.find("\n;Z:1.000\n;HEIGHT:0.200\n;LAYER:3\n"), std::string::npos);
+    EXPECT_NE(g.find("\n;Z:1.200\n;HEIGHT:0.200\n;LAYER:4\n"), std::string::npos);
+    EXPECT_NE(g.find("\n;LAYER_COUNT:18\n"), std::string::npos);
+    for (int layer = 0; layer < 3; ++layer) {
+        for (const Polyline& p : layer_polylines(g, layer))
+            EXPECT_TRUE(p.type == "Support material" ||
+                        (layer == 2 && p.type == "Support material interface"))
+                << layer << ": " << p.type;
+    }
+    EXPECT_FALSE(of_type(layer_polylines(g, 2), "Support material interface").empty());
+    EXPECT_FALSE(of_type(layer_polylines(g, 3), "External perimeter").empty());
+    // The raft's outer loop (centreline half a line inside its edge) around the model's outer
+    // wall (half a line inside the model): 1.5 mm out, the first layer 3 mm more.
+    const std::array<double, 4> wall = wall_box(g, 3);
+    const std::array<double, 4> base = type_box(g, 0, "Support material");
+    const std::array<double, 4> upper = type_box(g, 1, "Support material");
+    for (int k = 0; k < 4; ++k) {
+        const double out = k < 2 ? -1 : 1;
+        EXPECT_NEAR((base[k] - wall[k]) * out, 4.5, 0.05) << k;
+        EXPECT_NEAR((upper[k] - wall[k]) * out, 1.5, 0.05) << k;
+    }
+    // The pause at 1 mm of the model: its layer 4 (top 1.0 above the model's bottom), the
+    // print's layer 7.
+    const size_t pause = g.find("\n;PAUSE_AT 1\n");
+    ASSERT_NE(pause, std::string::npos);
+    EXPECT_LT(g.find("\n;LAYER:7\n"), pause);
+    EXPECT_GT(g.find("\n;LAYER:8\n"), pause);
+    // Nothing hangs, and the model sits on the raft where the check places it by itself.
+    const fs::path file = scratch() / "raft.gcode";
+    const carve::test::CarveRun check =
+        run_carve("check " + file.string() + " --mesh " + box + " --strict --json");
+    EXPECT_EQ(check.status, 0) << check.out << check.err;
+    const nlohmann::json j = nlohmann::json::parse(check.out);
+    // Its Z less its ;HEIGHT: above the raft's top by the gap, where carve put it.
+    EXPECT_NEAR(j["mesh_offset_mm"][2].get<double>(), 0.8, 1e-6);
+    EXPECT_LT(j["hanging_inside_mm2"].get<double>() + j["hanging_overhang_mm2"].get<double>() +
+                  j["hanging_support_mm2"].get<double>(),
+              0.01)
+        << check.out;
+    // The raft's material apart from the model's, and in the print's.
+    const nlohmann::json s = nlohmann::json::parse(read(stats));
+    const double raft_mm3 = s["material_by_feature"]["raft_mm3"].get<double>();
+    EXPECT_GT(raft_mm3, 3 * 20 * 14 * 0.2 * 0.4);  // three layers, the upper ones sparse
+    EXPECT_NEAR(m.e_total * kFilamentArea, s["extruded_volume_mm3"].get<double>(), 1.0);
+    // Against the box without a raft: the raft, and the 0.1 mm more of the first layer over
+    // at most the box's area and its walls.
+    const LayerMoves plain = read_moves(slice(box, "--skirts 0", "raft_none"));
+    const double more = (m.e_total - plain.e_total) * kFilamentArea;
+    EXPECT_GT(more, raft_mm3);
+    EXPECT_LT(more, raft_mm3 + 0.1 * 20 * 14 * 1.1);
+}
+
+// The skirt goes around the raft's first layer; PrusaSlicer's keys set the raft from a
+// profile; a raft that leaves the bed, or lifts the model above the printer's height, is
+// refused.
+TEST(PrinterRaft, SkirtProfileKeysAndLimits) {
+    constexpr double w = 0.4;
+    const std::string box = flat_box();
+    const std::string g = slice(box, "--raft-layers 2", "raft_skirt");
+    const std::vector<Polyline> l0 = layer_polylines(g, 0);
+    const std::vector<Polyline> skirt = of_type(l0, "Skirt/Brim");
+    const std::vector<Polyline> raft = of_type(l0, "Support material");
+    ASSERT_EQ(skirt.size(), 1u);
+    ASSERT_FALSE(raft.empty());
+    EXPECT_NEAR(distance(skirt, {raft.front()}), 6 + w, 0.08);
+
+    const fs::path ini = scratch() / "raft.ini";
+    std::ofstream(ini) << "raft_layers = 2\nraft_contact_distance = 0.2\nraft_expansion = 2\n"
+                          "raft_first_layer_expansion = 1\n";
+    std::string err;
+    const std::string p = slice(box, "--skirts 0 --load " + ini.string(), "raft_ini", 0, &err);
+    EXPECT_EQ(err.find("raft"), std::string::npos) << err;
+    const LayerMoves m = read_moves(p);
+    ASSERT_GE(m.z.size(), 3u);
+    EXPECT_NEAR(m.z.at(2)[0], 0.4 + 0.2 + 0.2, 1e-9);
+    const std::array<double, 4> wall = wall_box(p, 2), base = type_box(p, 0, "Support material");
+    EXPECT_NEAR(wall[0] - base[0], 3, 0.05);
+
+    // 3 mm of box on 0.7 mm of raft and a 0.1 mm gap: 3.8 mm.
+    slice(box, "--max-print-height 3.5", "raft_low");
+    slice(box, "--max-print-height 3.5 --raft-layers 3", "raft_tall", 1, &err);
+    EXPECT_NE(err.find("on its raft"), std::string::npos) << err;
+    slice(box, "--raft-layers 1 --raft-first-layer-expansion 100 --skirts 0", "raft_wide", 1, &err);
+    EXPECT_NE(err.find("the raft reaches"), std::string::npos) << err;
+    EXPECT_FALSE(fs::exists(scratch() / "raft_wide.gcode"));
 }
