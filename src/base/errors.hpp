@@ -22,9 +22,31 @@ enum ExitCode : int {
     kExitRuleFailed = 5,
 };
 
+// The message as a terminal can show it whole: a NUL (which ended what() there: "found '")
+// or another control byte that a broken file's token or a file name put in it is written as
+// \xNN. Line feeds and tabs stay.
+inline std::string printable_message(const std::string& message) {
+    static const char* const kHex = "0123456789abcdef";
+    std::string out;
+    out.reserve(message.size());
+    for (const char c : message) {
+        const auto u = static_cast<unsigned char>(c);
+        if ((u < 0x20 && c != '\n' && c != '\t') || u == 0x7f) {
+            out += "\\x";
+            out += kHex[u >> 4];
+            out += kHex[u & 15];
+        } else {
+            out += c;
+        }
+    }
+    return out;
+}
+
 // Base of the errors carve reports in words; what() is the whole message.
 struct CarveError : std::runtime_error {
-    using std::runtime_error::runtime_error;
+    explicit CarveError(const std::string& message)
+        : std::runtime_error(printable_message(message)) {}
+    explicit CarveError(const char* message) : CarveError(std::string(message)) {}
     virtual int exit_code() const = 0;
 };
 

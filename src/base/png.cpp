@@ -4,16 +4,38 @@
 #include <png.h>
 #include <zlib.h>
 
+#include <cerrno>
 #include <csetjmp>
 #include <cstddef>
+#include <cstring>
 
 namespace carve {
 
+namespace {
+
+// libpng's own handlers print "libpng error: Write Error" on stderr (twice on a full disk) and
+// say nothing of why: these keep its words and errno for the caller's one line instead.
+void keep_error(png_structp png, png_const_charp message) {
+    auto* why = static_cast<std::string*>(png_get_error_ptr(png));
+    const int err = errno;
+    if (why) {
+        *why = message ? message : "libpng error";
+        if (err != 0) (*why += ": ") += std::strerror(err);
+    }
+    png_longjmp(png, 1);
+}
+void ignore_warning(png_structp, png_const_charp) {}
+
+}  // namespace
+
 // libpng reports errors through longjmp; this function holds no C++ object that needs a
-// destructor between setjmp and the calls that may jump.
-bool write_png(FILE* file, int width, int height, const uint8_t* pixels, const PngFormat& format) {
+// destructor between setjmp and the calls that may jump (`why` is the caller's).
+bool write_png(FILE* file, int width, int height, const uint8_t* pixels, const PngFormat& format,
+               std::string* why) {
     if (format.channels != 1 && format.channels != 4) return false;
-    png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
+    errno = 0;
+    png_structp png =
+        png_create_write_struct(PNG_LIBPNG_VER_STRING, why, keep_error, ignore_warning);
     if (!png) return false;
     png_infop info = png_create_info_struct(png);
     if (!info) {

@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <cstdio>
+#include <string>
 
 namespace carve {
 
@@ -17,7 +18,9 @@ struct PngFormat {
 };
 
 // Writes width x height pixels (rows top down, channels bytes each, no padding) to an open
-// file. False when libpng fails (a full disk shows up here); the caller names the file.
-bool write_png(FILE* file, int width, int height, const uint8_t* pixels, const PngFormat& format);
+// file. False when libpng fails (a full disk shows up here), with libpng's words and the
+// system's reason in `why`; nothing is printed, the caller names the file.
+bool write_png(FILE* file, int width, int height, const uint8_t* pixels, const PngFormat& format,
+               std::string* why = nullptr);
 
 }  // namespace carve

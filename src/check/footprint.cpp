@@ -224,13 +224,17 @@ TravelFigures measure_travel(const Paths& travel, const Paths& grown) {
 double max_distance_outside(const Paths& footprint, const Paths& model) {
     // The farthest point outside lies at a vertex of footprint minus model (up to the
     // polygonal approximation); its distance to the model's boundary is what is reported.
+    // A layer with no slice of the model (a raft's, a skirt's under it, a support's under a
+    // part that starts higher) has no distance to it: "inf mm" said nothing, and JSON cannot
+    // hold it. Its area outside is counted all the same.
+    if (model.empty()) return 0;
     const Paths outside = difference(footprint, model);
     if (outside.empty()) return 0;
     const EdgeGrid grid(model);
     double best = 0;
     for (const Path& p : outside)
         for (const Point& q : p) best = std::max(best, grid.distance(q));
-    return std::isfinite(best) ? best / kUnitsPerMm : std::numeric_limits<double>::infinity();
+    return std::isfinite(best) ? best / kUnitsPerMm : 0.0;
 }
 
 }  // namespace carve::check

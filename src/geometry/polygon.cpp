@@ -497,6 +497,13 @@ std::vector<Paths> components(const Paths& region) {
 // In a normalised region the holes are the clockwise contours and an island in a hole is a
 // counter-clockwise contour inside it, which no contour crosses: box containment and one vertex
 // tell, without a Clipper pass to build the nesting.
+Paths without_holes(const Paths& region) {
+    Paths outers;
+    for (const Path& p : region)
+        if (area(p) > 0) outers.push_back(p);
+    return unite(outers);
+}
+
 Paths empty_holes(const Paths& region) {
     std::vector<BBox2> boxes;
     std::vector<size_t> outers;

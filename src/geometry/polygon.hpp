@@ -92,6 +92,10 @@ Paths clip_to_box(const Paths& region, const BBox2& box);
 // boolean with it.
 Paths contours_near(const Paths& region, const Paths& other, Coord reach);
 
+// The region with its holes filled: the union of its outer (counter-clockwise) contours. What
+// a brim, skirt or raft goes around.
+Paths without_holes(const Paths& region);
+
 // Holes of a normalised region that contain nothing else of the region (no island inside), as
 // counter-clockwise contours. Used for island local minima.
 Paths empty_holes(const Paths& region);

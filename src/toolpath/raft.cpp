@@ -18,27 +18,19 @@ constexpr double kBaseSpacingMm = 2.0;
 // the bed, with room for the squashed lines to spread.
 constexpr double kFirstLayerDensity = 0.9;
 
-// The outside of each part: its outer contours, holes filled.
-Paths outsides(const Paths& region) {
-    Paths out;
-    for (const Path& p : region)
-        if (area(p) > 0) out.push_back(p);
-    return unite(out);
-}
-
 }  // namespace
 
 Raft plan_raft(const Paths& first_slice, const Settings& s) {
     Raft raft;
     const int n = s.raft_layers;
-    const Paths parts = outsides(first_slice);
+    const Paths parts = without_holes(first_slice);
     if (n <= 0 || parts.empty()) return raft;
     // The raft's outline: one region under parts that its expansion joins.
-    const Paths body = outsides(dilate(parts, to_units(s.raft_expansion)));
+    const Paths body = without_holes(dilate(parts, to_units(s.raft_expansion)));
     for (int k = 0; k < n; ++k) {
         const int index = s.first_print_layer() + k;
         const Paths outline =
-            k == 0 ? outsides(dilate(body, to_units(s.raft_first_layer_expansion))) : body;
+            k == 0 ? without_holes(dilate(body, to_units(s.raft_first_layer_expansion))) : body;
         const Coord w = to_units(s.layer_width_mm(index));
         LayerToolpaths layer;
         layer.index = index;
@@ -64,7 +56,7 @@ Raft plan_raft(const Paths& first_slice, const Settings& s) {
             layer.extrusions.push_back(std::move(e));
         raft.layers.push_back(std::move(layer));
     }
-    raft.footprint = outsides(dilate(body, to_units(n > 0 ? s.raft_first_layer_expansion : 0)));
+    raft.footprint = without_holes(dilate(body, to_units(s.raft_first_layer_expansion)));
     return raft;
 }
 

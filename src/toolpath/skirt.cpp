@@ -11,17 +11,9 @@ namespace carve {
 
 namespace {
 
-// The outside of each part: its outer contours, holes filled (an outer brim only).
-Paths outsides(const Paths& region) {
-    Paths out;
-    for (const Path& p : region)
-        if (area(p) > 0) out.push_back(p);
-    return unite(out);
-}
-
 // The outer contours of `region` dilated by `d`: one loop per part at that distance.
 Paths loops_at(const Paths& region, Coord d) {
-    return outsides(dilate(region, d));
+    return without_holes(dilate(region, d));
 }
 
 // Andrew's monotone chain: the convex hull, counter-clockwise.
@@ -54,7 +46,7 @@ Path convex_hull(const Paths& region) {
 
 FirstLayerLoops plan_skirt_and_brim(const Paths& first_slice, const Settings& s) {
     FirstLayerLoops out;
-    const Paths parts = outsides(first_slice);
+    const Paths parts = without_holes(first_slice);
     if (parts.empty()) return out;
     const double w = s.layer_width_mm(s.first_print_layer());
     Paths footprint = parts;

@@ -339,6 +339,20 @@ TEST(HostileNames, EmptyOrUnknownPrinterNamesAreRefused) {
     EXPECT_FALSE(fs::exists(g));
 }
 
+// A NUL in a broken file's token ended the message there ("... found '"): every message is
+// printed whole, the NUL and other control bytes written as \xNN, on one line.
+TEST(HostileNames, ANulInAMessageIsShownNotAnEnd) {
+    const fs::path d = folder("nul_message");
+    write(d / "nul.stl", "solid t\n facet normal 0 0 1\n  outer lo\0op\x01\n"s);
+    const fs::path g = d / "o.gcode";
+    const CarveRun r = run_carve("slice " + (d / "nul.stl").string() + " -q -o " + g.string());
+    EXPECT_EQ(r.status, kExitBadInput) << r.err;
+    EXPECT_NE(r.err.find("found 'lo\\x00op\\x01'"), std::string::npos) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_FALSE(fs::exists(g));
+    EXPECT_EQ(printable_message("a\0b\tc\x7f"s), "a\\x00b\tc\\x7f");
+}
+
 // --- work bounded by the input
 
 // Refused at the limit: the string once doubled to 1 GB before the check (1,040 MB peak).

@@ -792,6 +792,10 @@ TEST(PrinterRaft, RaftLayersLieUnderTheModelAndTheModelStartsAboveTheGap) {
         run_carve("check " + file.string() + " --mesh " + box + " --strict --json");
     EXPECT_EQ(check.status, 0) << check.out << check.err;
     const nlohmann::json j = nlohmann::json::parse(check.out);
+    // The raft's layers have no slice of the model to be far from: the farthest extrusion
+    // outside it is a number for the model's layers alone (it was "inf", null in JSON).
+    ASSERT_TRUE(j["max_outside_model_mm"].is_number()) << j["max_outside_model_mm"];
+    EXPECT_LT(j["max_outside_model_mm"].get<double>(), 0.5);
     // Its Z less its ;HEIGHT: above the raft's top by the gap, where carve put it.
     EXPECT_NEAR(j["mesh_offset_mm"][2].get<double>(), 0.8, 1e-6);
     EXPECT_LT(j["hanging_inside_mm2"].get<double>() + j["hanging_overhang_mm2"].get<double>() +

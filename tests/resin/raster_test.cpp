@@ -16,6 +16,7 @@
 #include <sstream>
 #include <string>
 
+#include "base/png.hpp"
 #include "carving/carving.hpp"
 #include "carving/covers.hpp"
 #include "geometry/morphology.hpp"
@@ -459,4 +460,22 @@ TEST(RasterCli, PixelAndWallOptionsReachTheStack) {
     for (const auto& v : coarse["white_pixels"]) thick += v.get<int64_t>();
     EXPECT_GT(double(thick) * 0.01, double(thin) * 0.0025 * 1.05);
     for (const char* d : {"cli_fine", "cli_coarse", "cli_plain"}) fresh_dir(d);  // removes it
+}
+
+// A full disk (/dev/full) fails the PNG with libpng's words and the system's reason for the
+// caller's one line, and libpng prints nothing of its own ("libpng error: Write Error", twice).
+TEST(RasterPng, AFullDiskIsReportedWithItsReasonAndNothingPrinted) {
+    std::FILE* full = std::fopen("/dev/full", "wb");
+    if (!full) GTEST_SKIP() << "no /dev/full on this machine";
+    std::setvbuf(full, nullptr, _IONBF, 0);  // every write reaches the device
+    const std::vector<uint8_t> pixels(64 * 64, 255);
+    std::string why;
+    testing::internal::CaptureStderr();
+    const bool ok =
+        carve::write_png(full, 64, 64, pixels.data(), carve::PngFormat{1, 6, true}, &why);
+    const std::string printed = testing::internal::GetCapturedStderr();
+    std::fclose(full);
+    EXPECT_FALSE(ok);
+    EXPECT_NE(why.find("No space left on device"), std::string::npos) << why;
+    EXPECT_EQ(printed, "");
 }
