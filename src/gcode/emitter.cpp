@@ -156,7 +156,8 @@ void Emitter::layer(const LayerToolpaths& layer) {
     // --pause-at: before the first layer whose top reaches the height (PrusaSlicer's colour
     // change at a layer), a test of this layer's index alone, so that every chunk agrees. The
     // heights are the model's: above a raft, from the model's bottom.
-    for (double z : layer.index >= 0 ? st_.pause_at : std::vector<double>{}) {
+    const std::vector<double> none;  // a raft's layers: the heights are the model's
+    for (double z : layer.index >= 0 ? st_.pause_at : none) {
         const double base = st_.model_base_mm();
         const double below = layer.index > 0 ? st_.layer_top_mm(layer.index - 1) - base : -1e9;
         if (z > below + 1e-9 && z <= st_.layer_top_mm(layer.index) - base + 1e-9) {

@@ -27,10 +27,10 @@ Raft plan_raft(const Paths& first_slice, const Settings& s) {
     if (n <= 0 || parts.empty()) return raft;
     // The raft's outline: one region under parts that its expansion joins.
     const Paths body = without_holes(dilate(parts, to_units(s.raft_expansion)));
+    raft.footprint = without_holes(dilate(body, to_units(s.raft_first_layer_expansion)));
     for (int k = 0; k < n; ++k) {
         const int index = s.first_print_layer() + k;
-        const Paths outline =
-            k == 0 ? without_holes(dilate(body, to_units(s.raft_first_layer_expansion))) : body;
+        const Paths& outline = k == 0 ? raft.footprint : body;
         const Coord w = to_units(s.layer_width_mm(index));
         LayerToolpaths layer;
         layer.index = index;
@@ -56,7 +56,6 @@ Raft plan_raft(const Paths& first_slice, const Settings& s) {
             layer.extrusions.push_back(std::move(e));
         raft.layers.push_back(std::move(layer));
     }
-    raft.footprint = without_holes(dilate(body, to_units(s.raft_first_layer_expansion)));
     return raft;
 }
 

@@ -513,13 +513,18 @@ LayerMoves read_moves(const std::string& g) {
     return m;
 }
 
-// The bounding box of a layer's outer wall (its centreline), as x0, y0, x1, y1.
-std::array<double, 4> wall_box(const std::string& g, int layer) {
+// The bounding box of a layer's polylines of one type, as x0, y0, x1, y1; wall_box: its outer
+// wall's (the centreline).
+std::array<double, 4> type_box(const std::string& g, int layer, const std::string& type) {
     std::array<double, 4> b{1e9, 1e9, -1e9, -1e9};
-    for (const Polyline& p : of_type(layer_polylines(g, layer), "External perimeter"))
+    for (const Polyline& p : of_type(layer_polylines(g, layer), type))
         for (const auto& [x, y] : p.points)
             b = {std::min(b[0], x), std::min(b[1], y), std::max(b[2], x), std::max(b[3], y)};
     return b;
+}
+
+std::array<double, 4> wall_box(const std::string& g, int layer) {
+    return type_box(g, layer, "External perimeter");
 }
 
 std::string flat_box() {
@@ -719,19 +724,6 @@ TEST(PrinterFlow, MaterialFiguresFollowTheFirstLayerAndTheMultiplier) {
     EXPECT_NEAR(features, extruded, 1e-3 * extruded);
     EXPECT_LT(extruded, 0.92 * plain);
 }
-
-namespace {
-
-// The bounding box of a layer's polylines of one type, as x0, y0, x1, y1.
-std::array<double, 4> type_box(const std::string& g, int layer, const std::string& type) {
-    std::array<double, 4> b{1e9, 1e9, -1e9, -1e9};
-    for (const Polyline& p : of_type(layer_polylines(g, layer), type))
-        for (const auto& [x, y] : p.points)
-            b = {std::min(b[0], x), std::min(b[1], y), std::max(b[2], x), std::max(b[3], y)};
-    return b;
-}
-
-}  // namespace
 
 // --raft-layers: the raft's layers come first, its first at the first layer's height, typed as
 // supports (the top one as their interface); the model's first layer is a normal layer
