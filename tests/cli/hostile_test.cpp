@@ -15,7 +15,6 @@
 #include <filesystem>
 #include <fstream>
 #include <random>
-#include <regex>
 #include <string>
 #include <thread>
 
@@ -30,6 +29,7 @@
 #include "mesh/mesh.hpp"
 #include "support/carve_run.hpp"
 #include "support/models.hpp"
+#include "support/regex.hpp"
 #include "support/stl_boxes.hpp"
 
 namespace fs = std::filesystem;
@@ -288,10 +288,10 @@ bool waits_before_first_extrusion(const std::string& gcode, bool& nozzle, bool& 
     nozzle = bed = false;
     std::istringstream in(gcode);
     std::string line;
-    static const std::regex extrude(R"(^G1 X[-0-9.]+ Y[-0-9.]+ E[0-9.]+)");
+    static const carve::test::Regex extrude(R"(^G1 X[-0-9.]+ Y[-0-9.]+ E[0-9.]+)");
     while (std::getline(in, line)) {
         const std::string code = line.substr(0, line.find(';'));
-        if (std::regex_search(code, extrude)) return true;
+        if (extrude.search(code)) return true;
         if (code.rfind("M109 S", 0) == 0 && std::atof(code.c_str() + 6) > 0) nozzle = true;
         if (code.rfind("M190 S", 0) == 0 && std::atof(code.c_str() + 6) > 0) bed = true;
     }
@@ -399,7 +399,7 @@ TEST(LinearRegex, AgreesWithStdRegexOnSmallRandomCases) {
         const int len = static_cast<int>(rng() % 7);
         for (int k = 0; k < len; ++k) text += "ab1x"[rng() % 4];
         const LinearRegex mine(pattern);
-        const bool expected = std::regex_match(text, std::regex(pattern));
+        const bool expected = carve::test::Regex(pattern).match(text);
         EXPECT_EQ(mine.full_match(text), expected) << "/" << pattern << "/ on '" << text << "'";
         ++compared;
     }

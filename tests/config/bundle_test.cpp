@@ -6,7 +6,6 @@
 
 #include <filesystem>
 #include <fstream>
-#include <regex>
 #include <sstream>
 
 #include "base/error.hpp"
@@ -15,6 +14,7 @@
 #include "gcode/placeholders.hpp"
 #include "support/carve_run.hpp"
 #include "support/models.hpp"
+#include "support/regex.hpp"
 
 namespace fs = std::filesystem;
 using namespace carve;
@@ -234,8 +234,8 @@ TEST(Profile, LayerGcodeIsExpandedForEveryLayer) {
     int layers = 0, before = 0, after = 0, start_fil = -1, g21 = -1, n = 0;
     double last_e_after_reset = -1;
     bool reset = false;
-    const std::regex e_word(R"( E([-0-9.]+))");
-    std::smatch m;
+    const carve::test::Regex e_word(R"( E([-0-9.]+))");
+    std::vector<std::string> m;
     while (std::getline(in, line)) {
         ++n;
         if (line == "M900 K0.05 ; LA") start_fil = n;
@@ -256,7 +256,7 @@ TEST(Profile, LayerGcodeIsExpandedForEveryLayer) {
             ++after;
         }
         // Absolute E restarts from 0 after the G92 E0: the first extrusion of the layer is small.
-        if (reset && line.rfind("G1 X", 0) == 0 && std::regex_search(line, m, e_word)) {
+        if (reset && line.rfind("G1 X", 0) == 0 && e_word.search(line, &m)) {
             last_e_after_reset = std::stod(m[1]);
             EXPECT_LT(last_e_after_reset, 5.0) << line;
             reset = false;
@@ -287,7 +287,7 @@ TEST(Profile, OneNoteNamesTheIgnoredKeysAndOneTheCarvingStructure) {
     EXPECT_TRUE(has(notes[1], "keys that change the print and carve ignores: fill_density"))
         << notes[1];
     EXPECT_FALSE(has(notes[1], "filament_max_volumetric_speed")) << notes[1];  // not selected
-    EXPECT_FALSE(std::regex_search(notes[1], std::regex("ignored [0-9]+ keys"))) << notes[1];
+    EXPECT_FALSE(carve::test::Regex("ignored [0-9]+ keys").search(notes[1])) << notes[1];
 
     ProfileOptions shells;
     shells.profile_shells = true;

@@ -11,7 +11,6 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
-#include <regex>
 #include <sstream>
 
 #include "base/error.hpp"
@@ -22,6 +21,7 @@
 #include "gcode/placeholders.hpp"
 #include "support/carve_run.hpp"
 #include "support/models.hpp"
+#include "support/regex.hpp"
 
 namespace fs = std::filesystem;
 using namespace carve;
@@ -328,10 +328,10 @@ std::map<std::string, std::string> run_config(const std::string& args) {
     std::map<std::string, std::string> config;
     std::ifstream in(gcode);
     std::string line;
-    static const std::regex kv(R"(^; ([a-z_]+) = (.*)$)");
-    std::smatch m;
+    static const carve::test::Regex kv(R"(^; ([a-z_]+) = (.*)$)");
+    std::vector<std::string> m;
     while (std::getline(in, line))
-        if (std::regex_match(line, m, kv)) config[m[1]] = m[2];
+        if (kv.match(line, &m)) config[m[1]] = m[2];
     return config;
 }
 

@@ -15,19 +15,20 @@
 #include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
-#include <regex>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "support/carve_run.hpp"
 #include "support/models.hpp"
+#include "support/regex.hpp"
 #include "support/stl_boxes.hpp"
 
 namespace fs = std::filesystem;
 using carve::test::read;
 using carve::test::run_carve;
 using carve::test::scratch;
+using carve::test::small_part;
 
 namespace {
 
@@ -130,10 +131,10 @@ double moonraker_height(const std::string& g, bool comments_only, bool moves_onl
     if (!moves_only)
         for (size_t i = 0; i + 1 < l.size(); ++i) {
             if (l[i] != ";BEFORE_LAYER_CHANGE") continue;
-            static const std::regex z(R"(^;(\d+\.?\d*))");
-            std::smatch m;
+            static const carve::test::Regex z(R"(^;(\d+\.?\d*))");
+            std::vector<std::string> m;
             for (size_t k = i + 1; k <= i + 2 && k < l.size(); ++k)
-                if (std::regex_search(l[k], m, z)) {
+                if (z.search(l[k], &m)) {
                     best = std::max(best, std::stod(m[1]));
                     break;
                 }
@@ -239,7 +240,7 @@ std::vector<Polyline> of_type(const std::vector<Polyline>& all, const std::strin
 TEST(PrinterStart, EveryPresetWaitsForBedAndNozzleBeforeTheFirstExtrusion) {
     for (const std::string printer : {"generic", "mk3s", "ender3", "klipper"}) {  // NOLINT
         const std::string g =
-            slice(fandisk(), "--cavities 1 --printer " + printer + " --thumbnails 8x8", printer);
+            slice(small_part(), "--cavities 1 --printer " + printer + " --thumbnails 8x8", printer);
         const Start s = read_start(g);
         ASSERT_GT(s.first_extrusion, 0) << printer;
         EXPECT_EQ(s.bed_waited, 60) << printer;
@@ -251,14 +252,14 @@ TEST(PrinterStart, EveryPresetWaitsForBedAndNozzleBeforeTheFirstExtrusion) {
         EXPECT_GT(g.rfind("\n;TYPE:Custom\n"), g.rfind("\n;LAYER:")) << printer;
     }
     // Klipper: the waits come before PRINT_START, which the stock macros need.
-    const std::string k = slice(fandisk(), "--cavities 1 --printer klipper", "klipper2");
+    const std::string k = slice(small_part(), "--cavities 1 --printer klipper", "klipper2");
     EXPECT_LT(k.find("\nM190 S60"), k.find("\nPRINT_START"));
     EXPECT_LT(k.find("\nM109 S215"), k.find("\nPRINT_START"));
     // A start G-code that waits itself is not doubled (PrusaSlicer's rule).
     const fs::path ini = scratch() / "waits.ini";
     std::ofstream(ini) << "start_gcode = M190 S[first_layer_bed_temperature]\\nM109 "
                           "S[first_layer_temperature]\\nG28\n";
-    const std::string own = slice(fandisk(), "--cavities 1 --load " + ini.string(), "own");
+    const std::string own = slice(small_part(), "--cavities 1 --load " + ini.string(), "own");
     EXPECT_EQ(own.find("wait for bed"), std::string::npos);
     EXPECT_EQ(own.find("wait for nozzle"), std::string::npos);
     EXPECT_EQ(read_start(own).bed_waited, 60);
@@ -271,7 +272,7 @@ TEST(PrinterStart, EveryPresetWaitsForBedAndNozzleBeforeTheFirstExtrusion) {
 TEST(PrinterStart, KlipperWaitsForTheNozzleAfterAStockPrintStartThatTurnsItOff) {
     const std::string voron_print_start =
         "M117 Homing...\nG28\nG1 Z20 F3000\nM117 Preheat (Print)\nM104 S0\n";
-    const std::string g = slice(fandisk(), "--cavities 1 --printer klipper", "klipper_voron");
+    const std::string g = slice(small_part(), "--cavities 1 --printer klipper", "klipper_voron");
     std::string run;  // the file as Klipper executes it, the macro expanded
     for (const std::string& l : lines_of(g))
         run += l.rfind("PRINT_START", 0) == 0 ? voron_print_start : l + "\n";
@@ -283,14 +284,14 @@ TEST(PrinterStart, KlipperWaitsForTheNozzleAfterAStockPrintStartThatTurnsItOff) 
     const fs::path ini = scratch() / "klipper_own.ini";
     std::ofstream(ini) << "gcode_flavor = klipper\nstart_gcode = PRINT_START\\nM109 "
                           "S[first_layer_temperature]\n";
-    const std::string own = slice(fandisk(), "--cavities 1 --load " + ini.string(), "k_own");
+    const std::string own = slice(small_part(), "--cavities 1 --load " + ini.string(), "k_own");
     EXPECT_EQ(own.find("wait for nozzle"), std::string::npos);
 }
 
 // The mk3s's intro line ends at Z 0.2 on the bed's edge: the nozzle retracts and lifts before
 // it travels to the part, and the end G-code lifts it clear of the part and presents the bed.
 TEST(PrinterStart, Mk3sRetractsAndLiftsAfterTheIntroLineAndEndsClearOfThePart) {
-    const std::string g = slice(fandisk(), "--cavities 1 --printer mk3s", "mk3s_ends");
+    const std::string g = slice(small_part(), "--cavities 1 --printer mk3s", "mk3s_ends");
     const std::vector<std::string> l = lines_of(g);
     size_t intro = 0;
     for (size_t i = 0; i < l.size(); ++i)
@@ -309,19 +310,19 @@ TEST(PrinterStart, Mk3sRetractsAndLiftsAfterTheIntroLineAndEndsClearOfThePart) {
         }
     }
     const std::string end = end_part(g);
-    static const std::regex lift(R"(\nG1 Z([0-9.]+) F)");
-    std::smatch m;
-    ASSERT_TRUE(std::regex_search(end, m, lift)) << end;
-    EXPECT_NEAR(std::stod(m[1]), std::min(80.0 + 49, 210.0), 1e-6);
+    static const carve::test::Regex lift(R"(\nG1 Z([0-9.]+) F)");
+    std::vector<std::string> m;
+    ASSERT_TRUE(lift.search(end, &m)) << end;
+    EXPECT_NEAR(std::stod(m[1]), std::min(12.0 + 49, 210.0), 1e-6);
     EXPECT_NE(end.find("G1 X0 Y200"), std::string::npos);  // the bed forward
     // The generic end lifts 10 mm clear, within the printer's height.
-    const std::string generic = end_part(slice(fandisk(), "--cavities 1", "generic_end"));
-    ASSERT_TRUE(std::regex_search(generic, m, lift)) << generic;
-    EXPECT_NEAR(std::stod(m[1]), 90, 1e-6);
+    const std::string generic = end_part(slice(small_part(), "--cavities 1", "generic_end"));
+    ASSERT_TRUE(lift.search(generic, &m)) << generic;
+    EXPECT_NEAR(std::stod(m[1]), 22, 1e-6);
     const std::string low =
-        end_part(slice(fandisk(), "--cavities 1 --max-print-height 85", "generic_low"));
-    ASSERT_TRUE(std::regex_search(low, m, lift)) << low;
-    EXPECT_NEAR(std::stod(m[1]), 85, 1e-6);
+        end_part(slice(small_part(), "--cavities 1 --max-print-height 20", "generic_low"));
+    ASSERT_TRUE(lift.search(low, &m)) << low;
+    EXPECT_NEAR(std::stod(m[1]), 20, 1e-6);
 }
 
 // The height Moonraker shows is the model's, by either of its rules, on every model of the
@@ -349,7 +350,7 @@ TEST(PrinterHosts, MoonrakerFindsTheModelsHeight) {
 // default thumbnails of PrusaSlicer's MK3S profile and of the klipper preset.
 TEST(PrinterHosts, ProfileJerkFilamentStealthAndThumbnails) {
     const std::string ini = std::string(CARVE_SOURCE_DIR) + "/tests/data/prusa_mk3s.ini";
-    const std::string g = slice(fandisk(), "--cavities 1 --load " + ini, "mk3s_ini");
+    const std::string g = slice(small_part(), "--cavities 1 --load " + ini, "mk3s_ini");
     EXPECT_NE(g.find("\nM205 X8 Y8 Z0.4 E4.5"), std::string::npos);
     EXPECT_EQ(g.find("\nM205 J"), std::string::npos);
     EXPECT_NE(g.find("\n; filament_type = PLA\n"), std::string::npos);
@@ -358,14 +359,14 @@ TEST(PrinterHosts, ProfileJerkFilamentStealthAndThumbnails) {
     EXPECT_NE(g.find("\n; printer_model = MK3S\n"), std::string::npos);
     EXPECT_NE(g.find("\nM73 Q0 S"), std::string::npos);  // the profile's silent_mode = 1
     EXPECT_NE(g.find("; thumbnail begin 160x120"), std::string::npos);
-    const std::string mk3s = slice(fandisk(), "--cavities 1 --printer mk3s", "mk3s_hosts");
+    const std::string mk3s = slice(small_part(), "--cavities 1 --printer mk3s", "mk3s_hosts");
     EXPECT_NE(mk3s.find("\nM73 Q100 S0\n"), std::string::npos);
     EXPECT_NE(mk3s.find("; thumbnail begin 220x124"), std::string::npos);
     EXPECT_NE(mk3s.find("\n; printer_model = MK3S\n"), std::string::npos);
-    const std::string klipper = slice(fandisk(), "--cavities 1 --printer klipper", "kl_hosts");
+    const std::string klipper = slice(small_part(), "--cavities 1 --printer klipper", "kl_hosts");
     EXPECT_NE(klipper.find("; thumbnail begin 400x300"), std::string::npos);
     EXPECT_EQ(klipper.find("\nM73 Q"), std::string::npos);
-    EXPECT_EQ(slice(fandisk(), "--cavities 1", "plain").find("; thumbnail begin"),
+    EXPECT_EQ(slice(small_part(), "--cavities 1", "plain").find("; thumbnail begin"),
               std::string::npos);
 }
 
@@ -375,7 +376,7 @@ TEST(PrinterHosts, ProfileJerkFilamentStealthAndThumbnails) {
 TEST(PrinterFirstLayer, SkirtAndBrimLieAroundThePartAtTheirDistances) {
     constexpr double w = 0.4;
     {
-        const std::string g = slice(fandisk(), "--cavities 1", "skirt_default");
+        const std::string g = slice(small_part(), "--cavities 1", "skirt_default");
         const std::vector<Polyline> l0 = layer_polylines(g, 0);
         const std::vector<Polyline> skirt = of_type(l0, "Skirt/Brim");
         const std::vector<Polyline> wall = of_type(l0, "External perimeter");
@@ -386,7 +387,7 @@ TEST(PrinterFirstLayer, SkirtAndBrimLieAroundThePartAtTheirDistances) {
         EXPECT_NEAR(distance(skirt, wall), 6 + w, 0.08);
         EXPECT_TRUE(of_type(layer_polylines(g, 1), "Skirt/Brim").empty());
     }
-    const std::string g = slice(fandisk(),
+    const std::string g = slice(small_part(),
                                 "--cavities 1 --brim-width 2 --skirts 2 --skirt-distance 3 "
                                 "--skirt-height 3",
                                 "brim");
@@ -410,7 +411,7 @@ TEST(PrinterFirstLayer, SkirtAndBrimLieAroundThePartAtTheirDistances) {
     std::string err;
     const std::vector<Polyline> p = of_type(
         layer_polylines(
-            slice(fandisk(), "--cavities 1 --load " + ini.string(), "brim_ini", 0, &err), 0),
+            slice(small_part(), "--cavities 1 --load " + ini.string(), "brim_ini", 0, &err), 0),
         "Skirt/Brim");
     EXPECT_EQ(p.size(), 2u);
     EXPECT_EQ(err.find("brim_width"), std::string::npos) << err;
@@ -420,13 +421,13 @@ TEST(PrinterFirstLayer, SkirtAndBrimLieAroundThePartAtTheirDistances) {
 // A skirt or brim that would leave the bed is refused with one line, and no file is written.
 TEST(PrinterFirstLayer, SkirtOrBrimOffTheBedIsAnError) {
     std::string err;
-    slice(fandisk(), "--cavities 1 --bed 80x50", "offbed", 1, &err);
+    slice(small_part(), "--cavities 1 --bed 38x32", "offbed", 1, &err);
     EXPECT_NE(err.find("skirt reaches"), std::string::npos) << err;
     EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
     EXPECT_FALSE(fs::exists(scratch() / "offbed.gcode"));
-    slice(fandisk(), "--cavities 1 --bed 80x50 --skirts 0 --brim-width 5", "offbed2", 1, &err);
+    slice(small_part(), "--cavities 1 --bed 38x32 --skirts 0 --brim-width 5", "offbed2", 1, &err);
     EXPECT_NE(err.find("brim reaches"), std::string::npos) << err;
-    slice(fandisk(), "--cavities 1 --bed 80x50 --skirts 0", "onbed", 0);
+    slice(small_part(), "--cavities 1 --bed 38x32 --skirts 0", "onbed", 0);
 }
 
 // With --copies, each copy's brim is its own unless they touch.
@@ -447,7 +448,7 @@ TEST(PrinterFirstLayer, BrimsOfCopiesJoinOnlyWhereTheyTouch) {
 TEST(PrinterPause, PauseAtWritesTheCommandBeforeTheRightLayer) {
     for (const std::string printer : {"generic", "klipper"}) {  // NOLINT
         const std::string g =
-            slice(fandisk(), "--cavities 1 --printer " + printer + " --pause-at 10.1,40",
+            slice(small_part(), "--cavities 1 --printer " + printer + " --pause-at 2.1,10",
                   "pause" + printer);
         const std::string command = printer == "klipper" ? "PAUSE" : "M600";
         std::vector<int> before;  // the layer each pause comes in, before its first move
@@ -461,11 +462,11 @@ TEST(PrinterPause, PauseAtWritesTheCommandBeforeTheRightLayer) {
                 before.push_back(layer);
             }
         }
-        // Layer i's top is 0.2 (i + 1): 10.1 is reached by layer 50 (10.2), 40 by layer 199.
-        EXPECT_EQ(before, (std::vector<int>{50, 199})) << printer;
+        // Layer i's top is 0.2 (i + 1): 2.1 is reached by layer 10 (2.2), 10 by layer 49.
+        EXPECT_EQ(before, (std::vector<int>{10, 49})) << printer;
     }
     std::string err;
-    slice(fandisk(), "--pause-at 10,x", "pause_bad", 1, &err);
+    slice(small_part(), "--pause-at 10,x", "pause_bad", 1, &err);
     EXPECT_NE(err.find("--pause-at"), std::string::npos) << err;
 }
 
@@ -578,8 +579,9 @@ TEST(PrinterFirstLayer, FirstLayerHeightWidthAndZOffset) {
 
 // --extrusion-multiplier scales every E; the footer's filament follows.
 TEST(PrinterFlow, ExtrusionMultiplierScalesEveryE) {
-    const std::string plain = slice(fandisk(), "--cavities 1", "em_plain");
-    const std::string less = slice(fandisk(), "--cavities 1 --extrusion-multiplier 0.9", "em_09");
+    const std::string plain = slice(small_part(), "--cavities 1", "em_plain");
+    const std::string less =
+        slice(small_part(), "--cavities 1 --extrusion-multiplier 0.9", "em_09");
     const LayerMoves a = read_moves(plain), b = read_moves(less);
     EXPECT_EQ(a.extrusions, b.extrusions);
     EXPECT_NEAR(b.e_total / a.e_total, 0.9, 1e-4);
@@ -590,22 +592,22 @@ TEST(PrinterFlow, ExtrusionMultiplierScalesEveryE) {
 // --max-volumetric-speed: no extruding move's width x height x speed exceeds the cap (read as
 // a viewer reads it: ;WIDTH, ;HEIGHT and F), and the estimate grows with the slower moves.
 TEST(PrinterFlow, MaxVolumetricSpeedCapsEveryExtrusion) {
-    const std::string plain = slice(fandisk(), "--cavities 1", "mv_plain");
-    const std::string capped = slice(fandisk(), "--cavities 1 --max-volumetric-speed 2", "mv_2");
+    const std::string plain = slice(small_part(), "--cavities 1", "mv_plain");
+    const std::string capped = slice(small_part(), "--cavities 1 --max-volumetric-speed 2", "mv_2");
     const LayerMoves a = read_moves(plain), b = read_moves(capped);
     EXPECT_GT(a.max_flow, 4);
     EXPECT_LE(b.max_flow, 2 + 1e-9);
     EXPECT_GT(b.max_flow, 1.9);
-    static const std::regex time(R"(\n;TIME:(\d+)\n)");
-    std::smatch ta, tb;
-    ASSERT_TRUE(std::regex_search(plain, ta, time));
-    ASSERT_TRUE(std::regex_search(capped, tb, time));
+    static const carve::test::Regex time(R"(\n;TIME:(\d+)\n)");
+    std::vector<std::string> ta, tb;
+    ASSERT_TRUE(time.search(plain, &ta));
+    ASSERT_TRUE(time.search(capped, &tb));
     EXPECT_GT(std::stod(tb[1]), 1.1 * std::stod(ta[1]));
     // The filament's own cap from a profile holds when lower than the print's.
     const fs::path ini = scratch() / "cap.ini";
     std::ofstream(ini) << "max_volumetric_speed = 3\nfilament_max_volumetric_speed = 1.5\n";
     EXPECT_LE(
-        read_moves(slice(fandisk(), "--cavities 1 --load " + ini.string(), "mv_ini")).max_flow,
+        read_moves(slice(small_part(), "--cavities 1 --load " + ini.string(), "mv_ini")).max_flow,
         1.5 + 1e-9);
 }
 
@@ -643,8 +645,8 @@ TEST(PrinterFirstLayer, ProfileKeysGiveTheOptionsGcode) {
                           "xy_size_compensation = 0.05\nz_offset = 0.1\n";
     std::string err;
     const std::string from_ini =
-        slice(fandisk(), "--cavities 1 --load " + ini.string(), "fl_ini", 0, &err);
-    const std::string from_options = slice(fandisk(),
+        slice(small_part(), "--cavities 1 --load " + ini.string(), "fl_ini", 0, &err);
+    const std::string from_options = slice(small_part(),
                                            "--cavities 1 --first-layer-height 0.25 "
                                            "--first-layer-extrusion-width 0.5 "
                                            "--extrusion-multiplier 0.95 --max-volumetric-speed 4 "

@@ -13,7 +13,6 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <regex>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -22,6 +21,7 @@
 #include "mesh/mesh.hpp"
 #include "slice/slicer.hpp"
 #include "support/carve_run.hpp"
+#include "support/regex.hpp"
 
 namespace fs = std::filesystem;
 using namespace carve;
@@ -79,11 +79,11 @@ std::vector<std::string> leftovers(const fs::path& dir, const std::string& stem)
 // stderr without the progress lines ("carve: 10/100 layers (10 %), ...") that a run prints
 // when stderr is not a terminal: a failure found after slicing started follows them.
 std::string without_progress(const std::string& err) {
-    static const std::regex progress(R"(^carve: \d+/\d+ layers .*\n)");
+    static const carve::test::Regex progress(R"(^carve: \d+/\d+ layers .*\n)");
     std::string out, line;
     std::istringstream in(err);
     while (std::getline(in, line))
-        if (!std::regex_match(line + "\n", progress)) out += line + "\n";
+        if (!progress.match(line + "\n")) out += line + "\n";
     return out;
 }
 
@@ -140,8 +140,8 @@ TEST(Hostile, ModelBelowTheBedIsDroppedOntoIt) {
     std::string a = g, b = read(gcode_on);
     a.erase(0, a.find('\n', a.find("; model = ")));
     b.erase(0, b.find('\n', b.find("; model = ")));
-    a = std::regex_replace(a, std::regex("object below"), "object on");  // the object labels
-    a = std::regex_replace(a, std::regex("M486 Abelow"), "M486 Aon");
+    a = carve::test::Regex("object below").replace(a, "object on");  // the object labels
+    a = carve::test::Regex("M486 Abelow").replace(a, "M486 Aon");
     EXPECT_TRUE(a == b);
 }
 
