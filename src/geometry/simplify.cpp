@@ -15,13 +15,13 @@ double segment_distance(const Point& p, const Point& a, const Point& b) {
     return std::hypot(double(p.X) - (double(a.X) + t * dx), double(p.Y) - (double(a.Y) + t * dy));
 }
 
-void douglas_peucker(const Path& path, bool closed, double tolerance, SimplifyScratch& scratch,
+bool douglas_peucker(const Path& path, bool closed, double tolerance, SimplifyScratch& scratch,
                      Path& out) {
     const size_t n = path.size();
     out.clear();
     if (n <= (closed ? 3u : 2u)) {
         out = path;
-        return;
+        return true;
     }
     std::vector<uint8_t>& keep = scratch.keep;
     std::vector<std::pair<size_t, size_t>>& stack = scratch.stack;
@@ -43,9 +43,23 @@ void douglas_peucker(const Path& path, bool closed, double tolerance, SimplifySc
         keep[n - 1] = 1;
         stack.push_back({0, n - 1});
     }
+    // Each range costs its length, and a range split next to one of its ends leaves nearly all
+    // of it for the next round: a zig-zag whose every tooth must stay (issue #38: 800,000
+    // vertices a slice) made that quadratic, hours for one slice. The budget is far above what
+    // real contours take (at most 10 a vertex on the shared models' slices, 40 in the report's
+    // drawings); once it is spent, the ranges left keep all their vertices, which moves nothing.
+    const double log_n = std::log2(double(n));
+    size_t budget = static_cast<size_t>(double(n) * (32.0 + 4.0 * log_n));
+    bool complete = true;
     while (!stack.empty()) {
         const auto [i, j] = stack.back();
         stack.pop_back();
+        if (j - i > budget) {
+            complete = false;
+            for (size_t k = i + 1; k < j; ++k) keep[k] = 1;
+            continue;
+        }
+        budget -= j - i;
         const Point& a = path[i];
         const Point& b = path[j % n];
         double best = -1;
@@ -62,6 +76,7 @@ void douglas_peucker(const Path& path, bool closed, double tolerance, SimplifySc
     }
     for (size_t k = 0; k < n; ++k)
         if (keep[k]) out.push_back(path[k]);
+    return complete;
 }
 
 Path douglas_peucker(const Path& path, bool closed, double tolerance) {

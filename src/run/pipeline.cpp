@@ -160,6 +160,7 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
     const Placement place = centre_on_bed(settings, result.mesh.bbox);
     TopDownSlicer slicer(run_mesh.mesh, settings.layer_height, settings.model_layer_mm(0));
     const int layer_count = checked_layer_count(slicer, settings, options);
+    check_plane_segments(slicer, settings, options);
     std::function<void(const Slice&)> check_slice = vertex_limits(settings, options);
     RunOutputs outputs(settings, options, run_mesh, result, layer_count, place);
     LayerPipeline layers(settings, options, run_mesh.mesh, place.z0, slicer, std::move(check_slice),

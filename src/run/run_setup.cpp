@@ -119,6 +119,33 @@ void check_loops_on_bed(const FirstLayerLoops& loops, const Paths& raft, const S
     check(loops.skirt, "skirt", "--skirt-distance or --skirts (0: none)");
 }
 
+void check_plane_segments(const TopDownSlicer& slicer, const Settings& settings,
+                          const RunOptions& options) {
+    if (settings.max_vertices_per_layer <= 0 && settings.max_vertices_total <= 0) return;
+    // Twice the limits: a quad split into two triangles gives two segments for each contour
+    // vertex, the one on the diagonal dropped as straight when the loop is cleaned, and the
+    // limits themselves stay on the slices' vertices (vertex_limits()). Only a mesh with more
+    // than twice the limit of segments is refused here, and whatever cleaning could do.
+    const std::vector<uint32_t> segments = slicer.plane_segments();
+    long long total = 0;
+    for (int i = int(segments.size()) - 1; i >= 0; --i) {
+        const long long cut = segments[size_t(i)];
+        total += cut;
+        if (settings.max_vertices_total > 0 && total > 2 * settings.max_vertices_total)
+            throw InputError(fmt::format(
+                "{}: the slices down to layer {} (z = {:.2f} mm) cut {} segments, more than "
+                "twice the limit of {} contour vertices before any simplification; simplify the "
+                "mesh or raise --max-vertices (0 = no limit)",
+                options.model_path, i, slicer.plane_z(i), total, settings.max_vertices_total));
+        if (settings.max_vertices_per_layer > 0 && cut > 2 * settings.max_vertices_per_layer)
+            throw InputError(fmt::format(
+                "{}: layer {} (z = {:.2f} mm) cuts {} segments, more than twice the limit of {} "
+                "contour vertices before any simplification; simplify the mesh or raise "
+                "--max-vertices-per-layer (0 = no limit)",
+                options.model_path, i, slicer.plane_z(i), cut, settings.max_vertices_per_layer));
+    }
+}
+
 std::function<void(const Slice&)> vertex_limits(const Settings& settings,
                                                 const RunOptions& options) {
     if (settings.max_vertices_per_layer <= 0 && settings.max_vertices_total <= 0) return {};

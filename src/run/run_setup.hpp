@@ -49,6 +49,13 @@ void check_run_size(const Settings& settings, const RunOptions& options, const B
 void check_loops_on_bed(const FirstLayerLoops& loops, const Paths& raft, const Settings& settings,
                         const RunOptions& options, double offset_x, double offset_y);
 
+// The vertex limits, doubled, on the segments each plane will cut (the contours' vertices before
+// any cleaning or simplification), in the order the slices are cut, before the first is
+// chained: chaining, simplifying and uniting 800,000 vertices of a zig-zag took minutes a plane
+// (issue #38), so the check on each slice as it is cut came too late.
+void check_plane_segments(const TopDownSlicer& slicer, const Settings& settings,
+                          const RunOptions& options);
+
 // The vertex limits, checked on each slice in order as it is cut; empty when there are none.
 std::function<void(const Slice&)> vertex_limits(const Settings& settings,
                                                 const RunOptions& options);

@@ -161,9 +161,11 @@ class PlaneSlicer {
                 // of a line width, until its vertices are kCoarsestSegment apart on average
                 // along the outline's smooth length (its length at the coarsest tolerance: a
                 // zigzag's own length would count the noise as detail).
+                // A contour that spent the first pass's budget (a zig-zag whose teeth all
+                // stay) would only spend it again at each coarser tolerance.
                 double tolerance = tolerance_;
-                douglas_peucker(p, true, tolerance, scratch_, simple_);
-                if (simple_.size() > kFewVertices) {
+                const bool complete = douglas_peucker(p, true, tolerance, scratch_, simple_);
+                if (complete && simple_.size() > kFewVertices) {
                     douglas_peucker(p, true, kMaxTolerance, scratch_, coarse_);
                     const double smooth_length = perimeter(coarse_);
                     while (tolerance<kMaxTolerance&& double(simple_.size()) * kCoarsestSegment>
@@ -431,6 +433,32 @@ TopDownSlicer::~TopDownSlicer() = default;
 
 int TopDownSlicer::layer_count() const {
     return impl_->count;
+}
+
+double TopDownSlicer::plane_z(int i) const {
+    return impl_->zmin + impl_->middle(i);
+}
+
+std::vector<uint32_t> TopDownSlicer::plane_segments() const {
+    const Impl& m = *impl_;
+    // The very doubles next_cut() compares with, so that the counts are exact: a triangle
+    // gives a segment on a plane at z when its lowest corner is below z and its highest at or
+    // above it (a corner on the plane counts as above).
+    std::vector<double> zs(size_t(m.count));
+    for (int i = 0; i < m.count; ++i) zs[size_t(i)] = plane_z(i);
+    std::vector<int64_t> change(zs.size() + 1, 0);
+    for (const auto& tri : m.mesh.triangles) {
+        const double a = m.mesh.vertices[tri[0]].z, b = m.mesh.vertices[tri[1]].z,
+                     c = m.mesh.vertices[tri[2]].z;
+        const auto first = std::upper_bound(zs.begin(), zs.end(), std::min({a, b, c}));
+        const auto end = std::upper_bound(first, zs.end(), std::max({a, b, c}));
+        ++change[size_t(first - zs.begin())];
+        --change[size_t(end - zs.begin())];
+    }
+    std::vector<uint32_t> counts(zs.size());
+    int64_t running = 0;
+    for (size_t i = 0; i < zs.size(); ++i) counts[i] = uint32_t(running += change[i]);
+    return counts;
 }
 
 struct PlaneCut::Impl {

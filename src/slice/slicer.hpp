@@ -10,6 +10,7 @@
 #include <functional>
 #include <memory>
 #include <optional>
+#include <vector>
 
 #include "mesh/mesh.hpp"
 
@@ -47,6 +48,13 @@ class TopDownSlicer {
     TopDownSlicer& operator=(const TopDownSlicer&) = delete;
 
     int layer_count() const;
+    // Where layer i is cut, in the mesh's coordinates (the z of its Slice).
+    double plane_z(int i) const;
+    // The segments each plane will cut, by layer index, counted from the triangles' heights
+    // alone: the slice's contour vertices before any cleaning or simplification. Chaining and
+    // uniting a plane cost at least this (Clipper's union far more, on a zig-zag), so limits
+    // on it can stop a run before the first plane is chained.
+    std::vector<uint32_t> plane_segments() const;
     // The next slice going down, or nothing after layer 0.
     std::optional<Slice> next();
     // The same in two halves: the next plane's segments, in order; then PlaneCut::chain(), on

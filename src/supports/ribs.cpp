@@ -17,6 +17,7 @@ namespace carve {
 
 constexpr double kDirScale = 1024.0;
 constexpr double kTieReach = 1500.0;  // how far past the empty region a tie looks for the wall
+constexpr double kFarWall = 4.0;      // tie() cells from the wall beyond which it looks further
 
 // Nearest point of a region's boundary to a point, and whether the point lies inside it. The
 // paths' boxes let far contours be skipped: a rib is tested against every cavity of a slice.
@@ -231,6 +232,30 @@ void RibPlanner::tie(std::vector<Node>& nodes, const WallBoundary& boundary,
                     if (d < best && d <= cell) best = d, target = nodes[j].id, at = q;
                 }
             }
+        // Nothing within a cell and the wall far: a wide cavity's lattice, thinned by the
+        // pairing until its ribs stand further apart than a cell. Tied to the wall, every rib
+        // printed a tie across the cavity on every slice, each crossing the ribs between
+        // (a 1000 mm cube: tie length grew as the cube of its size, the run past 300 s, issue
+        // #38). The nearest rib nearer the wall then, however far, ring by ring until no
+        // further cell can hold one nearer: the forest stays rooted on the walls, its ties
+        // short. Within kFarWall cells of a wall nothing changes.
+        if (target == kWall && best > kFarWall * cell) {
+            for (long long ring = 0;; ++ring) {
+                for (long long gx = cx - ring; gx <= cx + ring; ++gx)
+                    for (long long gy = cy - ring; gy <= cy + ring; ++gy) {
+                        if (std::max(std::abs(gx - cx), std::abs(gy - cy)) != ring) continue;
+                        const auto it = grid.find(key(gx, gy));
+                        if (it == grid.end()) continue;
+                        for (const size_t j : it->second) {
+                            Point q;
+                            const double d = nearest_on(j, n.at, q);
+                            if (d < best) best = d, target = nodes[j].id, at = q;
+                        }
+                    }
+                // Cells beyond this ring lie further than ring cells away.
+                if (double(ring) * cell >= best) break;
+            }
+        }
         if (n.target != kUntied && n.target != target) {
             double before = std::numeric_limits<double>::max();
             Point q;

@@ -40,6 +40,8 @@ class LayerIslands {
 
   private:
     size_t island_at(const Point& p) const;
+    // The islands order[0..k) (indices into islands_) nearest gap first from order[0].
+    std::vector<size_t> nearest_island_tour(const std::vector<size_t>& order) const;
     // Most layers are one island: then no index is built and nothing is looked up.
     std::optional<Comber> index_;
     Coord w_;

@@ -58,3 +58,22 @@ TEST(DouglasPeucker, ScratchBuffersGiveTheSameResult) {
         EXPECT_EQ(out, douglas_peucker(c, true, 20)) << n;
     }
 }
+
+TEST(DouglasPeucker, AZigZagWhoseTeethAllStayCostsABoundedAmount) {
+    // Issue #38: every tooth is taller than the tolerance and each range splits next to its
+    // end, so the plain algorithm measures some n^2 / 2 distances (800,000 vertices a slice ran
+    // for hours). With the budget spent it keeps the rest whole, which drops nothing it must
+    // keep; a contour that needs no more than an ordinary one is not affected.
+    Path zigzag;
+    for (int k = 0; k < 40000; ++k) zigzag.push_back({k, (k % 2) * 500});
+    SimplifyScratch scratch;
+    Path out;
+    EXPECT_FALSE(douglas_peucker(zigzag, false, 100, scratch, out));
+    EXPECT_EQ(out, zigzag);
+    zigzag.push_back({40000, -100000});
+    EXPECT_FALSE(douglas_peucker(zigzag, true, 100, scratch, out));
+    EXPECT_EQ(out, zigzag);
+    const Path c = circle(0, 0, 10 * kMm, 20000);
+    EXPECT_TRUE(douglas_peucker(c, true, 50, scratch, out));
+    EXPECT_LT(out.size(), size_t(200));
+}

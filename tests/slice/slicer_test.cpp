@@ -436,6 +436,38 @@ TEST(Slicer, BoxWithVertexRingsOnTheCuttingPlanes) {
     }
 }
 
+TEST(Slicer, PlaneSegmentsAreCountedBeforeAnyPlaneIsCut) {
+    // Issue #38: the vertex limits read these counts before the first plane is chained. A ring
+    // on a plane belongs to the band below it (a corner on the plane counts as above), so each
+    // plane cuts the 8 side triangles of one band.
+    std::vector<double> zs{0};
+    for (int i = 0; i < 20; ++i) zs.push_back(0.25 + 0.5 * i);
+    zs.push_back(10);
+    const Mesh b = prism({{0, 0}, {10, 0}, {10, 10}, {0, 10}}, zs);
+    const std::vector<uint32_t> rings = TopDownSlicer(b, 0.5).plane_segments();
+    ASSERT_EQ(rings.size(), 20u);
+    for (uint32_t n : rings) EXPECT_EQ(n, 8u);
+    // On a sphere with a first layer of its own height: every triangle below a plane's z and
+    // reaching it, as the slicer tests them.
+    const Mesh sphere = uv_sphere(7, 48, 31);
+    TopDownSlicer slicer(sphere, 0.3, 0.45);
+    const std::vector<uint32_t> counts = slicer.plane_segments();
+    ASSERT_EQ(counts.size(), size_t(slicer.layer_count()));
+    for (int i = 0; i < slicer.layer_count(); ++i) {
+        const double z = slicer.plane_z(i);
+        uint32_t expected = 0;
+        for (const auto& t : sphere.triangles) {
+            const double a = sphere.vertices[t[0]].z, b2 = sphere.vertices[t[1]].z,
+                         c = sphere.vertices[t[2]].z;
+            expected += std::min({a, b2, c}) < z && std::max({a, b2, c}) >= z;
+        }
+        EXPECT_EQ(counts[size_t(i)], expected) << i;
+        EXPECT_GT(expected, 0u) << i;
+    }
+    int i = slicer.layer_count() - 1;
+    while (auto s = slicer.next()) EXPECT_EQ(s->z, slicer.plane_z(i--));
+}
+
 TEST(Slicer, PlaneThroughTopAndBottomFaces) {
     // A vertex on the plane counts as above: the top face's plane cuts just below it, the bottom
     // face's plane just below the mesh.

@@ -289,3 +289,60 @@ TEST(Ribs, SyntheticShapesPrintTheFirstTime) {
         EXPECT_TRUE(p["passes"].get<bool>()) << s.name << ": " << p["failed_rules"].dump();
     }
 }
+
+// Issue #38: under a wide ceiling the pairing thins the lattice until its ribs stand further
+// apart than tie() looked (two spacings); each then printed a tie to the wall on every layer,
+// across the cavity and the ribs between (a 1000 mm cube ran past 300 s). Far from the walls
+// a rib is tied to the nearest rib nearer the wall however far: the ties stay short, every rib
+// is still joined to the wall through them, and each tie stands on the layer below.
+TEST(Ribs, TiesStayShortUnderAWideCeiling) {
+    const int top = 60;
+    const RibOptions o = options();
+    const Coord size = 100 * kMm;
+    std::vector<LayerRecord> layers;
+    for (int i = 0; i <= top; ++i) {
+        LayerPartition l;
+        l.index = i;
+        l.outline = rect_region(0, 0, size, size);
+        if (i >= 2 && i < top) l.cavities = {rect_region(kMm, kMm, size - kMm, size - kMm)};
+        layers.push_back(l);
+    }
+    RibPlanner planner(o);
+    for (int i = top; i >= 0; --i) layers[size_t(i)].ribs = planner.add(layers[size_t(i)]);
+    double longest = 0;
+    int ties = 0;
+    for (int i = top - 1; i >= 2; --i) {
+        const LayerRecord& l = layers[size_t(i)];
+        for (const Path& t : l.ribs.ties)
+            longest = std::max(longest, distance(t.front(), t.back()));
+        ties += static_cast<int>(l.ribs.ties.size());
+        Paths lines = l.ribs.lines;
+        lines.insert(lines.end(), l.ribs.ties.begin(), l.ribs.ties.end());
+        if (lines.empty() || i % 6 != 0) continue;  // every sixth layer: the test stays quick
+        Paths empty;
+        for (const Paths& c : l.bridged.cavities) empty = unite(empty, erode(c, o.line_width / 2));
+        const Paths solid = subtract(l.partition().outline, empty);
+        const Paths all = unite(solid, dilate_lines(lines, o.line_width / 2 + 1));
+        int outers = 0;
+        for (const Path& p : all) outers += area(p) > 0;
+        EXPECT_EQ(outers, 1) << "layer " << i << ": a rib stands alone";
+        if (i < 3) continue;
+        const LayerRecord& below = layers[size_t(i - 1)];
+        Paths below_lines = below.ribs.lines;
+        below_lines.insert(below_lines.end(), below.ribs.ties.begin(), below.ribs.ties.end());
+        Paths held = printed(below);
+        if (!below_lines.empty()) held = unite(held, dilate_lines(below_lines, o.line_width / 2));
+        for (const Path& t : l.ribs.ties) {
+            const double len = distance(t.front(), t.back());
+            for (double s = 0; s <= len; s += 400) {
+                const double f = len > 0 ? s / len : 0;
+                const Point q(t.front().X + Coord(f * double(t.back().X - t.front().X)),
+                              t.front().Y + Coord(f * double(t.back().Y - t.front().Y)));
+                EXPECT_LE(distance_to(q, held), 2.0 * kMm) << "layer " << i;
+            }
+        }
+    }
+    EXPECT_GT(ties, 500);
+    // Within four cells of two spacings of a wall a rib is tied to it, as before: 21 mm.
+    EXPECT_LT(longest, 25.0 * kMm);
+}

@@ -14,7 +14,9 @@
 #include "geometry/polygon.hpp"
 #include "support/shapes.hpp"
 #include "support/test_rng.hpp"
+#include "toolpath/comb.hpp"
 #include "toolpath/fill.hpp"
+#include "toolpath/islands.hpp"
 #include "toolpath/order.hpp"
 #include "toolpath/walls.hpp"
 
@@ -725,4 +727,50 @@ TEST(Toolpath, CavityWallsOnlyNearWhatTheCavityLeavesAreAllTheWalls) {
             }
         }
     }
+}
+
+TEST(IslandOrder, APlateOfManyPartsIsOrderedNearestFirstWithoutAGapTable) {
+    // Issue #38: beyond 64 islands the order is one nearest-gap pass from the first island;
+    // it kept a table of every pair's gap (10,000 build items: 800 MB a layer). Now each gap is
+    // computed when the pass needs it: the order must be the very same pass.
+    carve::test::Rng rng(38);
+    Paths shape;
+    for (int i = 0; i < 15; ++i)
+        for (int j = 0; j < 10; ++j) {
+            const Coord x = i * 3 * kMm + Coord(rng.integer(0, 1000));
+            const Coord y = j * 3 * kMm + Coord(rng.integer(0, 1000));
+            shape.push_back(rect_region(x, y, x + kMm, y + kMm)[0]);
+        }
+    LayerIslands islands(shape, 400, 0);
+    std::vector<Extrusion> walls;
+    for (const Path& p : shape) walls.push_back({Feature::OuterWall, p, true});
+    islands.distribute(walls, &Island::outer);
+    const Point pos(50 * kMm, 40 * kMm);
+    const std::vector<size_t> got = islands.print_order(pos);
+
+    const Comber index(shape);
+    const size_t k = size_t(index.islands());
+    ASSERT_EQ(k, shape.size());
+    std::vector<size_t> expected{0};
+    std::vector<bool> used(k, false);
+    used[0] = true;
+    while (expected.size() < k) {
+        size_t next = k;
+        double best = 0;
+        for (size_t j = 0; j < k; ++j) {
+            if (used[j]) continue;
+            const size_t a = std::min(expected.back(), j), b = std::max(expected.back(), j);
+            const double g = index.gap(int(a), int(b));
+            if (next == k || g < best) next = j, best = g;
+        }
+        used[next] = true;
+        expected.push_back(next);
+    }
+    auto entry = [&](size_t i) {
+        const Point& q = islands[i].outer.at(0).points.front();
+        return std::hypot(double(q.X - pos.X), double(q.Y - pos.Y));
+    };
+    if (entry(expected.back()) < entry(expected.front()))
+        std::reverse(expected.begin(), expected.end());
+    EXPECT_EQ(got, expected);
 }
