@@ -45,20 +45,25 @@ void progress_line(int done, int total, double elapsed_s) {
 }
 
 // The progress after `done` layers of `layer_count`: every 10 layers on a terminal's bar, every
-// tenth of the layers as plain lines.
+// tenth of the layers as plain lines; and whenever the last was drawn long enough ago, since a
+// tenth of a very tall or very wide model's layers can take many minutes (a 12 m skull within
+// the size limits printed nothing for over 300 s). `last` is when the last was drawn.
 void report_progress(const RunOptions& options, int done, int layer_count,
-                     std::chrono::steady_clock::time_point start) {
-    const int tenth = std::max(1, layer_count / 10);
-    if (options.progress && options.progress_bar && (done % 10 == 0 || done == layer_count)) {
-        const double t_s =
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+                     std::chrono::steady_clock::time_point start,
+                     std::chrono::steady_clock::time_point& last) {
+    if (!options.progress) return;
+    using namespace std::chrono_literals;
+    const auto now = std::chrono::steady_clock::now();
+    const bool due = options.progress_bar ? (done % 10 == 0 || now - last >= 1s)
+                                          : (done % std::max(1, layer_count / 10) == 0 ||
+                                             now - last >= 5s);
+    if (!due && done != layer_count) return;
+    last = now;
+    const double t_s = std::chrono::duration<double>(now - start).count();
+    if (options.progress_bar)
         progress_bar(done, layer_count, t_s);
-    } else if (options.progress && !options.progress_bar &&
-               (done % tenth == 0 || done == layer_count)) {
-        const double t_s =
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    else
         progress_line(done, layer_count, t_s);
-    }
 }
 
 std::vector<std::unique_ptr<CarvingSweep>> make_sweeps(const Settings& settings, int k) {
@@ -86,6 +91,7 @@ LayerPipeline::LayerPipeline(const Settings& settings, const RunOptions& options
       outputs_(outputs),
       result_(result),
       start_(start),
+      last_progress_(start),
       note_(std::move(note)),
       layer_count_(slicer.layer_count()),
       k_(sweep_iterations(settings)),
@@ -325,7 +331,7 @@ void LayerPipeline::write_layer(TokenPtr t) {
     if (outputs_.html) outputs_.html->add_layer(t->record, t->paths);
     add_layer_figures(*t, settings_, result_, sliced_volume_, overhangs_);
     ++done_;
-    report_progress(options_, done_, layer_count_, start_);
+    report_progress(options_, done_, layer_count_, start_, last_progress_);
 }
 
 void LayerPipeline::run(int threads) {

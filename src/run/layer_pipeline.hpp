@@ -109,6 +109,7 @@ class LayerPipeline {
     RunOutputs& outputs_;
     RunResult& result_;
     std::chrono::steady_clock::time_point start_;
+    std::chrono::steady_clock::time_point last_progress_;  // when progress was last shown
     std::function<void(const std::string&)> note_;
     const int layer_count_;
     const int k_;  // carving iterations
