@@ -54,9 +54,9 @@ void report_progress(const RunOptions& options, int done, int layer_count,
     if (!options.progress) return;
     using namespace std::chrono_literals;
     const auto now = std::chrono::steady_clock::now();
-    const bool due = options.progress_bar ? (done % 10 == 0 || now - last >= 1s)
-                                          : (done % std::max(1, layer_count / 10) == 0 ||
-                                             now - last >= 5s);
+    const bool due = options.progress_bar
+                         ? (done % 10 == 0 || now - last >= 1s)
+                         : (done % std::max(1, layer_count / 10) == 0 || now - last >= 5s);
     if (!due && done != layer_count) return;
     last = now;
     const double t_s = std::chrono::duration<double>(now - start).count();
