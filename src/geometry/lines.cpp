@@ -1,13 +1,13 @@
 // Overlap trimming of open lines (lines.hpp).
 //
-// The distance from a point moving along a segment to another segment is convex in the
-// parameter, so the part of a segment nearer than a radius to another is one interval: found by
-// a ternary search for the closest parameter, then a bisection on each side. A grid of cells
-// holds the kept segments so that each new one meets its neighbours only.
+// What lies nearer than a radius to a segment is a capsule, convex, so the part of a segment
+// within it is one interval, found in closed form. A grid of cells holds the kept segments so that
+// each new one meets its neighbours only.
 #include "geometry/lines.hpp"
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <unordered_map>
 #include <utility>
@@ -25,43 +25,63 @@ struct DPoint {
     double x, y;
 };
 
-double point_segment(DPoint p, const Segment& s) {
-    const double ax = double(s.a.X), ay = double(s.a.Y);
-    const double dx = double(s.b.X) - ax, dy = double(s.b.Y) - ay;
-    const double len2 = dx * dx + dy * dy;
-    double t = len2 > 0 ? ((p.x - ax) * dx + (p.y - ay) * dy) / len2 : 0;
-    t = std::clamp(t, 0.0, 1.0);
-    return std::hypot(p.x - (ax + t * dx), p.y - (ay + t * dy));
+// Where a + t d (t real) lies strictly inside the disk of radius r about q: t in (lo, hi).
+bool in_disk(DPoint a, DPoint d, DPoint q, double r2, double& lo, double& hi) {
+    const double ex = a.x - q.x, ey = a.y - q.y;
+    const double A = d.x * d.x + d.y * d.y, B = ex * d.x + ey * d.y, C = ex * ex + ey * ey - r2;
+    const double disc = B * B - A * C;
+    if (!(disc > 0) || !(A > 0)) return false;
+    const double root = std::sqrt(disc);
+    lo = (-B - root) / A;
+    hi = (-B + root) / A;
+    return true;
+}
+
+// Where the linear function v0 + t v1 lies in (lo_bound, hi_bound): t in (lo, hi).
+bool in_band(double v0, double v1, double lo_bound, double hi_bound, double& lo, double& hi) {
+    if (v1 == 0) {
+        if (!(v0 > lo_bound && v0 < hi_bound)) return false;
+        lo = -std::numeric_limits<double>::infinity();
+        hi = std::numeric_limits<double>::infinity();
+        return true;
+    }
+    lo = (lo_bound - v0) / v1;
+    hi = (hi_bound - v0) / v1;
+    if (lo > hi) std::swap(lo, hi);
+    return true;
 }
 
 // The interval of t in [0, 1] where a + t (b - a) lies nearer than `radius` to `s`, if any.
+// Nearer than the radius to a segment is a capsule: the band along it and the disks at its ends;
+// the capsule is convex, so the line meets it in one interval, the hull of where it meets the
+// three parts (it replaced a ternary search and two bisections, 200 distances a pair, which
+// were a quarter of a wide cube's slicing time).
 bool near_interval(const Segment& seg, const Segment& s, double radius, double& lo, double& hi) {
-    auto at = [&](double t) {
-        return DPoint{double(seg.a.X) + t * double(seg.b.X - seg.a.X),
-                      double(seg.a.Y) + t * double(seg.b.Y - seg.a.Y)};
+    const DPoint a{double(seg.a.X), double(seg.a.Y)};
+    const DPoint d{double(seg.b.X) - a.x, double(seg.b.Y) - a.y};
+    const DPoint p{double(s.a.X), double(s.a.Y)}, q{double(s.b.X), double(s.b.Y)};
+    const double r2 = radius * radius;
+    double l = std::numeric_limits<double>::infinity(), h = -l;
+    auto hull = [&](double pl, double ph) {
+        l = std::min(l, pl);
+        h = std::max(h, ph);
     };
-    auto f = [&](double t) { return point_segment(at(t), s); };
-    double l = 0, h = 1;
-    for (int i = 0; i < 60 && h - l > 1e-7; ++i) {
-        const double m1 = l + (h - l) / 3, m2 = h - (h - l) / 3;
-        if (f(m1) < f(m2))
-            h = m2;
-        else
-            l = m1;
+    double pl = 0, ph = 0;
+    if (in_disk(a, d, p, r2, pl, ph)) hull(pl, ph);
+    if (in_disk(a, d, q, r2, pl, ph)) hull(pl, ph);
+    const double ex = q.x - p.x, ey = q.y - p.y, len2 = ex * ex + ey * ey;
+    if (len2 > 0) {
+        // Along s (0 .. len2 between its ends) and across it (within radius x its length).
+        const double ax = a.x - p.x, ay = a.y - p.y, len = std::sqrt(len2);
+        double al = 0, ah = 0, cl = 0, ch = 0;
+        if (in_band(ax * ex + ay * ey, d.x * ex + d.y * ey, 0, len2, al, ah) &&
+            in_band(ex * ay - ey * ax, ex * d.y - ey * d.x, -radius * len, radius * len, cl, ch) &&
+            std::max(al, cl) < std::min(ah, ch))
+            hull(std::max(al, cl), std::min(ah, ch));
     }
-    const double best = (l + h) / 2;
-    if (f(best) >= radius) return false;
-    auto edge = [&](double inside, double outside) {
-        if (f(outside) < radius) return outside;
-        for (int i = 0; i < 50 && std::abs(outside - inside) > 1e-7; ++i) {
-            const double m = (inside + outside) / 2;
-            (f(m) < radius ? inside : outside) = m;
-        }
-        return inside;
-    };
-    lo = edge(best, 0.0);
-    hi = edge(best, 1.0);
-    return true;
+    lo = std::max(l, 0.0);
+    hi = std::min(h, 1.0);
+    return lo < hi;
 }
 
 class SegmentGrid {
