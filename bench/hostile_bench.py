@@ -109,6 +109,9 @@ def main():
     z = os.path.join(work, 'zigzag.stl')
     zigzag(z, 400000, 30)
     cases.append(('slice: 800,000-vertex zig-zag, 30 mm', [carve, 'slice', z, '-q', '-o', os.path.join(work, 'zz.gcode')]))
+    z = os.path.join(work, 'comb.stl')
+    zigzag(z, 20000, 2)
+    cases.append(('slice: 40,000-vertex comb within the limits, 2 mm', [carve, 'slice', z, '-q', '-o', os.path.join(work, 'cb.gcode')]))
     c = os.path.join(work, 'cube1000.stl')
     write_stl(c, box(0, 0, 0, 1000, 1000, 1000))
     cases.append(('slice: 1000 mm cube, --no-bed-check (rib planner: the lead\'s)',

@@ -468,6 +468,42 @@ TEST(Slicer, PlaneSegmentsAreCountedBeforeAnyPlaneIsCut) {
     while (auto s = slicer.next()) EXPECT_EQ(s->z, slicer.plane_z(i--));
 }
 
+TEST(Slicer, SpikesNarrowerThanANozzlePrintsAreTakenOffTheSlice) {
+    // Issue #38: a comb of 2,000 teeth 0.02 mm wide and 0.5 mm deep on a 40 x 10 mm bar. Each
+    // tooth was a local minimum of every boolean on the layer (10,000 of them: no layer in
+    // 120 s); what no nozzle prints goes: the comb becomes the bar, or the bar with its teeth
+    // filled, whichever way round the loop meets them first.
+    std::vector<std::pair<double, double>> comb{{40, 0}};
+    for (int k = 0; k <= 4000; ++k) comb.push_back({40 - 0.01 * k, k % 2 ? 10.5 : 10});
+    comb.push_back({0, 0});
+    const Paths bar = slice_at(prism(comb, {0, 1}), 0.5);
+    ASSERT_EQ(bar.size(), 1u);
+    expect_valid_region(bar);
+    EXPECT_LT(bar[0].size(), 16u);
+    const double area = area_mm2(bar);
+    EXPECT_TRUE(std::abs(area - 400) < 0.5 || std::abs(area - 420) < 0.5) << area;
+
+    // Teeth a printer can draw stay: 0.2 mm wide (four times the spike width) and 0.5 mm deep.
+    std::vector<std::pair<double, double>> coarse{{40, 0}};
+    for (int k = 0; k <= 400; ++k) coarse.push_back({40 - 0.1 * k, k % 2 ? 10.5 : 10});
+    coarse.push_back({0, 0});
+    const Paths teeth = slice_at(prism(coarse, {0, 1}), 0.5);
+    ASSERT_EQ(teeth.size(), 1u);
+    EXPECT_GT(teeth[0].size(), 400u);
+    EXPECT_NEAR(area_mm2(teeth), 400 + 40 * 0.5 / 2, 0.1);
+
+    // So does a single needle 0.04 mm wide but only 0.02 mm long (no needle: a vertex left on a
+    // curve), and a sharp corner of a triangle.
+    const Paths nub = slice_at(
+        prism({{0, 0}, {10, 0}, {10, 5}, {10.02, 5.02}, {10, 5.04}, {10, 10}, {0, 10}}, {0, 1}),
+        0.5);
+    ASSERT_EQ(nub.size(), 1u);
+    EXPECT_EQ(nub[0].size(), 7u);
+    const Paths sharp = slice_at(prism({{0, 0}, {30, 0}, {0, 0.5}}, {0, 1}), 0.5);
+    ASSERT_EQ(sharp.size(), 1u);
+    EXPECT_EQ(sharp[0].size(), 3u);
+}
+
 TEST(Slicer, PlaneThroughTopAndBottomFaces) {
     // A vertex on the plane counts as above: the top face's plane cuts just below it, the bottom
     // face's plane just below the mesh.
