@@ -74,6 +74,9 @@ struct LayerRibs {
     // bridge line): a rib is never a free-standing strand, it leans on a web joined to the wall
     // in every layer, as lightning infill's branches are (issue #35).
     Paths ties;
+    // Under a wide ceiling: lines wall to wall across the cavity, merging in pairs going down
+    // (supports/vaults.hpp).
+    Paths vaults;
     // Of the slice above's unsupported minima, those the ribs printed on this slice hold.
     int minima_held = 0;
     int ceilings_held = 0;

@@ -388,6 +388,10 @@ std::vector<SettingSpec> make_table() {
          "Spacing of the lattice the ribs are seeded on, mm [2.6]"},
         {"rib-piece", "", "mm", 0.0, 100.0, &S::rib_piece,
          "Length of the line a rib prints on each layer (at least two line widths), mm [0.8]"},
+        {"vault-width", "", "mm", 0.0, 1000.0, &S::vault_width,
+         "What would hang over a part at least this wide gets vault lines instead of ribs where "
+         "they print less: parallel walls across the cavity, wall to wall, merging in pairs "
+         "going down, mm; 0 = ribs alone [2.6]"},
         {"max-vertices-per-layer", "", "vertices", 0, 1e9, &S::max_vertices_per_layer,
          "Give up when one slice has more contour vertices than this; 0 = no limit, vertices "
          "[5000000]"},

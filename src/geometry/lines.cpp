@@ -207,4 +207,42 @@ Paths trim_overlaps(const Paths& lines, Coord radius, Coord min_end) {
     return out;
 }
 
+std::vector<std::vector<Chord>> chords(const Paths& region, double dx, double dy,
+                                       const std::vector<double>& offsets) {
+    std::vector<std::vector<double>> crossings(offsets.size());
+    const double nx = -dy, ny = dx;
+    for (const Path& p : region) {
+        const size_t n = p.size();
+        for (size_t i = 0; i < n; ++i) {
+            const Point& a = p[i];
+            const Point& b = p[(i + 1) % n];
+            const double sa = nx * double(a.X) + ny * double(a.Y);
+            const double sb = nx * double(b.X) + ny * double(b.Y);
+            if (sa == sb) continue;
+            // Half-open in s, so a line through a vertex counts its two edges once.
+            const double lo = std::min(sa, sb), hi = std::max(sa, sb);
+            auto k = std::lower_bound(offsets.begin(), offsets.end(), lo);
+            for (; k != offsets.end() && *k < hi; ++k) {
+                const double t = (*k - sa) / (sb - sa);
+                const double x = double(a.X) + t * double(b.X - a.X);
+                const double y = double(a.Y) + t * double(b.Y - a.Y);
+                crossings[size_t(k - offsets.begin())].push_back(dx * x + dy * y);
+            }
+        }
+    }
+    std::vector<std::vector<Chord>> out(offsets.size());
+    for (size_t k = 0; k < offsets.size(); ++k) {
+        std::vector<double>& c = crossings[k];
+        std::sort(c.begin(), c.end());
+        for (size_t i = 0; i + 1 < c.size(); i += 2)
+            if (c[i + 1] > c[i]) out[k].push_back({c[i], c[i + 1]});
+    }
+    return out;
+}
+
+Point chord_point(double dx, double dy, double s, double along) {
+    return Point(static_cast<Coord>(std::llround(dx * along - dy * s)),
+                 static_cast<Coord>(std::llround(dy * along + dx * s)));
+}
+
 }  // namespace carve

@@ -31,4 +31,17 @@ class LineSet {
     std::unique_ptr<Grid> kept_;
 };
 
+// Where a family of parallel lines runs inside a region. The lines are {p : n.p = s} for each s
+// in `offsets` (ascending), with d = (dx, dy) a unit direction and n = (-dy, dx) its normal; each
+// gets the intervals of d.p it spends inside (even-odd), in order. Edge by edge, so that many
+// lines over a region of many edges cost the edges and the crossings, not their product.
+struct Chord {
+    double from = 0, to = 0;  // along d
+};
+std::vector<std::vector<Chord>> chords(const Paths& region, double dx, double dy,
+                                       const std::vector<double>& offsets);
+
+// The point at `along` on the line of offset `s` (the frame of chords()).
+Point chord_point(double dx, double dy, double s, double along);
+
 }  // namespace carve

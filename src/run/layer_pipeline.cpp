@@ -278,7 +278,7 @@ TokenPtr LayerPipeline::link_ribs(TokenPtr t) {
     SpanTimer timer(span_, t->seq, k_rib_link());
     RibAbove next{t->record.partition().index > 0,
                   std::make_shared<const Paths>(std::move(t->rib_slice.printed)),
-                  t->record.bridged.unheld};
+                  t->record.bridged.unheld, bridges_above(t->record.bridged)};
     t->rib_above = std::exchange(rib_above_, std::move(next));
     return t;
 }

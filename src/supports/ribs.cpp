@@ -16,8 +16,7 @@
 namespace carve {
 
 constexpr double kDirScale = 1024.0;
-constexpr double kTieReach = 1500.0;  // how far past the empty region a tie looks for the wall
-constexpr double kFarWall = 4.0;      // tie() cells from the wall beyond which it looks further
+constexpr double kFarWall = 4.0;  // tie() cells from the wall beyond which it looks further
 
 // Nearest point of a region's boundary to a point, and whether the point lies inside it. The
 // paths' boxes let far contours be skipped: a rib is tested against every cavity of a slice.
@@ -303,10 +302,35 @@ RibOptions rib_options(const Settings& settings) {
     // Three lattice spacings: on the shared models rib material fell by half to two thirds
     // against none (fandisk 516 -> 216 mm3, skull 415 -> 132), and little more at five.
     o.attract = 3 * o.spacing;
+    o.vaults.enabled = o.enabled && settings.vault_width > 0;
+    o.vaults.line_width = o.line_width;
+    o.vaults.lean = o.lean;
+    // Lines twice the lattice's reach apart hold every point as near as the lattice does.
+    o.vaults.hold = static_cast<Coord>(std::llround(double(o.spacing) / std::sqrt(2.0)));
+    o.vaults.wide = std::max<Coord>(1, to_units(settings.vault_width) / 2);
+    o.vaults.rib_spacing = o.spacing;
+    o.vaults.rib_piece = o.piece;
     return o;
 }
 
-RibPlanner::RibPlanner(const RibOptions& options) : options_(options) {}
+std::vector<BridgeAbove> bridges_above(const BridgedPartition& bridged) {
+    std::vector<BridgeAbove> out;
+    for (const Bridge& b : bridged.bridges) {
+        // The way its longest segment runs (its lines may be one zig-zag).
+        double best = 0, dx = 0, dy = 0;
+        for (const Path& l : b.lines)
+            for (size_t i = 0; i + 1 < l.size(); ++i) {
+                const double d = distance(l[i], l[i + 1]);
+                if (d > best)
+                    best = d, dx = double(l[i + 1].X - l[i].X) / d,
+                    dy = double(l[i + 1].Y - l[i].Y) / d;
+            }
+        if (best > 0) out.push_back({b.region, dx, dy});
+    }
+    return out;
+}
+
+RibPlanner::RibPlanner(const RibOptions& options) : options_(options), vaults_(options.vaults) {}
 
 RibSlice rib_slice(const LayerRecord& layer, const RibOptions& options) {
     RibSlice out;
@@ -344,6 +368,12 @@ void rib_overlap(RibSlice& slice, const RibAbove& above) {
     if (above.above && !slice.empty.empty() && above.printed && !above.printed->empty() &&
         !slice.deep.empty())
         slice.hang = intersect(*above.printed, slice.deep);
+    slice.bridges_above.clear();
+    if (!slice.hang.empty()) {
+        const BBox2 box = bounds(slice.hang);
+        for (const BridgeAbove& b : above.bridges)
+            if (overlap(box, bounds(b.region))) slice.bridges_above.push_back(b);
+    }
     slice.unheld_deep.clear();
     for (const UnheldMinimum& u : above.unheld)
         slice.unheld_deep.push_back(
@@ -351,7 +381,7 @@ void rib_overlap(RibSlice& slice, const RibAbove& above) {
 }
 
 LayerRibs clip_ribs(LayerRibs ribs, const RibSlice& slice, const RibOptions& options) {
-    if (ribs.lines.empty() && ribs.ties.empty()) return ribs;
+    if (ribs.lines.empty() && ribs.ties.empty() && ribs.vaults.empty()) return ribs;
     StageTimer timer(Stage::kBridges);
     Paths kept;
     for (Path& l : clip_lines(ribs.lines, slice.empty))
@@ -375,24 +405,10 @@ LayerRibs clip_ribs(LayerRibs ribs, const RibSlice& slice, const RibOptions& opt
             }
         }
         if (!best) continue;
-        const double len = distance(from, far);
-        if (len < double(w) / 2) continue;
-        const double ux = double(far.X - from.X) / len, uy = double(far.Y - from.Y) / len;
-        auto beyond = [&](double by) {
-            return Point(far.X + static_cast<Coord>(std::llround(ux * by)),
-                         far.Y + static_cast<Coord>(std::llround(uy * by)));
-        };
+        if (distance(from, far) < double(w) / 2) continue;
         // Past the empty region a band may lie that prints nothing (a cover band too narrow to
-        // fill, along a slope): the tie goes on to the outer wall's line, at most kTieReach.
-        Point end = beyond(double(w) / 2);
-        if (!slice.wall_line.empty()) {
-            for (const Path& p : clip_lines(Paths{Path{far, beyond(kTieReach)}}, slice.wall_line))
-                if (p.size() >= 2 &&
-                    (distance(p.front(), far) <= 2 || distance(p.back(), far) <= 2)) {
-                    const Point e = distance(p.front(), far) <= 2 ? p.back() : p.front();
-                    if (distance(e, far) > double(w) / 2) end = e;
-                }
-        }
+        // fill, along a slope): the tie goes on to the outer wall's line.
+        const Point end = past_the_edge(from, far, slice.wall_line, w);
         ties.push_back(Path{from, end});
     }
     // Ties run along each other and over the pieces where ribs pair up or tie in a row: each
@@ -408,6 +424,7 @@ LayerRibs clip_ribs(LayerRibs ribs, const RibSlice& slice, const RibOptions& opt
     });
     LineSet printed(w / 2, 0);
     for (const Path& l : ribs.lines) printed.keep(l);
+    for (const Path& l : ribs.vaults) printed.keep(l);
     ribs.ties.clear();
     for (const Path& t : ties)
         for (Path& p : printed.add(t)) ribs.ties.push_back(std::move(p));
@@ -422,6 +439,7 @@ LayerRibs RibPlanner::add(const LayerRecord& layer) {
     above_.above = layer.partition().index > 0;
     above_.printed = std::make_shared<const Paths>(std::move(slice.printed));
     above_.unheld = layer.bridged.unheld;
+    above_.bridges = bridges_above(layer.bridged);
     return out;
 }
 
@@ -432,14 +450,18 @@ LayerRibs RibPlanner::add(const LayerRecord& layer, const RibSlice& slice) {
     const Coord w = options_.line_width, r = options_.lean;
     const Paths& empty = slice.empty;
 
-    if (!has_above_) nodes_.clear();
+    if (!has_above_) nodes_.clear(), vaults_.clear();
     const Coord rho = static_cast<Coord>(std::llround(double(options_.spacing) / std::sqrt(2.0)));
     const WallBoundary boundary(empty);
     // Ties go to the walls, not to this slice's bridge lines: the slice below has no bridge
     // there to hold a tie that ends on one.
     const WallBoundary walls(slice.tie_region());
 
-    // New ribs under what the slice above prints deep inside this slice's empty region.
+    // The vaults of the slice above carried down; new ones under the wide parts of what the
+    // slice above prints deep inside this slice's empty region and nothing holds yet; new
+    // ribs under the rest.
+    const VaultRegion vault_region{slice.tie_region(), slice.wall_line};
+    if (has_above_ && !empty.empty()) out.vaults = vaults_.carry(vault_region);
     if (has_above_ && !empty.empty()) {
         Paths hang = slice.hang;
         if (!hang.empty()) {
@@ -447,6 +469,19 @@ LayerRibs RibPlanner::add(const LayerRecord& layer, const RibSlice& slice) {
             for (const Node& n : nodes_)
                 if (!n.fading) old.push_back(n.at);
             if (!hang.empty() && !old.empty()) hang = subtract(hang, disks(old, rho - r));
+            // A little past the lines' reach: the disks' polygons leave slivers between lines
+            // exactly twice the reach apart.
+            const Coord hold = options_.vaults.hold + w / 4;
+            if (!hang.empty() && !out.vaults.empty())
+                hang = subtract(hang, dilate_lines(out.vaults, hold));
+            if (!hang.empty()) {
+                Paths fresh = vaults_.seed(vault_region, hang, slice.bridges_above);
+                if (!fresh.empty()) {
+                    hang = subtract(hang, dilate_lines(fresh, hold));
+                    out.vaults.insert(out.vaults.end(), std::make_move_iterator(fresh.begin()),
+                                      std::make_move_iterator(fresh.end()));
+                }
+            }
             const double min_area = 0.5 * double(w) * double(w);
             Paths kept;
             for (const Path& p : hang)
@@ -651,7 +686,9 @@ LayerRibs RibPlanner::add(const LayerRecord& layer, const RibSlice& slice) {
         std::vector<Point> at;
         for (const Node& n : nodes_)
             if (!n.fading) at.push_back(n.at);
-        const Paths covered = disks(at, rho + r);
+        Paths covered = disks(at, rho + r);
+        if (!out.vaults.empty())
+            covered = unite(covered, dilate_lines(out.vaults, options_.vaults.hold + r));
         for (const UnheldMinimum& u : slice.unheld_deep) {
             Paths left = u.region;
             if (!left.empty() && !covered.empty()) left = subtract(left, covered);

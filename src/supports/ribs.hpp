@@ -24,6 +24,7 @@
 
 #include "carving/layer.hpp"
 #include "config/settings.hpp"
+#include "supports/vaults.hpp"
 
 namespace carve {
 
@@ -35,6 +36,7 @@ struct RibOptions {
     Coord spacing = 2600;    // the lattice ribs are seeded on
     Coord piece = 800;       // length of the short line a rib prints on each layer
     Coord attract = 7800;    // ribs nearer each other than this and than any wall pair up
+    VaultOptions vaults;     // under the wide parts of what would hang
 };
 
 RibOptions rib_options(const Settings& settings);
@@ -53,6 +55,7 @@ struct RibSlice {
     // the serial add().
     Paths hang;
     std::vector<UnheldMinimum> unheld_deep;
+    std::vector<BridgeAbove> bridges_above;  // the slice above's bridges near `hang`
 };
 RibSlice rib_slice(const LayerRecord& layer, const RibOptions& options);
 
@@ -62,7 +65,10 @@ struct RibAbove {
     bool above = false;
     std::shared_ptr<const Paths> printed;
     std::vector<UnheldMinimum> unheld;
+    std::vector<BridgeAbove> bridges;
 };
+// What the ribs of the slice below need of this slice's bridges.
+std::vector<BridgeAbove> bridges_above(const BridgedPartition& bridged);
 void rib_overlap(RibSlice& slice, const RibAbove& above);
 
 // The ribs' pieces as add() placed them, stopped at the walls they near (a piece must not
@@ -107,6 +113,7 @@ class RibPlanner {
     void tie(std::vector<Node>& nodes, const class WallBoundary& boundary,
              std::vector<Node>& fading) const;
     RibOptions options_;
+    VaultPlanner vaults_;
     std::vector<Node> nodes_;  // where each rib is on the slice last added
     RibAbove above_;           // the slice above, for add(layer) alone
     bool has_above_ = false;

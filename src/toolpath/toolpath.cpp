@@ -456,6 +456,7 @@ LayerToolpaths plan_layer(const LayerRecord& record, const Settings& settings) {
     std::vector<Extrusion> ribs;
     add_lines(record.ribs.lines, Feature::Rib, ribs);
     add_lines(record.ribs.ties, Feature::Rib, ribs);
+    add_lines(record.ribs.vaults, Feature::Rib, ribs);
     islands.distribute(ribs, &Island::ribs);
     islands.distribute_bridges(bridged.bridges);
 

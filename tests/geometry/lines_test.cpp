@@ -7,8 +7,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <random>
 
+#include "geometry/polygon.hpp"
 #include "geometry/simplify.hpp"
 
 using namespace carve;
@@ -124,5 +126,67 @@ TEST(TrimOverlaps, RandomLinesKeepTheirDistanceAndLoseOnlyWhatIsCovered) {
             kept = std::move(now);
         }
         EXPECT_LE(total_length(kept), total_length(lines) + 1);
+    }
+}
+
+// chords(): on random regions with holes and random directions, each interval lies inside the
+// region (its middle is in it, and just past either end is out of it unless another interval
+// starts there), the lengths agree with Clipper's clipping of the same line, and summed over
+// lines a spacing apart they give the region's area.
+TEST(Chords, IntervalsAreTheRegionOnEachLine) {
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> unit(0, 1);
+    for (int round = 0; round < 20; ++round) {
+        // A star-shaped outer contour and a smaller square hole inside it.
+        Path outer;
+        const int n = 7 + round % 9;
+        for (int i = 0; i < n; ++i) {
+            const double t = 2 * std::numbers::pi * i / n;
+            const double r = (15 + 10 * unit(rng)) * kMm;
+            outer.emplace_back(Coord(std::llround(r * std::cos(t))),
+                               Coord(std::llround(r * std::sin(t))));
+        }
+        Path hole{
+            {-4 * kMm, -4 * kMm}, {-4 * kMm, 4 * kMm}, {4 * kMm, 4 * kMm}, {4 * kMm, -4 * kMm}};
+        const Paths region{outer, hole};
+        const double angle = unit(rng) * std::numbers::pi;
+        const double dx = std::cos(angle), dy = std::sin(angle);
+        const double spacing = 250;
+        std::vector<double> offsets;
+        for (double s = -30 * kMm + unit(rng) * spacing; s < 30 * kMm; s += spacing)
+            offsets.push_back(s);
+        const auto found = chords(region, dx, dy, offsets);
+        ASSERT_EQ(found.size(), offsets.size());
+        double summed = 0;
+        for (size_t k = 0; k < offsets.size(); ++k) {
+            double along = 0;
+            for (size_t i = 0; i < found[k].size(); ++i) {
+                const Chord& c = found[k][i];
+                ASSERT_LT(c.from, c.to);
+                if (i > 0) {
+                    EXPECT_GE(c.from, found[k][i - 1].to);
+                }
+                along += c.to - c.from;
+                const Point mid = chord_point(dx, dy, offsets[k], (c.from + c.to) / 2);
+                EXPECT_TRUE(point_in_region(mid, region)) << "round " << round;
+                if (c.to - c.from < 50) continue;  // a graze: the rounded ends say nothing
+                const bool next = i + 1 < found[k].size() && found[k][i + 1].from - c.to < 50;
+                if (!next) {
+                    EXPECT_FALSE(
+                        point_in_region(chord_point(dx, dy, offsets[k], c.to + 20), region))
+                        << "round " << round;
+                }
+            }
+            // Clipper clips the same line, 100 mm long, to the same length (its ends rounded to
+            // units tilt it: a few micrometres where it grazes an edge).
+            const Path line{chord_point(dx, dy, offsets[k], -50 * kMm),
+                            chord_point(dx, dy, offsets[k], 50 * kMm)};
+            double clipped = 0;
+            for (const Path& p : clip_lines(Paths{line}, region)) clipped += total_length({p});
+            EXPECT_NEAR(along, clipped, 12.0) << "round " << round << " line " << k;
+            summed += along * spacing;
+        }
+        const double a = area(region);
+        EXPECT_NEAR(summed, a, 0.01 * a) << "round " << round;
     }
 }

@@ -12,6 +12,7 @@
 
 #include "geometry/morphology.hpp"
 #include "geometry/polygon.hpp"
+#include "geometry/simplify.hpp"
 #include "support/carve_run.hpp"
 #include "support/models.hpp"
 #include "support/shapes.hpp"
@@ -32,6 +33,19 @@ RibOptions options() {
     o.spacing = 2600;
     o.piece = 800;
     o.attract = 3 * o.spacing;
+    o.vaults.enabled = false;  // the ribs alone; the vaults' tests turn them on
+    return o;
+}
+
+RibOptions with_vaults() {
+    RibOptions o = options();
+    o.vaults.enabled = true;
+    o.vaults.line_width = o.line_width;
+    o.vaults.lean = o.lean;
+    o.vaults.hold = 1838;  // the lattice cell's half diagonal
+    o.vaults.wide = 1300;
+    o.vaults.rib_spacing = o.spacing;
+    o.vaults.rib_piece = o.piece;
     return o;
 }
 
@@ -51,6 +65,7 @@ Paths printed(const LayerRecord& l) {
     for (const Paths& c : l.bridged.cavities) empty = unite(empty, erode(c, 200));
     Paths p = subtract(l.partition().outline, empty);
     if (!l.ribs.lines.empty()) p = unite(p, dilate_lines(l.ribs.lines, 200));
+    if (!l.ribs.vaults.empty()) p = unite(p, dilate_lines(l.ribs.vaults, 200));
     return p;
 }
 
@@ -345,4 +360,111 @@ TEST(Ribs, TiesStayShortUnderAWideCeiling) {
     EXPECT_GT(ties, 500);
     // Within four cells of two spacings of a wall a rib is tied to it, as before: 21 mm.
     EXPECT_LT(longest, 25.0 * kMm);
+}
+
+namespace {
+
+// What a layer prints solid: its outline less its cavities less half a line.
+Paths solid_of(const LayerRecord& l, Coord w) {
+    Paths empty;
+    for (const Paths& c : l.bridged.cavities) empty = unite(empty, erode(c, w / 2));
+    return subtract(l.partition().outline, empty);
+}
+
+double line_distance(const Point& q, const Paths& lines) {
+    double best = 1e18;
+    for (const Path& l : lines)
+        for (size_t k = 0; k + 1 < l.size(); ++k)
+            best = std::min(best, segment_distance(q, l[k], l[k + 1]));
+    return best;
+}
+
+// All the ribs print over the layers, mm: their pieces, ties and vault lines.
+double printed_length(const std::vector<LayerRecord>& layers) {
+    double total = 0;
+    for (const LayerRecord& l : layers)
+        total +=
+            length(l.ribs.lines, false) + length(l.ribs.ties, false) + length(l.ribs.vaults, false);
+    return total / kMm;
+}
+
+}  // namespace
+
+// Under the flat box's 28 mm ceiling the planner prints vault lines: every point of the ceiling
+// is within 2 mm of what the layer below prints, and the ribs' lattice of pieces and ties is
+// replaced by less line (0.77 of it here, 5.7 against 7.4 m).
+TEST(Vaults, HoldAWideCeilingWithLessThanTheRibs) {
+    const int top = 60;
+    const std::vector<LayerRecord> layers = planned_box(top, with_vaults());
+    ASSERT_FALSE(layers[top - 1].ribs.vaults.empty());
+    const Paths below = printed(layers[top - 1]);
+    int far = 0;
+    for (Coord y = 0; y <= 30 * kMm; y += 250)
+        for (Coord x = 0; x <= 30 * kMm; x += 250)
+            if (distance_to(Point(x, y), below) > 2.0 * kMm) ++far;
+    EXPECT_EQ(far, 0);
+    const double vaults = printed_length(layers);
+    const double ribs = printed_length(planned_box(top, options()));
+    EXPECT_LT(vaults, 0.8 * ribs) << vaults << " mm against the ribs' " << ribs;
+}
+
+// No vault line is a free-standing strand: on every layer both its ends lie half a line deep in
+// what the layer prints solid (the cavity's wall), and every point of it lies within the lean of a
+// vault line of the layer below or of that layer's solid.
+TEST(Vaults, EveryLineRunsWallToWallAndStandsOnTheLayerBelow) {
+    const int top = 60;
+    const RibOptions o = with_vaults();
+    const std::vector<LayerRecord> layers = planned_box(top, o);
+    int lines = 0;
+    for (int i = top - 1; i >= 2; --i) {
+        const LayerRecord& here = layers[size_t(i)];
+        const LayerRecord& below = layers[size_t(i - 1)];
+        const Paths solid = solid_of(here, o.line_width);
+        const Paths solid_below = solid_of(below, o.line_width);
+        for (const Path& v : here.ribs.vaults) {
+            ++lines;
+            ASSERT_GE(v.size(), 2u);
+            // Carried half a line into the wall, so that the two fuse.
+            for (const Point& end : {v.front(), v.back()}) {
+                EXPECT_TRUE(point_in_region(end, solid)) << "layer " << i;
+                EXPECT_GE(test::distance_to_boundary(end, solid), o.line_width / 2 - 2.0)
+                    << "layer " << i;
+            }
+            const double len = distance(v.front(), v.back());
+            for (double s = 0; s <= len; s += 500) {
+                const double f = len > 0 ? s / len : 0;
+                const Point q(v.front().X + Coord(f * double(v.back().X - v.front().X)),
+                              v.front().Y + Coord(f * double(v.back().Y - v.front().Y)));
+                const double d =
+                    std::min(distance_to(q, solid_below), line_distance(q, below.ribs.vaults));
+                EXPECT_LE(d, double(o.lean) + 2.0) << "layer " << i;
+            }
+        }
+    }
+    EXPECT_GT(lines, 20);
+}
+
+// Going down the lines lean together and merge in pairs: never more lines than the layer
+// above, and after 30 layers at most half of those under the ceiling.
+TEST(Vaults, LinesMergeGoingDown) {
+    const int top = 60;
+    const std::vector<LayerRecord> layers = planned_box(top, with_vaults());
+    const size_t first = layers[top - 1].ribs.vaults.size();
+    ASSERT_GE(first, 6u);
+    for (int i = top - 2; i >= 0; --i)
+        EXPECT_LE(layers[size_t(i)].ribs.vaults.size(), layers[size_t(i + 1)].ribs.vaults.size())
+            << i;
+    EXPECT_LE(layers[top - 31].ribs.vaults.size() * 2, first)
+        << first << " -> " << layers[top - 31].ribs.vaults.size();
+}
+
+// Off (--vault-width 0), the planner prints the ribs alone.
+TEST(Vaults, OffMeansRibsAlone) {
+    const std::vector<LayerRecord> layers = planned_box(30, options());
+    size_t ribs = 0;
+    for (const LayerRecord& l : layers) {
+        EXPECT_TRUE(l.ribs.vaults.empty());
+        ribs += l.ribs.lines.size();
+    }
+    EXPECT_GT(ribs, 0u);
 }
