@@ -197,11 +197,20 @@ def main():
     if os.path.exists(bundle):
         prusa_seeds(bundle, out)
     targets = ["stl_binary_fuzz", "stl_ascii_fuzz", "obj_fuzz", "threemf_fuzz", "slicer_fuzz"]
-    for t in targets:
+    # Every target's folder, seeded or not: without the bundle the profile targets start empty.
+    for t in targets + ["ini_fuzz", "placeholder_fuzz", "cli_fuzz"]:
         os.makedirs(os.path.join(out, t), exist_ok=True)
     count = 0
-    for sub in ["bad", "synthetic", ""]:
-        folder = os.path.join(models, sub)
+    # A clone alone has no ../shared/models: its seeds come from the bundled sample instead.
+    folders = [(sub, os.path.join(models, sub)) for sub in ["bad", "synthetic", ""]]
+    if not os.path.isdir(models):
+        sample = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "data", "sample")
+        print(f"make_seeds: no {models}; seeding from {os.path.normpath(sample)} alone")
+        folders = [("", sample)]
+    for sub, folder in folders:
+        if not os.path.isdir(folder):
+            print(f"make_seeds: no {folder}, skipped")
+            continue
         for name in sorted(os.listdir(folder)):
             path = os.path.join(folder, name)
             if not name.endswith(".stl") or os.path.getsize(path) > MAX_BYTES:
