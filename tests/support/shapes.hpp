@@ -45,4 +45,13 @@ inline double distance_to_boundary(const Point& p, const Paths& region) {
     return best;
 }
 
+// Distance from p to the nearest segment of open polylines (in units).
+inline double distance_to_lines(const Point& p, const Paths& lines) {
+    double best = 1e18;
+    for (const Path& l : lines)
+        for (size_t k = 0; k + 1 < l.size(); ++k)
+            best = std::min(best, distance_to_boundary(p, Paths{Path{l[k], l[k + 1]}}));
+    return best;
+}
+
 }  // namespace carve::test

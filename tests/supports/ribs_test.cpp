@@ -12,7 +12,6 @@
 
 #include "geometry/morphology.hpp"
 #include "geometry/polygon.hpp"
-#include "geometry/simplify.hpp"
 #include "support/carve_run.hpp"
 #include "support/models.hpp"
 #include "support/shapes.hpp"
@@ -78,6 +77,28 @@ Point middle(const Path& l) {
     return Point((l.front().X + l.back().X) / 2, (l.front().Y + l.back().Y) / 2);
 }
 
+// Points every `step` along a segment, from its first point to (within a step of) its last.
+std::vector<Point> along(const Path& segment, double step) {
+    std::vector<Point> out;
+    const double len = distance(segment.front(), segment.back());
+    for (double s = 0; s <= len; s += step) {
+        const double f = len > 0 ? s / len : 0;
+        out.emplace_back(
+            segment.front().X + Coord(f * double(segment.back().X - segment.front().X)),
+            segment.front().Y + Coord(f * double(segment.back().Y - segment.front().Y)));
+    }
+    return out;
+}
+
+// How many points of a 0.25 mm grid over the 30 mm box lie more than 2 mm from `below`.
+int far_from(const Paths& below) {
+    int far = 0;
+    for (Coord y = 0; y <= 30 * kMm; y += 250)
+        for (Coord x = 0; x <= 30 * kMm; x += 250)
+            if (distance_to(Point(x, y), below) > 2.0 * kMm) ++far;
+    return far;
+}
+
 std::vector<LayerRecord> planned_box(int top, const RibOptions& o) {
     std::vector<LayerRecord> layers;
     for (int i = 0; i <= top; ++i) layers.push_back(box_layer(i, top));
@@ -94,11 +115,7 @@ TEST(Ribs, WideCeilingIsHeldWithinTwoMillimetres) {
     ASSERT_FALSE(layers[top - 1].ribs.lines.empty());
     // Every point of the ceiling lies within 2 mm of what the layer below prints.
     const Paths below = printed(layers[top - 1]);
-    int far = 0;
-    for (Coord y = 0; y <= 30 * kMm; y += 250)
-        for (Coord x = 0; x <= 30 * kMm; x += 250)
-            if (distance_to(Point(x, y), below) > 2.0 * kMm) ++far;
-    EXPECT_EQ(far, 0);
+    EXPECT_EQ(far_from(below), 0);
     // Without ribs the middle of the ceiling is 14 mm from the walls.
     RibOptions off = options();
     off.enabled = false;
@@ -253,13 +270,8 @@ TEST(Ribs, EveryTieStandsOnTheLayerBelow) {
         Paths held = printed(below);
         if (!below_lines.empty()) held = unite(held, dilate_lines(below_lines, o.line_width / 2));
         for (const Path& t : here.ribs.ties) {
-            const double len = distance(t.front(), t.back());
-            for (double s = 0; s <= len; s += 200) {
-                const double f = len > 0 ? s / len : 0;
-                const Point q(t.front().X + Coord(f * double(t.back().X - t.front().X)),
-                              t.front().Y + Coord(f * double(t.back().Y - t.front().Y)));
+            for (const Point& q : along(t, 200))
                 EXPECT_LE(distance_to(q, held), 2.0 * kMm) << "layer " << i;
-            }
         }
     }
 }
@@ -348,13 +360,8 @@ TEST(Ribs, TiesStayShortUnderAWideCeiling) {
         Paths held = printed(below);
         if (!below_lines.empty()) held = unite(held, dilate_lines(below_lines, o.line_width / 2));
         for (const Path& t : l.ribs.ties) {
-            const double len = distance(t.front(), t.back());
-            for (double s = 0; s <= len; s += 400) {
-                const double f = len > 0 ? s / len : 0;
-                const Point q(t.front().X + Coord(f * double(t.back().X - t.front().X)),
-                              t.front().Y + Coord(f * double(t.back().Y - t.front().Y)));
+            for (const Point& q : along(t, 400))
                 EXPECT_LE(distance_to(q, held), 2.0 * kMm) << "layer " << i;
-            }
         }
     }
     EXPECT_GT(ties, 500);
@@ -369,14 +376,6 @@ Paths solid_of(const LayerRecord& l, Coord w) {
     Paths empty;
     for (const Paths& c : l.bridged.cavities) empty = unite(empty, erode(c, w / 2));
     return subtract(l.partition().outline, empty);
-}
-
-double line_distance(const Point& q, const Paths& lines) {
-    double best = 1e18;
-    for (const Path& l : lines)
-        for (size_t k = 0; k + 1 < l.size(); ++k)
-            best = std::min(best, segment_distance(q, l[k], l[k + 1]));
-    return best;
 }
 
 // All the ribs print over the layers, mm: their pieces, ties and vault lines.
@@ -398,11 +397,7 @@ TEST(Vaults, HoldAWideCeilingWithLessThanTheRibs) {
     const std::vector<LayerRecord> layers = planned_box(top, with_vaults());
     ASSERT_FALSE(layers[top - 1].ribs.vaults.empty());
     const Paths below = printed(layers[top - 1]);
-    int far = 0;
-    for (Coord y = 0; y <= 30 * kMm; y += 250)
-        for (Coord x = 0; x <= 30 * kMm; x += 250)
-            if (distance_to(Point(x, y), below) > 2.0 * kMm) ++far;
-    EXPECT_EQ(far, 0);
+    EXPECT_EQ(far_from(below), 0);
     const double vaults = printed_length(layers);
     const double ribs = printed_length(planned_box(top, options()));
     EXPECT_LT(vaults, 0.8 * ribs) << vaults << " mm against the ribs' " << ribs;
@@ -430,13 +425,9 @@ TEST(Vaults, EveryLineRunsWallToWallAndStandsOnTheLayerBelow) {
                 EXPECT_GE(test::distance_to_boundary(end, solid), o.line_width / 2 - 2.0)
                     << "layer " << i;
             }
-            const double len = distance(v.front(), v.back());
-            for (double s = 0; s <= len; s += 500) {
-                const double f = len > 0 ? s / len : 0;
-                const Point q(v.front().X + Coord(f * double(v.back().X - v.front().X)),
-                              v.front().Y + Coord(f * double(v.back().Y - v.front().Y)));
-                const double d =
-                    std::min(distance_to(q, solid_below), line_distance(q, below.ribs.vaults));
+            for (const Point& q : along(v, 500)) {
+                const double d = std::min(distance_to(q, solid_below),
+                                          test::distance_to_lines(q, below.ribs.vaults));
                 EXPECT_LE(d, double(o.lean) + 2.0) << "layer " << i;
             }
         }
