@@ -33,7 +33,7 @@ def box(x0, y0, z0, x1, y1, z1):
 def tube(r_out, r_in, z0, z1, n=180):
     tris = []
     for k in range(n):
-        a, b = 2 * math.pi * k / n, 2 * math.pi * (k + 1) / n
+        a, b = 2 * math.pi * k / n, 2 * math.pi * ((k + 1) % n) / n
         o0 = (r_out * math.cos(a), r_out * math.sin(a))
         o1 = (r_out * math.cos(b), r_out * math.sin(b))
         i0 = (r_in * math.cos(a), r_in * math.sin(a))
@@ -48,7 +48,7 @@ def tube(r_out, r_in, z0, z1, n=180):
 def disk(r, z0, z1, n=180):
     tris = []
     for k in range(n):
-        a, b = 2 * math.pi * k / n, 2 * math.pi * (k + 1) / n
+        a, b = 2 * math.pi * k / n, 2 * math.pi * ((k + 1) % n) / n
         p0 = (r * math.cos(a), r * math.sin(a))
         p1 = (r * math.cos(b), r * math.sin(b))
         tris += [((0, 0, z1), (*p0, z1), (*p1, z1)), ((0, 0, z0), (*p1, z0), (*p0, z0))]

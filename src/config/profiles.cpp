@@ -367,9 +367,12 @@ std::vector<std::string> read_prusa_profile(std::istream& in, const std::string&
                      "profile key '{}': '{}' is out of range; expected from 0 to 21", k, v));
          }},
     };
-    const std::set<std::string> widths = {"extrusion_width", "perimeter_extrusion_width",
+    const std::set<std::string> widths = {"extrusion_width",
+                                          "perimeter_extrusion_width",
                                           "external_perimeter_extrusion_width",
-                                          "first_layer_extrusion_width"};
+                                          "first_layer_extrusion_width",
+                                          "min_bead_width",
+                                          "min_feature_size"};
 
     std::vector<std::string> ignored;  // keys that change the print, not applied
     for (const auto& [key, v] : values) {
@@ -434,6 +437,11 @@ std::vector<std::string> read_prusa_profile(std::istream& in, const std::string&
     // The first layer's own width (0: the line width, as PrusaSlicer's automatic one).
     if (const auto first = width.find("first_layer_extrusion_width"); first != width.end())
         s.first_layer_extrusion_width = first->second;
+    // Arachne's thin-wall widths, which PrusaSlicer gives as a share of the nozzle.
+    if (const auto it = width.find("min_bead_width"); it != width.end())
+        s.min_bead_width = it->second;
+    if (const auto it = width.find("min_feature_size"); it != width.end())
+        s.min_feature_size = it->second;
     if (filament_cap > 0)
         s.max_volumetric_speed = s.max_volumetric_speed > 0
                                      ? std::min(s.max_volumetric_speed, filament_cap)

@@ -363,6 +363,18 @@ std::vector<SettingSpec> make_table() {
          &S::elephant_foot_compensation,
          "The first layer's slice is shrunk by this, against the squashed first layer's bulge, "
          "mm [0]"},
+        {"thin-walls", "", "0/1", 0, 1, &S::thin_walls,
+         "Print the parts of a slice narrower than two lines (fins, rims, lettering) as one line "
+         "along their middle, as wide as the part; --no-thin-walls: only what the outer wall "
+         "holds [on]",
+         false, "!--no-thin-walls,--thin-walls"},
+        {"min-bead-width", "", "mm", 0.0, 3.0, &S::min_bead_width,
+         "Narrowest line a thin part is printed with: a part narrower than this (and not than "
+         "--min-feature-size) is widened to it; a profile's min_bead_width sets it, mm [0 = 85 % "
+         "of the nozzle]"},
+        {"min-feature-size", "", "mm", 0.0, 3.0, &S::min_feature_size,
+         "A part of a slice narrower than this is not printed (carve slice reports what that "
+         "leaves out); a profile's min_feature_size sets it, mm [0 = 25 % of the nozzle]"},
         {"xy-size-compensation", "xy_size_compensation", "mm", -5.0, 5.0, &S::xy_size_compensation,
          "Every slice grows by this (shrinks if negative), holes shrinking with it, mm [0]"},
         {"z-offset", "z_offset", "mm", -10.0, 10.0, &S::z_offset,

@@ -131,6 +131,13 @@ struct Settings {
     double xy_size_compensation = 0;        // mm every slice grows (shrinks if negative) by
     double z_offset = 0;                    // mm added to every Z written
 
+    // Thin walls (issue #47), PrusaSlicer's Arachne keys: a part of a slice narrower than two
+    // lines prints as one line along its medial axis, as wide as the part, at least
+    // min_bead_width; a part narrower than min_feature_size is not printed (and reported).
+    int thin_walls = 1;
+    double min_bead_width = 0;    // mm; 0 = 85 % of the nozzle, PrusaSlicer's default
+    double min_feature_size = 0;  // mm; 0 = 25 % of the nozzle, PrusaSlicer's default
+
     // Skirt, brim and raft (PrusaSlicer's names and defaults).
     int skirts = 1;             // loops around the whole print on its first layers
     double skirt_distance = 6;  // mm from the print (its brim included)
@@ -271,6 +278,10 @@ struct Settings {
         return i == first_print_layer() && first_layer_extrusion_width > 0
                    ? first_layer_extrusion_width
                    : width_mm();
+    }
+    double min_bead_mm() const { return min_bead_width > 0 ? min_bead_width : 0.85 * nozzle; }
+    double min_feature_mm() const {
+        return min_feature_size > 0 ? min_feature_size : 0.25 * nozzle;
     }
     Coord nozzle_radius() const { return to_units(width_mm() / 2); }  // s
     Coord line_width() const { return to_units(width_mm()); }         // w

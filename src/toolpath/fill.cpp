@@ -7,18 +7,20 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdint>
 #include <limits>
 #include <numbers>
-#include <unordered_map>
 #include <utility>
 
 #include "geometry/polygon.hpp"
 #include "skeleton/skeleton.hpp"
+#include "toolpath/beads.hpp"
 
 namespace carve {
 
 namespace {
+
+// The widest thin-strip bead, in line widths.
+constexpr double kMaxThinFlow = 1.6;
 
 struct Hit {
     double u;  // position along the scanline
@@ -222,142 +224,6 @@ void fill_component(const Paths& comp, double angle, Coord w, Feature feature,
     }
 }
 
-// Distance from a point to the nearest edge of a region, up to a cap, through a grid of the
-// edges (a strip along a whole layer's outline has thousands of them).
-class EdgeDistance {
-  public:
-    EdgeDistance(const Paths& region, Coord cap)
-        : cap_(double(cap)), cell_(std::max<Coord>(cap, 1)) {
-        for (const Path& c : region)
-            for (size_t i = 0; i < c.size(); ++i) {
-                const Point& a = c[i];
-                const Point& b = c[(i + 1) % c.size()];
-                const int e = static_cast<int>(edges_.size());
-                edges_.push_back({a, b});
-                for (Coord x = cell_of(std::min(a.X, b.X)); x <= cell_of(std::max(a.X, b.X)); ++x)
-                    for (Coord y = cell_of(std::min(a.Y, b.Y)); y <= cell_of(std::max(a.Y, b.Y));
-                         ++y)
-                        grid_[key(x, y)].push_back(e);
-            }
-    }
-    double operator()(const Point& p) const {
-        double best = cap_;
-        const Coord cx = cell_of(p.X), cy = cell_of(p.Y);
-        for (Coord x = cx - 1; x <= cx + 1; ++x)
-            for (Coord y = cy - 1; y <= cy + 1; ++y) {
-                const auto it = grid_.find(key(x, y));
-                if (it == grid_.end()) continue;
-                for (int e : it->second) best = std::min(best, segment_distance(p, edges_[e]));
-            }
-        return best;
-    }
-
-  private:
-    Coord cell_of(Coord v) const { return v >= 0 ? v / cell_ : -((-v + cell_ - 1) / cell_); }
-    static uint64_t key(Coord x, Coord y) {
-        return (uint64_t(uint32_t(int32_t(x))) << 32) | uint32_t(int32_t(y));
-    }
-    static double segment_distance(const Point& p, const std::pair<Point, Point>& s) {
-        const double ax = double(s.first.X), ay = double(s.first.Y);
-        const double dx = double(s.second.X) - ax, dy = double(s.second.Y) - ay;
-        const double px = double(p.X) - ax, py = double(p.Y) - ay;
-        const double l2 = dx * dx + dy * dy;
-        const double t = l2 > 0 ? std::clamp((px * dx + py * dy) / l2, 0.0, 1.0) : 0.0;
-        return std::hypot(px - t * dx, py - t * dy);
-    }
-
-    double cap_;
-    Coord cell_;
-    std::vector<std::pair<Point, Point>> edges_;
-    std::unordered_map<uint64_t, std::vector<int>> grid_;
-};
-
-constexpr double kMaxThinFlow = 1.6;
-
-// The lines along one medial axis: sampled every `step`, the width at each sample twice its
-// distance from the strip's edge, cut where the width leaves the run's first by more than
-// `tolerance` or falls under `min_width` at both ends of a step. Each run goes to emit(points,
-// mean width).
-// The axis of a strip stops short of its ends (the pruned branches went to the corners there):
-// each open end goes on straight, in the direction of its last `back` of axis, while the strip
-// is at least min_width wide ahead. Steps of a quarter of that: a step that crossed the
-// strip's edge would end nearer to it than half min_width, so every point stays inside.
-Path extended_axis(const Path& axis, const EdgeDistance& distance, double min_width, double back) {
-    Path out = axis;
-    if (axis.size() < 2 || axis.front() == axis.back()) return out;
-    auto extend = [&](Path& p) {  // extends p at its end
-        const Point e = p.back();
-        Point from = e;
-        for (size_t i = p.size() - 1; i-- > 0;) {
-            from = p[i];
-            if (std::hypot(double(e.X - from.X), double(e.Y - from.Y)) >= back) break;
-        }
-        const double dx = double(e.X - from.X), dy = double(e.Y - from.Y);
-        const double len = std::hypot(dx, dy);
-        if (len <= 0) return;
-        const double ux = dx / len, uy = dy / len, stride = 0.25 * min_width;
-        Point last = e;
-        for (int k = 1; k <= 64; ++k) {
-            const Point q(e.X + static_cast<Coord>(std::llround(ux * stride * k)),
-                          e.Y + static_cast<Coord>(std::llround(uy * stride * k)));
-            if (2 * distance(q) < min_width) break;
-            last = q;
-        }
-        if (last != e) p.push_back(last);
-    };
-    extend(out);
-    std::reverse(out.begin(), out.end());
-    extend(out);
-    std::reverse(out.begin(), out.end());
-    return out;
-}
-
-template <class Emit>
-void axis_lines(const Path& axis, const EdgeDistance& distance, double step, double tolerance,
-                double min_width, Emit&& emit) {
-    if (axis.size() < 2) return;
-    Path pts{axis.front()};
-    for (size_t i = 1; i < axis.size(); ++i) {
-        const Point& a = axis[i - 1];
-        const Point& b = axis[i];
-        const double len = std::hypot(double(b.X - a.X), double(b.Y - a.Y));
-        const int parts = std::max(1, static_cast<int>(std::ceil(len / step)));
-        for (int k = 1; k <= parts; ++k) {
-            const double t = double(k) / parts;
-            push_unique(pts, Point(a.X + static_cast<Coord>(std::llround(t * double(b.X - a.X))),
-                                   a.Y + static_cast<Coord>(std::llround(t * double(b.Y - a.Y)))));
-        }
-    }
-    std::vector<double> width(pts.size());
-    for (size_t i = 0; i < pts.size(); ++i) width[i] = 2 * distance(pts[i]);
-    Path run;
-    double ref = 0, sum = 0, sum_len = 0;
-    auto flush = [&] {
-        if (run.size() >= 2 && sum_len > 0) emit(std::move(run), sum / sum_len);
-        run.clear();
-        sum = sum_len = 0;
-    };
-    for (size_t i = 0; i + 1 < pts.size(); ++i) {
-        // A dip at one sample (a corner of the strip's outline) does not cut the line.
-        const double ws = 0.5 * (width[i] + width[i + 1]);
-        if (std::max(width[i], width[i + 1]) < min_width) {
-            flush();
-            continue;
-        }
-        if (!run.empty() && std::abs(ws - ref) > tolerance) flush();
-        if (run.empty()) {
-            run.push_back(pts[i]);
-            ref = ws;
-        }
-        run.push_back(pts[i + 1]);
-        const double len =
-            std::hypot(double(pts[i + 1].X - pts[i].X), double(pts[i + 1].Y - pts[i].Y));
-        sum += ws * len;
-        sum_len += len;
-    }
-    flush();
-}
-
 }  // namespace
 
 std::vector<Extrusion> fill_solid(const Paths& region, double angle_deg, Coord spacing,
@@ -389,9 +255,15 @@ std::vector<Extrusion> fill_thin(const Paths& region, Coord line_width, Coord ov
     };
     // Half-widths beyond 1.5 w are not thin strips; the flow is capped there.
     const EdgeDistance distance(region, static_cast<Coord>(1.5 * w));
+    // Each end goes on while the strip is at least min_width wide ahead, in steps of a quarter
+    // of that: a step that crossed the strip's edge would end nearer to it than half min_width,
+    // so every point stays inside.
+    auto wide = [&](const Point&, const Point& q) { return 2 * distance(q) >= double(min_width); };
+    auto width = [&](const Point& q) { return 2 * distance(q); };
     for (const Path& axis : medial_axis(region, options))
-        axis_lines(extended_axis(axis, distance, double(min_width), w), distance, step, tolerance,
-                   double(min_width), line);
+        for (Bead& b : axis_beads(extended_axis(axis, wide, 0.25 * double(min_width), w), width,
+                                  step, tolerance, double(min_width)))
+            line(std::move(b.points), b.width);
     std::vector<BBox2> drawn;
     for (const Extrusion& e : out) drawn.push_back(bounds(e.points));
     for (const Paths& comp : components(region)) {

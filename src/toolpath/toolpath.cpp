@@ -22,6 +22,7 @@
 #include "toolpath/fill.hpp"
 #include "toolpath/islands.hpp"
 #include "toolpath/seam.hpp"
+#include "toolpath/thin_walls.hpp"
 #include "toolpath/walls.hpp"
 
 namespace carve {
@@ -135,6 +136,7 @@ struct WallPaths {
     // Seams: the outer wall is what the user sees, so its loops start where the seam mode puts
     // them; everything else starts where the nozzle is.
     bool placed_seams = false;
+    double unprinted_mm2 = 0;  // of the slice, narrower than the narrowest part printed
 };
 
 // The region inside the innermost wall's centreline.
@@ -147,7 +149,9 @@ WallPaths wall_paths(const LayerPartition& layer, const Paths& inner, const Sett
     const Coord w = settings.line_width();
     WallPaths out;
     std::vector<Extrusion>& outer = out.outer;
-    add_loops(layer.wall_region, Feature::OuterWall, 0, double(w), outer);
+    ThinWalls thin = thin_walls(layer.outline, layer.wall_region, settings);
+    out.unprinted_mm2 = thin.unprinted_mm2;
+    add_loops(thin.wall_region, Feature::OuterWall, 0, double(w), outer);
     out.placed_seams = settings.seam != SeamMode::Nearest;
     if (out.placed_seams)
         for (size_t k = 0; k < outer.size(); ++k) {
@@ -155,6 +159,7 @@ WallPaths wall_paths(const LayerPartition& layer, const Paths& inner, const Sett
             const size_t v = seam_vertex(p, settings.seam, layer.index, k, Point(0, 0));
             std::rotate(p.begin(), p.begin() + static_cast<std::ptrdiff_t>(v), p.end());
         }
+    for (Extrusion& e : thin.beads) outer.push_back(std::move(e));
     for (int k = 1; k <= settings.shells; ++k) {
         const Paths region = k == settings.shells ? inner : erode(layer.wall_region, k * w);
         add_loops(region, Feature::Shell, 0, double(w), out.shells);
@@ -433,7 +438,8 @@ LayerToolpaths plan_layer(const LayerRecord& record, const Settings& settings) {
     result.z = settings.layer_top_mm(layer.index);
 
     const Paths& inner = innermost_wall(layer, settings);
-    WallPaths walls = wall_paths(layer, inner, settings);                                     // 1.
+    WallPaths walls = wall_paths(layer, inner, settings);  // 1.
+    result.unprinted_mm2 = walls.unprinted_mm2;
     CoverPaths covers = cover_paths(layer, bridged, inner, settings);                         // 2.
     std::vector<std::vector<Extrusion>> cavity_walls = cavity_wall_paths(bridged, settings);  // 3.
     std::vector<Extrusion> solid_lines = remainder_lines(layer.index, bridged, settings);     // 4.

@@ -66,6 +66,9 @@ struct LayerToolpaths {
     // which knows where the layer below ended, may print them last to first so that the layer
     // starts in that island: the layers are planned in parallel and cannot know it.
     std::vector<size_t> island_starts;
+    // What of the model's slice is narrower than --min-feature-size and printed by nothing, mm2
+    // (thin_walls.hpp); not spilled: the run sums it before the layer is.
+    double unprinted_mm2 = 0;
 };
 
 // The layer with its islands printed last to first, each island's paths in their order. The
