@@ -179,7 +179,11 @@ void Analyser::finish_layer() {
     if (opt_.model_slice) {
         check_model(footprint, support_footprint, h);
         // Support-only layers (PrusaSlicer's interleaved ones) are not the object's layers.
-        if (!support_only) printability_.layer(layer_.z_mm, model_h, footprint, prev_model_);
+        if (!support_only) {
+            printability_.layer(layer_.z_mm, model_h, footprint, prev_model_);
+            layer_.uncovered_mm2 = uncovered_.layer(result_.layers, layer_.z_mm, prev_model_,
+                                                    footprint, disk_width_mm());
+        }
     }
     lines_.clear();
     layer_travel_.clear();
@@ -217,6 +221,14 @@ void Analyser::finish_layer() {
     have_prev_ = true;
     prev_z_ = layer_.z_mm;
     prev_height_ = h;
+}
+
+// The uncovered check's disk: a line's width, 1.125 x the nozzle when the header names it
+// (PrusaSlicer's default width), else the mean line width measured so far.
+double Analyser::disk_width_mm() const {
+    if (result_.nozzle_diameter_mm > 0)
+        return kStrictLineWidthPerNozzle * result_.nozzle_diameter_mm;
+    return width_weight_ > 0 ? width_sum_ / width_weight_ : kStrictLineWidthPerNozzle * 0.4;
 }
 
 void Analyser::check_model(const Paths& footprint, const Paths& support_footprint, double h) {
