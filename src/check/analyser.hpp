@@ -65,6 +65,7 @@ class Analyser {
     void finish_layer();
     void check_model(const Paths& footprint, const Paths& support_footprint, double h);
     double disk_width_mm() const;
+    void model_above_print();
 
     static constexpr long long kMaxArcSegments = 10'000'000;
     // What no printer's file comes near, refused before it reaches the footprints, whose work

@@ -108,6 +108,7 @@ GcodeAnalysis Analyser::finish() {
     if (r.model_checked && r.layers > 0) r.model_tolerance_mm = tolerance_sum_ / r.layers;
     if (r.model_checked) {
         printability_.finish();
+        model_above_print();
         uncovered_.set_width_source(r.nozzle_diameter_mm > 0 ? "nozzle" : "measured");
         r.printability = printability_.figures();
         r.printability.uncovered = uncovered_.figures();

@@ -47,6 +47,9 @@ struct GcodeAnalysisOptions {
     // model_tolerance_mm outside it is reported; a negative tolerance means half of the layer's
     // mean line width.
     std::function<Paths(double z_mm)> model_slice;
+    // The model's top (mm, G-code coordinates), when known: the model's layers above the last
+    // one printed count as uncovered whole.
+    double model_top_mm = -1;
     double model_tolerance_mm = -1;
 
     // The look-ahead-free print time (stick_time_s): every move is a trapezoid from rest to rest
@@ -124,6 +127,7 @@ struct UncoveredFigures {
     double slice_mm2 = 0;      // the model's slices shrunk by 0.1 mm, summed over the layers
     double uncovered_mm2 = 0;  // of it, not printed and open to the model's surface
     double enclosed_mm2 = 0;   // not printed but enclosed by printed lines (the interior)
+    double deep_mm2 = 0;       // open, but farther than 1 mm from where it meets the surface
     UncoveredPiece largest;
     // Pieces that hold a disk of diameter line_width_mm (the --strict rule).
     double line_width_mm = 0;
@@ -132,6 +136,7 @@ struct UncoveredFigures {
     int wide_layers = 0;
     double wide_mm2 = 0;
     UncoveredPiece largest_wide;
+    int layers_above_print = 0;  // the model's layers above the G-code's last, uncovered whole
     double percent() const { return slice_mm2 > 0 ? 100 * uncovered_mm2 / slice_mm2 : 0; }
 };
 

@@ -231,6 +231,21 @@ double Analyser::disk_width_mm() const {
     return width_weight_ > 0 ? width_sum_ / width_weight_ : kStrictLineWidthPerNozzle * 0.4;
 }
 
+// What of the model lies above the last layer that printed it is all left out (a wall too thin
+// for the slicer, from some height up: a vase's, lettering's): sliced on at the last layer's
+// height, counted on from the G-code's last layer index.
+void Analyser::model_above_print() {
+    if (!have_model_z_ || opt_.model_top_mm <= model_z_ + kZTolerance) return;
+    const double h = std::max(prev_height_ > kZTolerance ? prev_height_ : kDefaultLayerMm, 0.01);
+    int index = result_.layers;
+    for (double z = model_z_ + h; z - h / 2 < opt_.model_top_mm && index < kMaxLayers;
+         z += h, ++index) {
+        const Paths model = opt_.model_slice(z - h / 2);
+        if (uncovered_.layer(index, z, model, {}, disk_width_mm()) > 0)
+            uncovered_.count_layer_above_print();
+    }
+}
+
 void Analyser::check_model(const Paths& footprint, const Paths& support_footprint, double h) {
     result_.model_checked = true;
     Paths model = opt_.model_slice(layer_.z_mm - h / 2);

@@ -424,12 +424,19 @@ std::string describe_printability(const GcodeAnalysis& a) {
             out += fmt::format("; largest {:.2f} mm2 at layer {} z {:.2f} (x {:.1f} y {:.1f})",
                                u.largest.area_mm2, u.largest.layer, u.largest.z_mm, u.largest.x_mm,
                                u.largest.y_mm);
+        if (u.layers_above_print > 0)
+            out += fmt::format("; {} layers of the model above the print's last",
+                               u.layers_above_print);
         out += fmt::format(
             "; {} piece{} wider than a line ({:.2f} mm, {}); {:.0f} mm2 enclosed by printed "
-            "lines (the interior, not counted)\n",
+            "lines (the interior, not counted)",
             u.wide_pieces, u.wide_pieces == 1 ? "" : "s", u.line_width_mm,
             u.line_width_source == "nozzle" ? "1.125 x the nozzle" : "the lines' mean",
             u.enclosed_mm2);
+        if (u.deep_mm2 > 0)
+            out += fmt::format(", {:.0f} mm2 open but over 1 mm from the surface (not counted)",
+                               u.deep_mm2);
+        out += "\n";
     }
     out += fmt::format("longest bridge   {:.1f} mm", a.longest_bridge_mm);
     if (a.longest_bridge_mm > 0)

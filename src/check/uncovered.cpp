@@ -2,7 +2,9 @@
 #include "check/uncovered.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
+#include <optional>
 
 #include "check/footprint.hpp"
 #include "check/printability.hpp"
@@ -17,7 +19,9 @@ constexpr double kShrinkMm = 0.1;  // the slice is measured this far inside the 
 // The band along the measured slice's boundary that an open piece reaches: 5 um, far below any
 // line, far above Clipper's 1 um rounding.
 constexpr Coord kBandUnits = 5;
-constexpr double kLeftUnits2 = 100;  // 0.0001 mm2: what an erosion leaves by rounding alone
+constexpr double kLeftUnits2 = 100;
+// How far from where it meets the surface an uncovered piece counts (see uncovered.hpp).
+constexpr double kReachMm = 1.0;  // 0.0001 mm2: what an erosion leaves by rounding alone
 
 Paths unite(const Paths& region) {
     Clipper c;
@@ -52,9 +56,10 @@ bool in_piece(const Point& q, const Paths& piece) {
 
 }  // namespace
 
-std::vector<Paths> open_pieces(const Paths& slice, const Paths& uncovered) {
+std::vector<OpenPiece> open_pieces(const Paths& slice, const Paths& uncovered) {
     std::vector<Paths> pieces = connected_pieces(uncovered);
-    if (pieces.empty()) return pieces;
+    std::vector<OpenPiece> out;
+    if (pieces.empty()) return out;
     // Where the uncovered region meets the band inside the slice's boundary, it reaches the
     // boundary: each part of that meeting lies in one piece, found by a vertex of it (a vertex
     // may be rounded off a thin piece by a unit, so each is tried in turn).
@@ -63,20 +68,51 @@ std::vector<Paths> open_pieces(const Paths& slice, const Paths& uncovered) {
     std::vector<Box> boxes;
     boxes.reserve(pieces.size());
     for (const Paths& p : pieces) boxes.emplace_back(p.front());
-    std::vector<bool> open(pieces.size(), false);
+    std::vector<int> at(pieces.size(), -1);  // the piece's index in out
     for (const Path& t : touching) {
         for (const Point& q : t) {
             size_t i = 0;
             while (i < pieces.size() && !(boxes[i].holds(q) && in_piece(q, pieces[i]))) ++i;
             if (i == pieces.size()) continue;
-            open[i] = true;
+            if (at[i] < 0) at[i] = static_cast<int>(out.size()), out.push_back({{}, q, {}});
+            out[at[i]].meets.push_back(t);
             break;
         }
     }
-    std::vector<Paths> out;
     for (size_t i = 0; i < pieces.size(); ++i)
-        if (open[i]) out.push_back(std::move(pieces[i]));
+        if (at[i] >= 0) out[at[i]].piece = std::move(pieces[i]);
     return out;
+}
+
+InteriorTest::InteriorTest(const Paths& footprint, const Paths& model, Coord width)
+    : model_(model), width_(width) {
+    for (const Paths& piece : connected_pieces(footprint)) {
+        for (size_t h = 1; h < piece.size(); ++h) {
+            const Box b(piece[h]);
+            holes_.push_back({piece[h], b.min_x, b.min_y, b.max_x, b.max_y,
+                              std::fabs(ClipperLib::Area(piece[h]))});
+        }
+    }
+}
+
+bool InteriorTest::operator()(const Point& q) {
+    // The innermost hole around q: the smallest that holds it.
+    Hole* in = nullptr;
+    for (Hole& h : holes_) {
+        if (q.X < h.min_x || q.X > h.max_x || q.Y < h.min_y || q.Y > h.max_y) continue;
+        if (in && h.area >= in->area) continue;
+        if (ClipperLib::PointInPolygon(q, h.contour) != 0) in = &h;
+    }
+    if (!in) return false;  // outside the print
+    if (in->interior < 0) {
+        Path region = in->contour;
+        std::reverse(region.begin(), region.end());  // a hole runs clockwise
+        bool model_hole = false;
+        for (const Paths& outside : connected_pieces(difference(Paths{region}, model_)))
+            if ((model_hole = holds_disk(outside, 2 * width_))) break;
+        in->interior = model_hole ? 0 : 1;
+    }
+    return in->interior == 1;
 }
 
 UncoveredPiece measure_piece(const Paths& piece) {
@@ -101,7 +137,9 @@ UncoveredPiece measure_piece(const Paths& piece) {
 bool holds_disk(const Paths& piece, Coord width) {
     // A piece narrower than the disk in some direction cannot hold it: most pieces (specks at
     // corners, slivers along a faceted wall) are settled without an erosion.
-    if (piece.empty() || narrow_side(piece.front()) < static_cast<double>(width)) return false;
+    Path all;
+    for (const Path& p : piece) all.insert(all.end(), p.begin(), p.end());
+    if (all.empty() || narrow_side(all) < static_cast<double>(width)) return false;
     double left = 0;
     for (const Path& p : offset_round(piece, -width / 2)) left += ClipperLib::Area(p);
     return left >= kLeftUnits2;
@@ -111,7 +149,8 @@ double UncoveredMeter::layer(int index, double z, const Paths& model, const Path
                              double width_mm) {
     if (model.empty()) return 0;
     // The slicers' slices overlap where a mesh's shells do: shrink their union, not each shell.
-    const Paths slice = offset_round(unite(model), -to_units(kShrinkMm));
+    const Paths whole = unite(model);
+    const Paths slice = offset_round(whole, -to_units(kShrinkMm));
     const double slice_mm2 = region_area_mm2(slice);
     if (slice_mm2 <= 0) return 0;
     UncoveredFigures& f = figures_;
@@ -120,15 +159,25 @@ double UncoveredMeter::layer(int index, double z, const Paths& model, const Path
     const Paths uncovered = difference(slice, footprint);
     const double all_mm2 = region_area_mm2(uncovered);
     if (all_mm2 <= 0) return 0;
-    double open_mm2 = 0;
+    double open_mm2 = 0, deep_mm2 = 0;
     bool wide_here = false;
-    for (const Paths& piece : open_pieces(slice, uncovered)) {
+    const Coord width = to_units(width_mm), reach = to_units(kReachMm);
+    const std::vector<OpenPiece> open = open_pieces(slice, uncovered);
+    std::optional<InteriorTest> interior;
+    if (!open.empty() && !footprint.empty()) interior.emplace(footprint, whole, width);
+    for (const OpenPiece& o : open) {
+        if (interior && (*interior)(o.contact)) continue;  // enclosed after all
+        // Within reach of where it meets the surface: a gap in a wall opens the interior behind
+        // it, which is not the model left out (its area beyond is `deep`).
+        const Paths piece =
+            footprint.empty() ? o.piece : intersection(o.piece, dilate_round(o.meets, reach));
         UncoveredPiece p = measure_piece(piece);
+        deep_mm2 += std::max(0.0, measure_piece(o.piece).area_mm2 - p.area_mm2);
         p.layer = index;
         p.z_mm = z;
         open_mm2 += p.area_mm2;
         if (p.area_mm2 > f.largest.area_mm2) f.largest = p;
-        if (!holds_disk(piece, to_units(width_mm))) continue;
+        if (!holds_disk(piece, width)) continue;
         ++f.wide_pieces;
         f.wide_mm2 += p.area_mm2;
         wide_here = true;
@@ -136,7 +185,8 @@ double UncoveredMeter::layer(int index, double z, const Paths& model, const Path
     }
     if (wide_here) ++f.wide_layers;
     f.uncovered_mm2 += open_mm2;
-    f.enclosed_mm2 += std::max(0.0, all_mm2 - open_mm2);
+    f.deep_mm2 += deep_mm2;
+    f.enclosed_mm2 += std::max(0.0, all_mm2 - open_mm2 - deep_mm2);
     return open_mm2;
 }
 

@@ -204,12 +204,65 @@ TEST(Uncovered, OpenPiecesReachTheSliceBoundary) {
     const Paths cut{Path{Point(to_units(4), 0), Point(to_units(6), 0), Point(to_units(6), 2000),
                          Point(to_units(4), 2000)}};
     const Paths opened = check::difference(slice, check::difference(ring, cut));
-    const std::vector<Paths> open = check::open_pieces(slice, opened);
+    const std::vector<check::OpenPiece> open = check::open_pieces(slice, opened);
     ASSERT_EQ(open.size(), 1u);
-    const UncoveredPiece p = check::measure_piece(open.front());
+    EXPECT_LE(open.front().contact.Y, 5);  // in the 5 um band along the boundary
+    const UncoveredPiece p = check::measure_piece(open.front().piece);
     EXPECT_NEAR(p.area_mm2, 36 + 4, 1e-6);
-    EXPECT_TRUE(check::holds_disk(open.front(), to_units(2)));
-    EXPECT_FALSE(check::holds_disk(open.front(), to_units(6.01)));
+    EXPECT_TRUE(check::holds_disk(open.front().piece, to_units(2)));
+    EXPECT_FALSE(check::holds_disk(open.front().piece, to_units(6.01)));
+}
+
+Path rect(double x0, double y0, double x1, double y1) {
+    return Path{Point(to_units(x0), to_units(y0)), Point(to_units(x1), to_units(y0)),
+                Point(to_units(x1), to_units(y1)), Point(to_units(x0), to_units(y1))};
+}
+
+// A 10 mm square's wall, 0.45 mm wide.
+Paths ring() {
+    Paths r{rect(0, 0, 10, 10), rect(0.45, 0.45, 9.55, 9.55)};
+    std::reverse(r[1].begin(), r[1].end());
+    return r;
+}
+
+TEST(Uncovered, SlitClosedOverByTheWallLeavesTheInteriorEnclosed) {
+    // The square with a slit 0.2 mm wide cut from its side 7 mm in; the wall goes straight
+    // across the slit's mouth. The slit's sides lie inside the wall, narrower than two lines:
+    // the inside is the print's interior, not the model left out.
+    const Paths model = check::difference({rect(0, 0, 10, 10)}, {rect(3, 4.9, 11, 5.1)});
+    check::UncoveredMeter meter;
+    EXPECT_NEAR(meter.layer(0, 0.2, model, ring(), kW), 0, 1e-6);
+    EXPECT_GT(meter.figures().enclosed_mm2, 70);
+    // A slot 2 mm wide is the model's own: the inside beside it is open.
+    const Paths slot = check::difference({rect(0, 0, 10, 10)}, {rect(3, 4, 11, 6)});
+    check::UncoveredMeter open;
+    EXPECT_GT(open.layer(0, 0.2, slot, ring(), kW), 1);
+}
+
+TEST(Uncovered, GapInTheWallCountsWithinAMillimetre) {
+    // The wall cut 2 mm wide at y = 0: the interior behind the gap is open, counted within 1 mm
+    // of the gap's stretch of surface only.
+    const Paths wall = check::difference(ring(), {rect(4, -1, 6, 1)});
+    check::UncoveredMeter meter;
+    const double counted = meter.layer(0, 0.2, {rect(0, 0, 10, 10)}, wall, kW);
+    // The gap (1.8 x 0.35 mm of the measured slice) and at most 1 mm around its stretch.
+    EXPECT_GT(counted, 0.6);
+    EXPECT_LT(counted, 4 * 1.35);
+    EXPECT_GT(meter.figures().deep_mm2, 70);
+    EXPECT_EQ(meter.figures().wide_pieces, 1);
+}
+
+TEST(Uncovered, ModelAboveTheLastLayerIsUncoveredWhole) {
+    // The fin's box printed up to z 3 of 5: the 10 layers above count whole, slice and fin.
+    std::string gcode = box_gcode(true, Style::kNone);
+    gcode = gcode.substr(0, gcode.find("Z3.2"));
+    gcode = gcode.substr(0, gcode.rfind('\n') + 1);
+    const GcodeAnalysis a = check("half.gcode", gcode);
+    const UncoveredFigures& u = a.printability.uncovered;
+    EXPECT_EQ(u.layers_above_print, 10);
+    const double slice = ((kSide - 0.2) * (kSide - 0.2) + kFinMm2 / kLayers) * 10;
+    EXPECT_NEAR(u.uncovered_mm2, slice, 0.01 * slice);
+    EXPECT_GE(u.largest.layer, 15);
 }
 
 TEST(Uncovered, StrictExitsFiveWhenTheFinIsLeftOut) {
