@@ -82,11 +82,16 @@ nlohmann::json to_json(const GcodeAnalysis& a, bool with_layers) {
         j["uncovered_mm2"] = u.uncovered_mm2;
         j["uncovered_percent"] = u.percent();
         j["largest_uncovered"] = piece(u.largest);
-        j["uncovered"] = {
-            {"slice_mm2", u.slice_mm2},         {"enclosed_mm2", u.enclosed_mm2},
-            {"line_width_mm", u.line_width_mm}, {"line_width_source", u.line_width_source},
-            {"wide_pieces", u.wide_pieces},     {"wide_layers", u.wide_layers},
-            {"wide_mm2", u.wide_mm2},           {"largest_wide", piece(u.largest_wide)}};
+        j["uncovered"] = {{"slice_mm2", u.slice_mm2},
+                          {"enclosed_mm2", u.enclosed_mm2},
+                          {"deep_mm2", u.deep_mm2},
+                          {"line_width_mm", u.line_width_mm},
+                          {"line_width_source", u.line_width_source},
+                          {"wide_pieces", u.wide_pieces},
+                          {"wide_layers", u.wide_layers},
+                          {"wide_mm2", u.wide_mm2},
+                          {"largest_wide", piece(u.largest_wide)},
+                          {"layers_above_print", u.layers_above_print}};
         const std::vector<std::string> failed = failed_rules(a);
         j["printability"] = {
             {"columns",

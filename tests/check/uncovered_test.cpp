@@ -281,7 +281,8 @@ TEST(Uncovered, StrictExitsFiveWhenTheFinIsLeftOut) {
                         " --mesh-offset 0,0 --json");
     EXPECT_EQ(r.status, 0);
     for (const char* key : {"\"uncovered_mm2\"", "\"uncovered_percent\"", "\"largest_uncovered\"",
-                            "\"area_mm2\"", "\"layer\"", "\"wide_pieces\""})
+                            "\"area_mm2\"", "\"layer\"", "\"wide_pieces\"", "\"deep_mm2\"",
+                            "\"layers_above_print\"", "\"enclosed_mm2\""})
         EXPECT_NE(r.out.find(key), std::string::npos) << key;
 }
 
