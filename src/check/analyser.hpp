@@ -12,6 +12,7 @@
 #include "check/footprint.hpp"
 #include "check/gcode_analysis.hpp"
 #include "check/printability.hpp"
+#include "check/uncovered.hpp"
 
 namespace carve::check {
 
@@ -32,6 +33,9 @@ class Analyser {
 
     void line(std::string_view s);
     GcodeAnalysis finish();
+
+    // The nozzle's diameter the header names (mm; 0: it does not), for the uncovered check.
+    void set_nozzle(double mm) { result_.nozzle_diameter_mm = mm; }
 
     ExtrusionBounds bounds() const {
         ExtrusionBounds b = above_first_.any ? above_first_ : all_layers_;
@@ -60,6 +64,8 @@ class Analyser {
     void start_layer(double z);
     void finish_layer();
     void check_model(const Paths& footprint, const Paths& support_footprint, double h);
+    double disk_width_mm() const;
+    void model_above_print();
 
     static constexpr long long kMaxArcSegments = 10'000'000;
     // What no printer's file comes near, refused before it reaches the footprints, whose work
@@ -114,6 +120,7 @@ class Analyser {
     bool have_prev_model_ = false;
     Paths prev_model_;
     PrintabilityMeter printability_;
+    UncoveredMeter uncovered_;
 
     double feed_mm_s_ = 50;      // until the file sets F
     std::string type_;           // the last ;TYPE: comment

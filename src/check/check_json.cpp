@@ -11,6 +11,7 @@ nlohmann::json to_json(const GcodeAnalysis& a, bool with_layers) {
         {"last_z_mm", a.last_z_mm},
         {"filament_diameter_mm", a.filament_diameter_mm},
         {"filament_diameter_source", a.filament_diameter_source},
+        {"nozzle_diameter_mm", a.nozzle_diameter_mm},
         {"filament_length_mm", a.filament_length_mm},
         {"extruded_volume_mm3", a.extruded_volume_mm3},
         {"path_length_mm", a.path_length_mm},
@@ -70,6 +71,27 @@ nlohmann::json to_json(const GcodeAnalysis& a, bool with_layers) {
                                   {"largest_hole_mm2", f.largest_hole_mm2},
                                   {"largest_hole_z_mm", f.largest_hole_z_mm}};
         };
+        const UncoveredFigures& u = a.printability.uncovered;
+        auto piece = [](const UncoveredPiece& p) {
+            return nlohmann::json{{"area_mm2", p.area_mm2},
+                                  {"layer", p.layer},
+                                  {"z", p.z_mm},
+                                  {"x", p.x_mm},
+                                  {"y", p.y_mm}};
+        };
+        j["uncovered_mm2"] = u.uncovered_mm2;
+        j["uncovered_percent"] = u.percent();
+        j["largest_uncovered"] = piece(u.largest);
+        j["uncovered"] = {{"slice_mm2", u.slice_mm2},
+                          {"enclosed_mm2", u.enclosed_mm2},
+                          {"deep_mm2", u.deep_mm2},
+                          {"line_width_mm", u.line_width_mm},
+                          {"line_width_source", u.line_width_source},
+                          {"wide_pieces", u.wide_pieces},
+                          {"wide_layers", u.wide_layers},
+                          {"wide_mm2", u.wide_mm2},
+                          {"largest_wide", piece(u.largest_wide)},
+                          {"layers_above_print", u.layers_above_print}};
         const std::vector<std::string> failed = failed_rules(a);
         j["printability"] = {
             {"columns",
@@ -124,6 +146,7 @@ nlohmann::json to_json(const GcodeAnalysis& a, bool with_layers) {
                 lj["travel_inside_mm"] = l.travel_inside_mm;
                 lj["travel_outside_mm"] = l.travel_outside_mm;
                 lj["wall_crossings"] = l.wall_crossings;
+                lj["uncovered_mm2"] = l.uncovered_mm2;
             }
             layers.push_back(std::move(lj));
         }

@@ -108,7 +108,10 @@ GcodeAnalysis Analyser::finish() {
     if (r.model_checked && r.layers > 0) r.model_tolerance_mm = tolerance_sum_ / r.layers;
     if (r.model_checked) {
         printability_.finish();
+        model_above_print();
+        uncovered_.set_width_source(r.nozzle_diameter_mm > 0 ? "nozzle" : "measured");
         r.printability = printability_.figures();
+        r.printability.uncovered = uncovered_.figures();
     }
     return std::move(r);
 }
@@ -466,8 +469,10 @@ void Analyser::extrude(double nx, double ny, double nz, double de, double length
 GcodeAnalysis analyse_gcode(const std::string& path, const GcodeAnalysisOptions& options) {
     double diameter = 0;
     std::string source;
-    auto file = check::open_gcode(path, options, diameter, source);
+    double nozzle = 0;
+    auto file = check::open_gcode(path, options, diameter, source, &nozzle);
     check::Analyser analyser(options, diameter);
+    analyser.set_nozzle(nozzle);
     GcodeAnalysis result;
     try {
         check::feed_lines(file.get(), path, [&](std::string_view s) { analyser.line(s); });

@@ -47,6 +47,9 @@ struct GcodeAnalysisOptions {
     // model_tolerance_mm outside it is reported; a negative tolerance means half of the layer's
     // mean line width.
     std::function<Paths(double z_mm)> model_slice;
+    // The model's top (mm, G-code coordinates), when known: the model's layers above the last
+    // one printed count as uncovered whole.
+    double model_top_mm = -1;
     double model_tolerance_mm = -1;
 
     // The look-ahead-free print time (stick_time_s): every move is a trapezoid from rest to rest
@@ -89,6 +92,7 @@ struct LayerFigures {
     long long wall_crossings = 0;  // with a model: travels leaving the slice and coming back
     double stick_time_s = 0;
     double longest_bridge_mm = 0;  // see GcodeAnalysis::longest_bridge_mm
+    double uncovered_mm2 = 0;      // with a model: see UncoveredFigures
 };
 
 // Issue 35's printability figures (definitions in check/printability.hpp and docs/check.md).
@@ -112,21 +116,49 @@ struct SkinFigures {
     double open_percent() const { return region_mm2 > 0 ? 100 * open_mm2 / region_mm2 : 0; }
 };
 
+// Issue 47: the model's slice not covered by the print (definitions in check/uncovered.hpp).
+struct UncoveredPiece {
+    double area_mm2 = 0;
+    int layer = -1;  // index among the G-code's layers (GcodeAnalysis::per_layer), -1: none
+    double z_mm = 0, x_mm = 0, y_mm = 0;  // the layer's top, the piece's centroid
+};
+
+struct UncoveredFigures {
+    double slice_mm2 = 0;      // the model's slices shrunk by 0.1 mm, summed over the layers
+    double uncovered_mm2 = 0;  // of it, not printed and open to the model's surface
+    double enclosed_mm2 = 0;   // not printed but enclosed by printed lines (the interior)
+    double deep_mm2 = 0;       // open, but farther than 1 mm from where it meets the surface
+    UncoveredPiece largest;
+    // Pieces that hold a disk of diameter line_width_mm (the --strict rule).
+    double line_width_mm = 0;
+    std::string line_width_source;  // "nozzle" (1.125 x the header's nozzle) or "measured"
+    long long wide_pieces = 0;
+    int wide_layers = 0;
+    double wide_mm2 = 0;
+    UncoveredPiece largest_wide;
+    int layers_above_print = 0;  // the model's layers above the G-code's last, uncovered whole
+    double percent() const { return slice_mm2 > 0 ? 100 * uncovered_mm2 / slice_mm2 : 0; }
+};
+
 struct PrintabilityFigures {
     ColumnFigures columns;
     SkinFigures top, bottom;
+    UncoveredFigures uncovered;
 };
 
 // The rules of `carve check --strict` (issue 35).
 constexpr double kStrictColumnMm = 5;            // no thin interior column taller
 constexpr double kStrictSkinOpenPercent = 0.25;  // top and bottom skin left open, at most
 constexpr double kStrictHangingInsideMm2 = 1;    // far-unsupported over the model's slice
+// Issue 47: no uncovered piece holds a disk one line wide (1.125 x the nozzle, 0.45 mm at 0.4).
+constexpr double kStrictLineWidthPerNozzle = 1.125;
 
 struct GcodeAnalysis {
     std::string generator;  // from the first comments, e.g. "PrusaSlicer 2.5.0", "Cura_SteamEngine"
     int layers = 0;
     double filament_diameter_mm = 0;
     std::string filament_diameter_source;  // "header" or "option"
+    double nozzle_diameter_mm = 0;         // from the header, 0 when it does not say
     double filament_length_mm = 0;         // net E fed (retractions and their recovery cancel)
     double extruded_volume_mm3 = 0;        // filament_length_mm * filament area
     double path_length_mm = 0;             // length of the extruding moves

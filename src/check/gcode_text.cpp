@@ -50,8 +50,15 @@ bool find_header_value(std::string_view text, std::string_view key, double& valu
 namespace {
 
 // PrusaSlicer prints its configuration at the end of the file and Cura (Griffin) at the start,
-// so the filament diameter is looked for in both ends before the single pass.
-bool header_filament_diameter(std::FILE* f, double& diameter) {
+// so header values are looked for in both ends before the single pass: the filament diameter
+// (under PrusaSlicer's key or Cura's) and the nozzle's (`nozzle_diameter`, which carve writes
+// too, or Cura's), 0 when absent.
+struct HeaderValues {
+    double filament_diameter = 0, nozzle_diameter = 0;
+};
+
+HeaderValues header_values(std::FILE* f) {
+    HeaderValues found;
     auto read_at = [&](long offset, size_t size) {
         std::string text(size, '\0');
         std::fseek(f, offset, SEEK_SET);
@@ -60,9 +67,9 @@ bool header_filament_diameter(std::FILE* f, double& diameter) {
     };
     // A pipe (carve check - < file, /dev/stdin) cannot seek: no header look-up, the option's
     // diameter holds, and the lines are read as they come.
-    if (std::fseek(f, 0, SEEK_END) != 0) return false;
+    if (std::fseek(f, 0, SEEK_END) != 0) return found;
     long size = std::ftell(f);
-    if (size < 0) return false;
+    if (size < 0) return found;
     constexpr long kHead = 64 * 1024, kTail = 512 * 1024;
     std::string head = read_at(0, static_cast<size_t>(std::min(size, kHead)));
     std::string tail = size > kHead
@@ -71,24 +78,37 @@ bool header_filament_diameter(std::FILE* f, double& diameter) {
                            : std::string();
     std::fseek(f, 0, SEEK_SET);
     for (const std::string* text : {&head, &tail}) {
-        if (find_header_value(*text, "filament_diameter =", diameter) ||
-            find_header_value(*text, "EXTRUDER_TRAIN.0.MATERIAL.DIAMETER:", diameter))
-            if (diameter > 0) return true;
+        double v = 0;
+        if (found.filament_diameter <= 0 &&
+            (find_header_value(*text, "filament_diameter =", v) ||
+             find_header_value(*text, "EXTRUDER_TRAIN.0.MATERIAL.DIAMETER:", v)))
+            found.filament_diameter = std::max(v, 0.0);
+        v = 0;
+        if (found.nozzle_diameter <= 0 &&
+            (find_header_value(*text, "nozzle_diameter =", v) ||
+             find_header_value(*text, "EXTRUDER_TRAIN.0.NOZZLE.DIAMETER:", v)))
+            found.nozzle_diameter = std::max(v, 0.0);
     }
-    return false;
+    return found;
 }
 
 }  // namespace
 
 GcodeFile open_gcode(const std::string& path, const GcodeAnalysisOptions& options, double& diameter,
-                     std::string& source) {
+                     std::string& source, double* nozzle) {
     GcodeFile file(std::fopen(path.c_str(), "rb"));
     if (!file) throw InputError("cannot open G-code file '" + path + "'");
     diameter = options.filament_diameter_mm;
     source = "option";
+    const HeaderValues header = header_values(file.get());
+    // Only a plausible nozzle is taken (PrusaSlicer's own range); otherwise none is known.
+    if (nozzle)
+        *nozzle = header.nozzle_diameter >= 0.05 && header.nozzle_diameter <= 3
+                      ? header.nozzle_diameter
+                      : 0;
     if (options.filament_diameter_from_header) {
-        double from_header = 0;
-        if (header_filament_diameter(file.get(), from_header)) {
+        const double from_header = header.filament_diameter;
+        if (from_header > 0) {
             // The same range as --filament-diameter: a header is as hostile as an option can be.
             if (!(from_header >= 0.5 && from_header <= 5))
                 throw InputError(

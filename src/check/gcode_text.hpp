@@ -24,9 +24,10 @@ struct FileCloser {
 };
 using GcodeFile = std::unique_ptr<std::FILE, FileCloser>;
 
-// Opens the file and settles the filament diameter (header or option) and where it came from.
+// Opens the file and settles the filament diameter (header or option) and where it came from;
+// `nozzle`, when given, gets the header's nozzle diameter (mm, 0 when the file does not say).
 GcodeFile open_gcode(const std::string& path, const GcodeAnalysisOptions& options, double& diameter,
-                     std::string& source);
+                     std::string& source, double* nozzle = nullptr);
 // Every line of the file, without its newline, in order.
 void feed_lines(std::FILE* file, const std::string& path,
                 const std::function<void(std::string_view)>& line);

@@ -179,7 +179,11 @@ void Analyser::finish_layer() {
     if (opt_.model_slice) {
         check_model(footprint, support_footprint, h);
         // Support-only layers (PrusaSlicer's interleaved ones) are not the object's layers.
-        if (!support_only) printability_.layer(layer_.z_mm, model_h, footprint, prev_model_);
+        if (!support_only) {
+            printability_.layer(layer_.z_mm, model_h, footprint, prev_model_);
+            layer_.uncovered_mm2 = uncovered_.layer(result_.layers, layer_.z_mm, prev_model_,
+                                                    footprint, disk_width_mm());
+        }
     }
     lines_.clear();
     layer_travel_.clear();
@@ -217,6 +221,29 @@ void Analyser::finish_layer() {
     have_prev_ = true;
     prev_z_ = layer_.z_mm;
     prev_height_ = h;
+}
+
+// The uncovered check's disk: a line's width, 1.125 x the nozzle when the header names it
+// (PrusaSlicer's default width), else the mean line width measured so far.
+double Analyser::disk_width_mm() const {
+    if (result_.nozzle_diameter_mm > 0)
+        return kStrictLineWidthPerNozzle * result_.nozzle_diameter_mm;
+    return width_weight_ > 0 ? width_sum_ / width_weight_ : kStrictLineWidthPerNozzle * 0.4;
+}
+
+// What of the model lies above the last layer that printed it is all left out (a wall too thin
+// for the slicer, from some height up: a vase's, lettering's): sliced on at the last layer's
+// height, counted on from the G-code's last layer index.
+void Analyser::model_above_print() {
+    if (!have_model_z_ || opt_.model_top_mm <= model_z_ + kZTolerance) return;
+    const double h = std::max(prev_height_ > kZTolerance ? prev_height_ : kDefaultLayerMm, 0.01);
+    int index = result_.layers;
+    for (double z = model_z_ + h; z - h / 2 < opt_.model_top_mm && index < kMaxLayers;
+         z += h, ++index) {
+        const Paths model = opt_.model_slice(z - h / 2);
+        if (uncovered_.layer(index, z, model, {}, disk_width_mm()) > 0)
+            uncovered_.count_layer_above_print();
+    }
 }
 
 void Analyser::check_model(const Paths& footprint, const Paths& support_footprint, double h) {

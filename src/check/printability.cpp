@@ -381,6 +381,14 @@ std::vector<std::string> failed_rules(const GcodeAnalysis& a) {
     if (a.hanging_inside_mm2 > kStrictHangingInsideMm2)
         failed.push_back(fmt::format("hanging inside: {:.1f} mm2 (limit {:g} mm2)",
                                      a.hanging_inside_mm2, kStrictHangingInsideMm2));
+    const UncoveredFigures& u = p.uncovered;
+    if (u.wide_pieces > 0)
+        failed.push_back(fmt::format(
+            "model left unprinted: {} piece{} wider than a line ({:.2f} mm) on {} layer{}, "
+            "{:.1f} mm2; the largest {:.2f} mm2 at z {:.2f} (x {:.1f} y {:.1f})",
+            u.wide_pieces, u.wide_pieces > 1 ? "s" : "", u.line_width_mm, u.wide_layers,
+            u.wide_layers > 1 ? "s" : "", u.wide_mm2, u.largest_wide.area_mm2, u.largest_wide.z_mm,
+            u.largest_wide.x_mm, u.largest_wide.y_mm));
     return failed;
 }
 
@@ -407,6 +415,28 @@ std::string describe_printability(const GcodeAnalysis& a) {
                                    s->largest_hole_z_mm);
             out += "\n";
         }
+        const UncoveredFigures& u = a.printability.uncovered;
+        out += fmt::format(
+            "uncovered        {:.2f} mm2, {:.3f} % of the slices (shrunk by 0.1 mm, {:.0f} mm2) "
+            "open to the surface",
+            u.uncovered_mm2, u.percent(), u.slice_mm2);
+        if (u.largest.layer >= 0)
+            out += fmt::format("; largest {:.2f} mm2 at layer {} z {:.2f} (x {:.1f} y {:.1f})",
+                               u.largest.area_mm2, u.largest.layer, u.largest.z_mm, u.largest.x_mm,
+                               u.largest.y_mm);
+        if (u.layers_above_print > 0)
+            out += fmt::format("; {} layers of the model above the print's last",
+                               u.layers_above_print);
+        out += fmt::format(
+            "; {} piece{} wider than a line ({:.2f} mm, {}); {:.0f} mm2 enclosed by printed "
+            "lines (the interior, not counted)",
+            u.wide_pieces, u.wide_pieces == 1 ? "" : "s", u.line_width_mm,
+            u.line_width_source == "nozzle" ? "1.125 x the nozzle" : "the lines' mean",
+            u.enclosed_mm2);
+        if (u.deep_mm2 > 0)
+            out += fmt::format(", {:.0f} mm2 open but over 1 mm from the surface (not counted)",
+                               u.deep_mm2);
+        out += "\n";
     }
     out += fmt::format("longest bridge   {:.1f} mm", a.longest_bridge_mm);
     if (a.longest_bridge_mm > 0)
@@ -418,7 +448,7 @@ std::string describe_printability(const GcodeAnalysis& a) {
         if (failed.empty()) {
             out +=
                 "verdict          passes (thin columns <= 5 mm, skins open <= 0.25 %, "
-                "hanging inside <= 1 mm2)\n";
+                "hanging inside <= 1 mm2, nothing a line wide unprinted)\n";
         } else {
             out += fmt::format("verdict          fails {} rule{}\n", failed.size(),
                                failed.size() > 1 ? "s" : "");

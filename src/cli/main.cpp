@@ -252,7 +252,8 @@ int run(int argc, char** argv) {
     check->add_flag("--strict", check_strict,
                     "With --mesh: exit with status 5 when the G-code fails a printability rule "
                     "(a free-standing thin column over 5 mm, top or bottom skin open over "
-                    "0.25 %, over 1 mm2 hanging inside), naming each on stderr [off]");
+                    "0.25 %, over 1 mm2 hanging inside, a piece of the model a line wide left "
+                    "unprinted), naming each on stderr [off]");
 
     std::vector<std::string> profile_notes;
     try {

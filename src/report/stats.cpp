@@ -276,6 +276,7 @@ GcodeAnalysis analyse_gcode_on_mesh(const std::string& gcode_path, const Mesh& m
         shift.z = (b.model_bottom_z > 0 ? b.model_bottom_z : 0.0) - box.min.z;
     }
     const Coord ux = to_units(shift.x), uy = to_units(shift.y);
+    options.model_top_mm = box.max.z + shift.z;
     options.model_slice = [&mesh, shift, ux, uy](double z) {
         Paths region = slice_at(mesh, z - shift.z);
         for (Path& p : region)
