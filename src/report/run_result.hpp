@@ -37,6 +37,9 @@ struct RunResult {
     // h tan(support angle), and of that more than 2 mm beyond it (supports/overhang.hpp).
     double external_overhang_mm2 = 0;
     double far_external_overhang_mm2 = 0;
+    // Of the model's slices, narrower than --min-feature-size: printed by nothing (#47).
+    double unprinted_mm2 = 0;
+    int unprinted_layers = 0;
     // Supports (--support): the overhang area they start under, summed over the layers, and the
     // volume of their regions (what a solid support would fill).
     double supported_area_mm2 = 0;

@@ -89,6 +89,8 @@ nlohmann::json stats_json(const RunResult& run, const Settings& settings) {
     // The model's own overhang (no supports are printed): what only supports would hold.
     j["external_overhang_mm2"] = run.external_overhang_mm2;
     j["far_external_overhang_mm2"] = run.far_external_overhang_mm2;
+    j["unprinted_mm2"] = run.unprinted_mm2;
+    j["unprinted_layers"] = run.unprinted_layers;
     // Supports: what they print (body and interface), the overhang they start under, and the
     // volume their regions span.
     j["support_volume_mm3"] = support_mm3(run);

@@ -330,6 +330,7 @@ void LayerPipeline::write_layer(TokenPtr t) {
         if (note_) note_(w);
     if (outputs_.html) outputs_.html->add_layer(t->record, t->paths);
     add_layer_figures(*t, settings_, result_, sliced_volume_, overhangs_);
+    unprinted_.add(layer.index, settings_.layer_top_mm(layer.index), t->paths.unprinted_mm2);
     ++done_;
     report_progress(options_, done_, layer_count_, start_, last_progress_);
 }

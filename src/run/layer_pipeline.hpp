@@ -27,6 +27,7 @@
 #include "supports/overhang.hpp"
 #include "supports/ribs.hpp"
 #include "supports/support_volume.hpp"
+#include "toolpath/thin_walls.hpp"
 
 namespace carve {
 
@@ -64,6 +65,7 @@ class LayerPipeline {
     // What the slices hold: the model's volume if the mesh is open.
     double sliced_volume() const { return sliced_volume_; }
     const OverhangTally& overhangs() const { return overhangs_; }
+    const UnprintedTally& unprinted() const { return unprinted_; }
     const SpanLog& span() const { return span_; }
     // The filters' names, in the order of their indices below (for the profile's table).
     std::vector<std::string> filter_names() const;
@@ -139,6 +141,7 @@ class LayerPipeline {
     const RibOptions ribbing_;
     const Coord overhang_reach_;
     OverhangTally overhangs_;
+    UnprintedTally unprinted_;  // what of the slices is too thin to print (thin_walls.hpp)
     // Ribs grow down from what would hang: serial top down, each slice's only after the slices
     // above it (nothing is held back: a rib on slice i depends on slices i and above). Around
     // the serial filter, what reads no rib: the booleans of each slice with the one above (the

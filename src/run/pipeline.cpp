@@ -68,13 +68,17 @@ struct RunClock {
 };
 
 // The run's figures that follow from all its layers.
-void add_run_figures(RunResult& result, const LayerPipeline& layers,
+void add_run_figures(RunResult& result, const LayerPipeline& layers, const Settings& settings,
                      const std::function<void(const std::string&)>& note) {
     for (double v : result.cavity_volume_mm3)
         if (v > 0) ++result.cavities;
     result.external_overhang_mm2 = layers.overhangs().area_mm2();
     result.far_external_overhang_mm2 = layers.overhangs().far_area_mm2();
     if (const std::string w = layers.overhangs().warning(); !w.empty() && !layers.supporting())
+        note(w);
+    result.unprinted_mm2 = layers.unprinted().area_mm2();
+    result.unprinted_layers = layers.unprinted().layers();
+    if (const std::string w = layers.unprinted().warning(settings.min_feature_mm()); !w.empty())
         note(w);
     // An open mesh has no inside of its own: its signed volume depends on where the hole is
     // (a cube missing its top gives 2/3 of the cube), while the slicer closes each slice with
@@ -172,7 +176,7 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
     layers.run(threads);
     clock.phase_ends("pipeline");
 
-    add_run_figures(result, layers, note);
+    add_run_figures(result, layers, settings, note);
     refuse_empty_print(result, settings, options);
     const int64_t finish_start_ns = thread_cpu_ns();
     result.print = finish_gcode(outputs.writer, options, result, settings, threads);
