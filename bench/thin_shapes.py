@@ -18,16 +18,10 @@ slicer takes the union), so the widths are exact. The same shapes are built by t
 """
 import math
 import os
-import struct
 import sys
 
-
-def box(x0, y0, z0, x1, y1, z1):
-    v = [(x0, y0, z0), (x1, y0, z0), (x1, y1, z0), (x0, y1, z0),
-         (x0, y0, z1), (x1, y0, z1), (x1, y1, z1), (x0, y1, z1)]
-    f = [(0, 2, 1), (0, 3, 2), (4, 5, 6), (4, 6, 7), (0, 1, 5), (0, 5, 4),
-         (1, 2, 6), (1, 6, 5), (2, 3, 7), (2, 7, 6), (3, 0, 4), (3, 4, 7)]
-    return [(v[a], v[b], v[c]) for a, b, c in f]
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from flat_shapes import box, write_stl  # noqa: E402
 
 
 def tube(r_out, r_in, z0, z1, n=180):
@@ -94,17 +88,6 @@ def lettering():
 
 
 SHAPES = {'fins': fins, 'slots': slots, 'vase': vase, 'lettering': lettering}
-
-
-def write_stl(path, tris):
-    with open(path, 'wb') as out:
-        out.write(b'\0' * 80)
-        out.write(struct.pack('<I', len(tris)))
-        for t in tris:
-            out.write(struct.pack('<3f', 0, 0, 0))
-            for p in t:
-                out.write(struct.pack('<3f', *p))
-            out.write(b'\0\0')
 
 
 def main():
