@@ -68,7 +68,7 @@ struct RunClock {
 };
 
 // The run's figures that follow from all its layers.
-void add_run_figures(RunResult& result, const LayerPipeline& layers, const Settings& settings,
+void add_run_figures(RunResult& result, const LayerPipeline& layers,
                      const std::function<void(const std::string&)>& note) {
     for (double v : result.cavity_volume_mm3)
         if (v > 0) ++result.cavities;
@@ -78,8 +78,6 @@ void add_run_figures(RunResult& result, const LayerPipeline& layers, const Setti
         note(w);
     result.unprinted_mm2 = layers.unprinted().area_mm2();
     result.unprinted_layers = layers.unprinted().layers();
-    if (const std::string w = layers.unprinted().warning(settings.min_feature_mm()); !w.empty())
-        note(w);
     // An open mesh has no inside of its own: its signed volume depends on where the hole is
     // (a cube missing its top gives 2/3 of the cube), while the slicer closes each slice with
     // non-zero fill. What is printed, and what "% of the model" means, is the sliced volume.
@@ -96,8 +94,9 @@ void refuse_empty_print(const RunResult& result, const Settings& settings,
             material += result.feature_mm3[f];
     if (material <= 1e-9)
         throw InputError(fmt::format(
-            "{}: nothing to print: every part of the model is thinner than the {} mm line width",
-            options.model_path, settings.nozzle));
+            "{}: nothing to print: every part of the model is narrower than {:g} mm, the smallest "
+            "part printed (--min-feature-size)",
+            options.model_path, settings.min_feature_mm()));
 }
 
 // The G-code's header and its layers written out, on `threads` threads.
@@ -176,8 +175,11 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
     layers.run(threads);
     clock.phase_ends("pipeline");
 
-    add_run_figures(result, layers, settings, note);
+    add_run_figures(result, layers, note);
     refuse_empty_print(result, settings, options);
+    // After the refusal: a model of nothing but such parts gets the one message that says so.
+    if (const std::string w = layers.unprinted().warning(settings.min_feature_mm()); !w.empty())
+        note(w);
     const int64_t finish_start_ns = thread_cpu_ns();
     result.print = finish_gcode(outputs.writer, options, result, settings, threads);
     clock.phase_ends("G-code");

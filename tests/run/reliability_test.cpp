@@ -167,11 +167,12 @@ TEST(Hostile, OverlappingShellsAreUnited) {
 }
 
 TEST(Hostile, ModelThinnerThanALineIsAClearError) {
-    // A 0.2 mm fin, 20 mm long and tall: narrower than the 0.4 mm line, nothing can be printed.
-    const fs::path stl = write_stl("fin.stl", box(0, 0, 0, 20, 0.2, 20));
+    // A 0.08 mm fin, 20 mm long and tall: narrower than the smallest part printed (0.1 mm at a
+    // 0.4 mm nozzle), nothing can be printed. A 0.2 mm fin is printed (thin walls, #47).
+    const fs::path stl = write_stl("fin.stl", box(0, 0, 0, 20, 0.08, 20));
     const fs::path gcode = scratch() / "fin.gcode";
     expect_refused(run_carve("slice " + stl.string() + " -o " + gcode.string()), gcode,
-                   "thinner than the 0.4 mm line width");
+                   "narrower than 0.1 mm, the smallest part printed");
     // A 0.05 mm sheet: thinner than one layer.
     const fs::path sheet = write_stl("sheet.stl", box(0, 0, 0, 20, 20, 0.05));
     const fs::path gcode2 = scratch() / "sheet.gcode";
