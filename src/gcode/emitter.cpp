@@ -110,8 +110,9 @@ void Emitter::start() {
     if (klipper_macro)
         line(fmt::format("PRINT_START BED_TEMP={} EXTRUDER_TEMP={}",
                          st_.first_layer_bed_temperature, st_.first_layer_nozzle_temperature));
+    // Its Z moves are not held to the printer's height: they come before the print, from
+    // where the printer homed (the default's G1 Z5 is a lift off the bed any printer makes).
     raw(start_text);
-    scan_custom_z(start_text, "the start G-code (start_gcode)");
     // What a Klipper macro does is out of sight: the stock PRINT_START of kit-voron2-250mm.cfg
     // turns the hot end off ("M104 S0") while the bed heats, and klippy then stopped at the
     // first extrusion, "Extrude below minimum temp". So wait for the nozzle again after the
