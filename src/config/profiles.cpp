@@ -69,9 +69,10 @@ const std::vector<Preset>& presets() {
                  "G1 X100 E12.5 F1000 ; intro line\n"
                  "G92 E0\n";
              // carve has retracted already, in either extrusion mode. The lift is
-             // PrusaSlicer's: 49 mm above the part, within the printer's height.
+             // PrusaSlicer's: 49 mm above the part, within the printer's height (the offset
+             // inside the min(), so that it stays within it too).
              s.end_gcode =
-                 "{if max_layer_z < max_print_height}G1 Z{z_offset+min(max_layer_z+49, "
+                 "{if max_layer_z < max_print_height}G1 Z{min(z_offset+max_layer_z+49, "
                  "max_print_height)} F720 ; move the print head up{endif}\n"
                  "M104 S0 ; turn off temperature\n"
                  "M140 S0 ; turn off heatbed\n"

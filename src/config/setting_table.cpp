@@ -338,8 +338,8 @@ std::vector<SettingSpec> make_table() {
          "model starts --raft-contact-distance above its top; 0 = none, layers [0]"},
         {"raft-contact-distance", "raft_contact_distance", "mm", 0.0, 2.0,
          &S::raft_contact_distance,
-         "Gap between the raft's top and the model's first layer, so that the raft peels off, "
-         "mm [0.1]"},
+         "Gap between the raft's top and the model's first layer, so that the raft peels off "
+         "(at most the layer height: the model's first layer fills it with its flow), mm [0.1]"},
         {"raft-expansion", "raft_expansion", "mm", 0.0, 100.0, &S::raft_expansion,
          "How far the raft reaches beyond the model's first layer, mm [1.5]"},
         {"raft-first-layer-expansion", "raft_first_layer_expansion", "mm", 0.0, 100.0,
@@ -351,14 +351,21 @@ std::vector<SettingSpec> make_table() {
          "at --layer-height [0 = the layer height]",
          true, "", "", first_layer_prusa()},
         {"first-layer-extrusion-width", "", "mm", 0.0, 3.0, &S::first_layer_extrusion_width,
-         "Line width on the first layer (its E follows it; the paths keep their places); a "
-         "profile's first_layer_extrusion_width sets it, mm [0 = the line width]"},
-        {"extrusion-multiplier", "extrusion_multiplier", "ratio", 0.05, 5.0,
-         &S::extrusion_multiplier, "Scales the filament fed by every extrusion, ratio [1]"},
+         "Line width on the first layer (its E follows it; the paths keep their places), under "
+         "3 nozzle widths as PrusaSlicer requires; a profile's first_layer_extrusion_width sets "
+         "it, mm [0 = the line width]"},
+        // 0.5 to 2 (issue #52): calibration moves it by a few percent; at half the flow the
+        // lines no longer touch their neighbours or the layer below, at twice it each line
+        // holds two lines' plastic, which the nozzle ploughs through on the next pass.
+        {"extrusion-multiplier", "extrusion_multiplier", "ratio", 0.5, 2.0,
+         &S::extrusion_multiplier,
+         "Scales the filament fed by every extrusion (0.5 to 2: beyond, lines either no longer "
+         "touch or overflow the line), ratio [1]"},
         {"max-volumetric-speed", "max_volumetric_speed", "mm^3/s", 0.0, 1000.0,
          &S::max_volumetric_speed,
          "Cap on every extrusion's flow: a line is printed no faster than this over its width "
-         "x height; a profile's filament_max_volumetric_speed caps it too, mm^3/s [0 = none]"},
+         "x height, and a cap that would hold the widest line under 5 mm/s is refused; a "
+         "profile's filament_max_volumetric_speed caps it too, mm^3/s [0 = none]"},
         {"elephant-foot-compensation", "elefant_foot_compensation", "mm", 0.0, 5.0,
          &S::elephant_foot_compensation,
          "The first layer's slice is shrunk by this, against the squashed first layer's bulge, "
@@ -378,7 +385,9 @@ std::vector<SettingSpec> make_table() {
         {"xy-size-compensation", "xy_size_compensation", "mm", -5.0, 5.0, &S::xy_size_compensation,
          "Every slice grows by this (shrinks if negative), holes shrinking with it, mm [0]"},
         {"z-offset", "z_offset", "mm", -10.0, 10.0, &S::z_offset,
-         "Added to every Z written to the G-code (the printer's bed height), mm [0]"},
+         "Added to every Z written to the G-code (the printer's bed height); the first layer "
+         "it leaves is at least a quarter of the layer height (or of the nozzle, if thinner) "
+         "and the highest Z within --max-print-height, mm [0]"},
         {"copies", "", "copies", 1, 400, &S::copies,
          "Print this many copies of the model side by side, each its own object (labelled for "
          "cancelling), copies [1]"},
@@ -706,16 +715,77 @@ void check_first_layer(const Settings& s) {
             "--first-layer-height {} mm is thicker than the first layer's {} mm line width",
             plain_number(s.first_layer_mm()),
             plain_number(s.layer_width_mm(s.first_print_layer()))));
+    // PrusaSlicer's Print::validate: "Too large extrusion width" from 3 nozzle widths. Such a
+    // line is wider than the nozzle's flat tip by far: nothing presses its edges onto the bed,
+    // and it is printed at a third of the speed of its E (a profile's 1500 % of a 0.2 mm first
+    // layer asked for 3 mm lines from a 0.4 mm nozzle, issue #52).
+    if (s.first_layer_extrusion_width >= 3 * s.nozzle - 1e-9)
+        throw InputError(fmt::format(
+            "--first-layer-extrusion-width {} mm (a profile's first_layer_extrusion_width) is "
+            "too wide for the {} mm nozzle; expected 0 (the line width) or under 3 nozzle "
+            "widths, {} mm",
+            plain_number(s.first_layer_extrusion_width), plain_number(s.nozzle),
+            plain_number(3 * s.nozzle)));
     if (s.max_volumetric_speed > 0 && s.max_volumetric_speed < 0.1)
         throw InputError(fmt::format(
             "--max-volumetric-speed {} mm^3/s is too low to print; expected 0 (no cap) or from "
             "0.1 to 1000 mm^3/s",
             plain_number(s.max_volumetric_speed)));
-    if (s.first_layer_mm() + s.z_offset < 0.01)
+    // A first layer that the offset makes thinner than a quarter of a layer (or of the nozzle,
+    // if thinner) is the nozzle scraping the bed: --z-offset -0.19 at 0.2 mm layers printed
+    // 0.01 mm (issue #52). Raising it is never refused here; the printer's height is checked
+    // with the model (run_setup.cpp) and on every Z written (gcode.cpp).
+    const double printed = s.first_layer_mm() + s.z_offset;
+    const double quarter = 0.25 * std::min(s.layer_height, s.nozzle);
+    if (printed < 0.01 || (s.z_offset < 0 && printed < quarter - 1e-9))
         throw InputError(fmt::format(
-            "--z-offset {} mm would print the {} mm first layer at Z {} mm, into the bed",
+            "--z-offset {} mm (a profile's z_offset) would print the {} mm first layer {} mm "
+            "thick, into the bed: at least a quarter of the {} mm {} ({} mm) is needed, an "
+            "offset from {} mm",
             plain_number(s.z_offset), plain_number(s.first_layer_mm()),
-            plain_number(s.first_layer_mm() + s.z_offset)));
+            plain_number(std::round(printed * 1e6) / 1e6),
+            plain_number(std::min(s.layer_height, s.nozzle)),
+            s.nozzle < s.layer_height ? "nozzle" : "layer height", plain_number(quarter),
+            plain_number(std::round((std::max(quarter, 0.01) - s.first_layer_mm()) * 1e6) / 1e6)));
+}
+
+// The raft's gap and the volumetric cap, against the lines they shape (issue #52).
+void check_flow(const Settings& s) {
+    // PrusaSlicer's raft_contact_distance is a release gap of 0.1 to 0.2 mm. carve's model
+    // first layer on a raft fills it with its flow (Settings::layer_thickness_mm), so a gap
+    // over the layer height asked for a line taller than wide: 2 mm made a 2.2 mm line from a
+    // 0.4 mm nozzle.
+    if (s.raft_layers > 0 && s.raft_contact_distance > s.layer_height + 1e-9)
+        throw InputError(fmt::format(
+            "--raft-contact-distance {} mm (a profile's raft_contact_distance) is more than the "
+            "{} mm layer height: the model's first layer on the raft fills the gap with its "
+            "flow, a {} mm tall line; expected from 0 to {} mm",
+            plain_number(s.raft_contact_distance), plain_number(s.layer_height),
+            plain_number(s.layer_height + s.raft_contact_distance), plain_number(s.layer_height)));
+    if (s.max_volumetric_speed <= 0) return;
+    // The slowest feed the cap leaves is that of the widest line: the first layer's, the
+    // model's first layer on a raft, or any other. Below 5 mm/s (half the slowest PrusaSlicer's
+    // and Cura's cooling slow a layer to, 10 mm/s) a line is more ooze and heat soak than
+    // extrusion, and a print takes days: 0.1 mm^3/s on a 3 mm nozzle's 2 mm layers fed
+    // 0.017 mm/s.
+    constexpr double kMinFeed = 5;  // mm/s
+    double w = s.layer_width_mm(s.first_print_layer()), h = s.first_layer_mm();
+    const char* which = "the first layer's";
+    auto consider = [&](double width, double height, const char* name) {
+        if (width * height > w * h) w = width, h = height, which = name;
+    };
+    consider(s.width_mm(), s.layer_height, "the");
+    if (s.raft_layers > 0)
+        consider(s.width_mm(), s.layer_thickness_mm(0), "the model's first layer's (on the raft)");
+    const double feed = s.max_volumetric_speed / (w * h);
+    if (feed < kMinFeed - 1e-9)
+        throw InputError(fmt::format(
+            "--max-volumetric-speed {} mm^3/s (a profile's max_volumetric_speed or "
+            "filament_max_volumetric_speed) would print {} {} x {} mm lines at {:.3g} mm/s, "
+            "under the {} mm/s a line is usefully printed at; expected 0 (no cap) or at least "
+            "{} mm^3/s for these lines",
+            plain_number(s.max_volumetric_speed), which, plain_number(w), plain_number(h), feed,
+            plain_number(kMinFeed), plain_number(std::ceil(kMinFeed * w * h * 1000) / 1000)));
 }
 
 }  // namespace
@@ -751,6 +821,7 @@ void validate_settings(const Settings& s) {
         throw InputError(fmt::format("--layer-height {} mm is thicker than the {} mm line width",
                                      s.layer_height, s.width_mm()));
     check_first_layer(s);
+    check_flow(s);
 }
 
 }  // namespace carve

@@ -216,11 +216,12 @@ struct Settings {
     int silent_mode = 0;  // the printer has a stealth mode: M73 Q/S too (PrusaSlicer's key)
     std::vector<std::pair<int, int>> thumbnails;  // sizes of the PNG previews, WxH
     std::string start_gcode = "G28 ; home all axes\nG1 Z5 F3000\nG92 E0\n";
-    // The end lifts 10 mm clear of the part (within the printer's height) and moves the head
-    // aside (G28 X0).
+    // The end lifts 10 mm clear of the part (within the printer's height, the offset
+    // included: z_offset outside the min() wrote Z 215 on a 210 mm printer with --z-offset 10,
+    // issue #52) and moves the head aside (G28 X0).
     std::string end_gcode =
         "M104 S0\nM140 S0\nM107\n{if max_layer_z < max_print_height}G1 "
-        "Z{z_offset+min(max_layer_z+10, max_print_height)} F600 ; lift clear of the "
+        "Z{min(z_offset+max_layer_z+10, max_print_height)} F600 ; lift clear of the "
         "part{endif}\nG28 X0\nM84\n";
     // A profile's filament G-code (after the start G-code, before the end G-code) and layer-change
     // G-code (before and after ;LAYER_CHANGE, with [layer_num] and [layer_z]); empty = none.

@@ -9,6 +9,8 @@
 #include <cstring>
 #include <iterator>
 #include <numbers>
+#include <optional>
+#include <sstream>
 #include <stdexcept>
 #include <string_view>
 #include <utility>
@@ -108,6 +110,8 @@ void Emitter::start() {
     if (klipper_macro)
         line(fmt::format("PRINT_START BED_TEMP={} EXTRUDER_TEMP={}",
                          st_.first_layer_bed_temperature, st_.first_layer_nozzle_temperature));
+    // Its Z moves are not held to the printer's height: they come before the print, from
+    // where the printer homed (the default's G1 Z5 is a lift off the bed any printer makes).
     raw(start_text);
     // What a Klipper macro does is out of sight: the stock PRINT_START of kit-voron2-250mm.cfg
     // turns the hot end off ("M104 S0") while the bed heats, and klippy then stopped at the
@@ -201,11 +205,14 @@ void Emitter::end() {
     line(";TYPE:Custom");
     if (st_.flavor == GcodeFlavor::Klipper && st_.end_gcode.empty()) line("PRINT_END");
     try {
-        raw(expand_custom_gcode(st_.end_gcode, st_,
+        const std::string end_text =
+            expand_custom_gcode(st_.end_gcode, st_,
                                 {{"max_layer_z", to_mm(layer_z_)},
                                  {"layer_z", to_mm(layer_z_)},
                                  {"layer_num", std::max(0, print_layer())}})
-                .text);
+                .text;
+        raw(end_text);
+        scan_custom_z(end_text, "the end G-code's lift (end_gcode)");
     } catch (const InputError& e) {
         throw InputError(fmt::format("end_gcode: {}", e.what()));
     }
@@ -291,6 +298,33 @@ void Emitter::check_custom_bytes(size_t bytes) {
             kMaxCustomBytes >> 20));
 }
 
+void Emitter::scan_custom_z(const std::string& text, const char* what) {
+    // From where carve's own moves left the nozzle (the bed before the first one).
+    double z = z_ < 0 ? 0.0 : to_mm(z_ + z_offset_);
+    bool relative = false;
+    std::istringstream lines(text);
+    for (std::string l; std::getline(lines, l);) {
+        l.resize(std::min(l.find(';'), l.size()));
+        std::istringstream words(l);
+        std::string command, word;
+        if (!(words >> command)) continue;
+        for (char& c : command) c = char(std::toupper(static_cast<unsigned char>(c)));
+        if (command == "G90") relative = false;
+        if (command == "G91") relative = true;
+        const bool move =
+            command == "G0" || command == "G1" || command == "G00" || command == "G01";
+        if (!move && command != "G92") continue;
+        while (words >> word) {
+            if (word.size() < 2 || (word[0] != 'Z' && word[0] != 'z')) continue;
+            const std::optional<double> v = parse_decimal(word.substr(1));
+            if (!v) continue;
+            // G92 sets the position without moving.
+            z = command == "G92" ? *v : relative ? z + *v : *v;
+            if (move) bounds_.moved_to(z, what);
+        }
+    }
+}
+
 void Emitter::raw(const std::string& text) {
     if (text.empty()) return;
     put(text);
@@ -351,6 +385,10 @@ void Emitter::custom(const std::string& text) {
     custom_bytes_ += g.size();
     check_custom_bytes(custom_bytes_);
     raw(g);
+    const char* key = "the profile's custom G-code";
+    for (const CustomGcodeKey& c : custom_gcode_keys())
+        if (&(st_.*(c.text)) == &text) key = c.ini_key;
+    scan_custom_z(g, key);
     if (resets_e(g)) {
         e_mm_ -= double(e_units_) / kEScale;
         e_units_ = 0;

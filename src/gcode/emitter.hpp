@@ -33,11 +33,18 @@ namespace carve {
 // Throws OutputError: "cannot write PATH: WHAT".
 [[noreturn]] void io_error(const std::string& what, const std::string& path);
 
-// What the printed moves cover, mm.
+// What the printed moves cover, mm (the layers' Z, before --z-offset).
 struct Bounds {
     double min_x = std::numeric_limits<double>::max(), min_y = min_x, min_z = min_x;
     double max_x = std::numeric_limits<double>::lowest(), max_y = max_x, max_z = max_x;
+    // The highest Z any move writes, --z-offset included (a travel's lift, a custom G-code's
+    // move), and what wrote it: the printer's height bounds these too (issue #52).
+    double max_move_z = std::numeric_limits<double>::lowest();
+    const char* max_move_what = "";
     bool empty() const { return min_x > max_x; }
+    void moved_to(double z, const char* what) {
+        if (z > max_move_z) max_move_z = z, max_move_what = what;
+    }
 };
 
 // Turns layers into G-code text (or, without a file, only measures what it would print).
@@ -143,6 +150,8 @@ class Emitter {
         buf_.push_back('\n');
     }
     void raw(const std::string& text);
+    // The Z words of custom G-code's G0/G1 moves (G90/G91 followed), into bounds_ as `what`'s.
+    void scan_custom_z(const std::string& text, const char* what);
     // A profile's filament or layer-change G-code, expanded for the layer being written. A
     // "G92 E0" in it resets the firmware's E, as PrusaSlicer assumes.
     void custom(const std::string& text);

@@ -115,6 +115,9 @@ void Emitter::move_z(Coord z) {
     if (z == z_) return;
     put("G1 Z");
     fixed(z + z_offset_, 3);  // --z-offset: the printer's Z, not the layer's
+    bounds_.moved_to(
+        to_mm(z + z_offset_),
+        z > layer_z_ ? "a travel's lift (--z-hop, a profile's retract_lift)" : "a layer change");
     // A move to the layer's own height always states its feed, modal or not: Moonraker takes
     // the object's height from the highest "G1 Z.. F.." when a file has no
     // ;BEFORE_LAYER_CHANGE comments (it said 67.4 mm of the 120 mm cat).

@@ -69,12 +69,22 @@ std::FILE* unlinked_file(const std::string& path, const char*) {
 void refuse_beyond_machine(const Settings& s, const Bounds& b) {
     if (!s.bed_check || b.empty()) return;
     const double slack = 1e-3;
-    if (b.max_z > s.max_print_height + slack)
+    // The printer's Z: the layers' heights and the offset added to them.
+    if (b.max_z + s.z_offset > s.max_print_height + slack)
         throw InputError(fmt::format(
-            "the print reaches z = {:.2f} mm, above the {} mm the printer prints "
+            "the print reaches z = {:.2f} mm{}, above the {} mm the printer prints "
             "(--max-print-height, a profile's max_print_height); scale the model down, choose a "
             "taller printer, or pass --no-bed-check",
-            b.max_z, plain_number(s.max_print_height)));
+            b.max_z + s.z_offset,
+            s.z_offset != 0 ? fmt::format(" with --z-offset {}", plain_number(s.z_offset)) : "",
+            plain_number(s.max_print_height)));
+    // Every other Z written: lifts on travel, the custom G-code's moves (issue #52).
+    if (b.max_move_z > s.max_print_height + slack)
+        throw InputError(fmt::format(
+            "{} reaches z = {:.2f} mm, above the {} mm the printer prints (--max-print-height, "
+            "a profile's max_print_height); lower it, choose a taller printer, or pass "
+            "--no-bed-check",
+            b.max_move_what, b.max_move_z, plain_number(s.max_print_height)));
     if (b.min_x < -slack || b.min_y < -slack || b.max_x > s.bed_x + slack ||
         b.max_y > s.bed_y + slack)
         throw InputError(fmt::format(
@@ -326,6 +336,7 @@ void merge(Bounds& to, const Bounds& b) {
     to.min_x = std::min(to.min_x, b.min_x), to.max_x = std::max(to.max_x, b.max_x);
     to.min_y = std::min(to.min_y, b.min_y), to.max_y = std::max(to.max_y, b.max_y);
     to.min_z = std::min(to.min_z, b.min_z), to.max_z = std::max(to.max_z, b.max_z);
+    to.moved_to(b.max_move_z, b.max_move_what);
 }
 
 }  // namespace

@@ -71,15 +71,29 @@ void check_run_size(const Settings& settings, const RunOptions& options, const B
             settings.copies > 1 ? "print fewer copies, " : ""));
 
     // Printed into the gantry otherwise; the supports and brim add nothing above the model, a
-    // raft the height it lifts the model by.
+    // raft the height it lifts the model by, --z-offset what it adds to every Z (a 205 mm
+    // tower with --z-offset 10 extruded at Z 215 on a 210 mm printer, issue #52).
     const double height = box.max.z - box.min.z + settings.model_base_mm();
-    if (settings.bed_check && height > settings.max_print_height + 1e-6)
+    if (settings.bed_check && height + settings.z_offset > settings.max_print_height + 1e-6)
         throw InputError(fmt::format(
-            "{}: the model is {:.1f} mm tall{}, taller than the {} mm the printer prints "
+            "{}: the model is {:.1f} mm tall{}{}, taller than the {} mm the printer prints "
             "(--max-print-height, a profile's max_print_height); scale it down, choose a "
             "taller printer, or pass --no-bed-check",
             options.model_path, height, settings.raft_layers > 0 ? " on its raft" : "",
+            settings.z_offset != 0
+                ? fmt::format(" and printed at Z {:.2f} with --z-offset {} (a profile's "
+                              "z_offset)",
+                              height + settings.z_offset, plain_number(settings.z_offset))
+                : "",
             plain_number(settings.max_print_height)));
+    // A pause above the model's top would never come: the run asked for a colour change that
+    // no layer reaches.
+    const double model_height = box.max.z - box.min.z;
+    for (double z : settings.pause_at)
+        if (z > model_height + 1e-6)
+            throw InputError(fmt::format(
+                "{}: --pause-at {} mm is above the model's top ({:.2f} mm): no layer reaches it",
+                options.model_path, plain_number(z), model_height));
 
     // Scale times size: the work grows with (size / line width)^2 per layer and with the
     // number of layers. A model 5 m across at 0.05 mm lines, or a million layers, is refused
@@ -201,6 +215,29 @@ void label_objects(GcodeWriter& writer, const RunOptions& options, const Setting
     }
 }
 
+std::vector<Point> skirt_shield_points(const Mesh& mesh, double bottom, const Settings& settings) {
+    // The skirt's last layer, numbered as the model's; the model's first layer is the first
+    // slice itself (and a raft's layers are under the model).
+    const int last = settings.first_print_layer() + settings.skirt_height - 1;
+    if (settings.skirts <= 0 || last < (settings.raft_layers > 0 ? 0 : 1)) return {};
+    const double top = bottom + settings.layer_top_mm(last) - settings.model_base_mm();
+    // The convex hull of every slice up to `top` is that of the model's part below it: of its
+    // vertices below and of the points where its edges cross that height.
+    std::vector<Point> points;
+    auto add = [&](double x, double y) { points.push_back(Point{to_units(x), to_units(y)}); };
+    for (const Vec3& v : mesh.vertices)
+        if (v.z <= top) add(v.x, v.y);
+    for (const auto& t : mesh.triangles)
+        for (int k = 0; k < 3; ++k) {
+            const Vec3& a = mesh.vertices[t[size_t(k)]];
+            const Vec3& b = mesh.vertices[t[size_t(k + 1) % 3]];
+            if ((a.z < top) == (b.z < top)) continue;
+            const double f = (top - a.z) / (b.z - a.z);
+            add(a.x + f * (b.x - a.x), a.y + f * (b.y - a.y));
+        }
+    return points;
+}
+
 int checked_layer_count(const TopDownSlicer& slicer, const Settings& settings,
                         const RunOptions& options) {
     const int layer_count = slicer.layer_count();
@@ -224,8 +261,8 @@ RunOutputs::RunOutputs(const Settings& settings, const RunOptions& options, cons
     const Paths first_slice =
         compensated_slice(slice_at(mesh, box.min.z + settings.layer_middle_mm(0)), 0, settings);
     Raft raft = plan_raft(first_slice, settings);
-    first_loops =
-        plan_skirt_and_brim(settings.raft_layers > 0 ? raft.footprint : first_slice, settings);
+    first_loops = plan_skirt_and_brim(settings.raft_layers > 0 ? raft.footprint : first_slice,
+                                      settings, skirt_shield_points(mesh, box.min.z, settings));
     check_loops_on_bed(first_loops, raft.footprint, settings, options, place.offset_x,
                        place.offset_y);
     // The raft's layers, whole before the sweep starts: the skirt and brim on them, their

@@ -64,6 +64,11 @@ std::function<void(const Slice&)> vertex_limits(const Settings& settings,
 void label_objects(GcodeWriter& writer, const RunOptions& options, const Settings& settings,
                    const RunMesh& run_mesh, const RunResult& result);
 
+// Points of the model whose convex hull holds its every slice up to the skirt's top, when the
+// skirt rises beside more than its first layer (toolpath/skirt.hpp); none otherwise. `bottom`
+// is the model's lowest Z.
+std::vector<Point> skirt_shield_points(const Mesh& mesh, double bottom, const Settings& settings);
+
 // The layer count of the model, refused if it is thinner than one layer.
 int checked_layer_count(const TopDownSlicer& slicer, const Settings& settings,
                         const RunOptions& options);

@@ -44,7 +44,8 @@ Path convex_hull(const Paths& region) {
 
 }  // namespace
 
-FirstLayerLoops plan_skirt_and_brim(const Paths& first_slice, const Settings& s) {
+FirstLayerLoops plan_skirt_and_brim(const Paths& first_slice, const Settings& s,
+                                    const std::vector<Point>& above) {
     FirstLayerLoops out;
     const Paths parts = without_holes(first_slice);
     if (parts.empty()) return out;
@@ -59,7 +60,15 @@ FirstLayerLoops plan_skirt_and_brim(const Paths& first_slice, const Settings& s)
         footprint = unite(parts, loops_at(parts, to_units(s.brim_separation + n * w)));
     }
     if (s.skirts > 0 && s.skirt_height > 0) {
-        const Paths hull{convex_hull(footprint)};
+        Paths around = footprint;
+        if (above.size() >= 3) {
+            // The layers above as sliced: grown by --xy-size-compensation as every slice is.
+            Paths higher{convex_hull({Path(above.begin(), above.end())})};
+            if (s.xy_size_compensation > 0)
+                higher = dilate(higher, to_units(s.xy_size_compensation));
+            around = unite(around, higher);
+        }
+        const Paths hull{convex_hull(around)};
         for (int k = s.skirts - 1; k >= 0; --k)
             for (const Path& p : loops_at(hull, to_units(s.skirt_distance + w / 2 + k * w)))
                 out.skirt.push_back(p);

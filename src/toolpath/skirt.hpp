@@ -18,8 +18,13 @@ struct FirstLayerLoops {
 };
 
 // From the first layer's slice (every part and copy; the raft's first layer when there is a
-// raft), with the settings' skirt and brim.
-FirstLayerLoops plan_skirt_and_brim(const Paths& first_slice, const Settings& settings);
+// raft), with the settings' skirt and brim. A skirt taller than that layer rises beside the
+// model's next layers too: `above` holds points of the model up to the skirt's top (the run
+// gives its vertices and where its edges cross that height), and the skirt follows the convex
+// hull of them and the first layer, so that it stays clear of every layer it rises beside
+// (PrusaSlicer's draft shield; issue #52).
+FirstLayerLoops plan_skirt_and_brim(const Paths& first_slice, const Settings& settings,
+                                    const std::vector<Point>& above = {});
 
 // The skirt (the print's first skirt_height layers) and the brim (its first layer, the raft's
 // when there is one) printed before the layer's own

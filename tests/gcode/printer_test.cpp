@@ -843,3 +843,118 @@ TEST(PrinterRaft, SkirtProfileKeysAndLimits) {
     EXPECT_NE(err.find("the raft reaches"), std::string::npos) << err;
     EXPECT_FALSE(fs::exists(scratch() / "raft_wide.gcode"));
 }
+
+namespace {
+
+// A run refused with one line naming `says`, exit 1, and no G-code left.
+void expect_refused(const std::string& model, const std::string& args, const std::string& says) {
+    static int n = 0;
+    const std::string name = "refused52_" + std::to_string(n++);
+    std::string err;
+    slice(model, args, name, 1, &err);
+    EXPECT_NE(err.find(says), std::string::npos) << args << ": " << err;
+    EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << args << ": " << err;
+    EXPECT_FALSE(fs::exists(scratch() / (name + ".gcode"))) << args;
+}
+
+std::string ini52(const std::string& name, const std::string& text) {
+    const fs::path ini = scratch() / (name + ".ini");
+    std::ofstream(ini) << text;
+    return "--load " + ini.string();
+}
+
+}  // namespace
+
+// Issue #52: every Z written (the layers with --z-offset, travel lifts, the end G-code's lift)
+// is within --max-print-height, a first layer the offset leaves thinner than a quarter of the
+// layer height is refused, and a pause above the model too; from a profile as from the options.
+TEST(PrinterHeight, EveryZWrittenIsWithinThePrinter) {
+    const std::string part = small_part();  // 12 mm tall
+    expect_refused(part, "--cavities 1 --z-offset 5 --max-print-height 15", "--z-offset 5");
+    expect_refused(part, "--cavities 1 " + ini52("z52", "z_offset = 5\nmax_print_height = 15\n"),
+                   "--z-offset 5");
+    // Two towers: the travel between them retracts and lifts.
+    std::vector<carve::test::StlTriangle> t;
+    carve::test::add_box(t, 0, 0, 0, 10, 10, 12);
+    carve::test::add_box(t, 20, 0, 0, 30, 10, 12);
+    const std::string towers = carve::test::write_stl("towers52.stl", t).string();
+    expect_refused(towers, "--cavities 1 --z-hop 5 --max-print-height 14", "--z-hop");
+    expect_refused(
+        towers, "--cavities 1 " + ini52("hop52", "retract_lift = 5\n") + " --max-print-height 14",
+        "retract_lift");
+    EXPECT_FALSE(slice(towers, "--cavities 1 --z-hop 5 --max-print-height 17", "hop52_ok").empty());
+    expect_refused(
+        part,
+        "--cavities 1 --max-print-height 30 " + ini52("end52", "end_gcode = G91\\nG1 Z20\\nG90\n"),
+        "end_gcode");
+    expect_refused(part, "--cavities 1 --z-offset -0.16", "quarter");
+    expect_refused(part, "--cavities 1 " + ini52("zneg52", "z_offset = -0.16\n"), "quarter");
+    expect_refused(part, "--cavities 1 --pause-at 13", "--pause-at 13");
+    // Within the printer: the end G-code's lift stops at its height, the offset counted.
+    const std::string g = slice(part, "--cavities 1 --z-offset 2 --max-print-height 20", "z52_ok");
+    double top = 0;
+    for (const std::string& l : lines_of(g))
+        if (l.rfind("G1 ", 0) == 0 && words(l).count('Z')) top = std::max(top, words(l)['Z']);
+    EXPECT_NEAR(top, 20, 1e-9);
+    // A quarter of the layer height is enough.
+    EXPECT_FALSE(slice(part, "--cavities 1 --z-offset -0.15", "z52_quarter").empty());
+}
+
+// Issue #52: the options that shape extrusion within what a printer prints, the same from a
+// profile: the multiplier from 0.5 to 2, the first layer's width under 3 nozzles (1500 % of a
+// 0.2 mm first layer is 3 mm), a raft's gap at most the layer height, and a volumetric cap that
+// holds the widest line under 5 mm/s.
+TEST(PrinterFlow, ExtrusionOptionsStayWithinWhatAPrinterPrints) {
+    const std::string part = small_part();
+    expect_refused(part, "--cavities 1 --extrusion-multiplier 5", "from 0.5 to 2");
+    expect_refused(part, "--cavities 1 --extrusion-multiplier 0.4", "from 0.5 to 2");
+    expect_refused(part, "--cavities 1 " + ini52("em52", "extrusion_multiplier = 5\n"),
+                   "from 0.5 to 2");
+    expect_refused(part, "--cavities 1 --first-layer-extrusion-width 3", "3 nozzle widths");
+    expect_refused(part, "--cavities 1 " + ini52("flw52", "first_layer_extrusion_width = 1500%\n"),
+                   "3 nozzle widths");
+    expect_refused(part, "--cavities 1 --raft-layers 2 --raft-contact-distance 2",
+                   "2.2 mm tall line");
+    expect_refused(
+        part, "--cavities 1 " + ini52("raft52", "raft_layers = 2\nraft_contact_distance = 2\n"),
+        "2.2 mm tall line");
+    const std::string big = "--cavities 1 --nozzle 3 --layer-height 2 --first-layer-height 2 ";
+    expect_refused(part, big + "--max-volumetric-speed 0.1", "0.0167 mm/s");
+    expect_refused(part, big + ini52("mvs52", "filament_max_volumetric_speed = 0.1\n"),
+                   "0.0167 mm/s");
+    // The edges themselves print.
+    EXPECT_FALSE(slice(part,
+                       "--cavities 1 --extrusion-multiplier 2 --raft-layers 1 "
+                       "--raft-contact-distance 0.2 --first-layer-extrusion-width 1.1",
+                       "flow52_ok")
+                     .empty());
+}
+
+// Issue #52: a skirt taller than one layer stays clear of the model at every height it rises
+// beside: on a plate wider than its foot it follows the plate (a draft shield), from a profile's
+// skirt_height as from the option, and a one-layer skirt keeps to the foot.
+TEST(PrinterFirstLayer, ATallSkirtStaysClearOfTheModelAtEveryHeight) {
+    std::vector<carve::test::StlTriangle> t;
+    carve::test::add_box(t, 10, 10, 0, 20, 20, 2);  // the foot
+    carve::test::add_box(t, 0, 0, 2, 30, 30, 5);    // a plate 10 mm wider on every side
+    const std::string model = carve::test::write_stl("skirt52.stl", t).string();
+    const std::string g = slice(model, "--cavities 1 --skirt-height 20", "skirt52");
+    for (int layer = 0; layer < 20; ++layer) {
+        const std::vector<Polyline> l = layer_polylines(g, layer);
+        const std::vector<Polyline> skirt = of_type(l, "Skirt/Brim"),
+                                    wall = of_type(l, "External perimeter");
+        ASSERT_FALSE(skirt.empty()) << layer;
+        ASSERT_FALSE(wall.empty()) << layer;
+        EXPECT_GE(distance(skirt, wall), 6) << layer;
+    }
+    // The first layer's distance is now from the plate above, not the foot.
+    EXPECT_GT(distance(of_type(layer_polylines(g, 0), "Skirt/Brim"),
+                       of_type(layer_polylines(g, 0), "External perimeter")),
+              15);
+    EXPECT_TRUE(
+        g == slice(model, "--cavities 1 " + ini52("sk52", "skirt_height = 20\n"), "skirt52_ini"));
+    const std::string one = slice(model, "--cavities 1", "skirt52_one");
+    EXPECT_NEAR(distance(of_type(layer_polylines(one, 0), "Skirt/Brim"),
+                         of_type(layer_polylines(one, 0), "External perimeter")),
+                6.4, 0.1);
+}
