@@ -8,15 +8,15 @@ namespace carve {
 
 namespace {
 
-void push_unique(Path& path, const Point& p) {
+void add_sample(Path& path, const Point& p) {
     if (path.empty() || path.back() != p) path.push_back(p);
 }
 
-uint64_t key(Coord x, Coord y) {
+uint64_t cell_key(Coord x, Coord y) {
     return (uint64_t(uint32_t(int32_t(x))) << 32) | uint32_t(int32_t(y));
 }
 
-double segment_distance(const Point& p, const std::pair<Point, Point>& s) {
+double edge_distance(const Point& p, const std::pair<Point, Point>& s) {
     const double ax = double(s.first.X), ay = double(s.first.Y);
     const double dx = double(s.second.X) - ax, dy = double(s.second.Y) - ay;
     const double px = double(p.X) - ax, py = double(p.Y) - ay;
@@ -37,7 +37,7 @@ EdgeDistance::EdgeDistance(const Paths& region, Coord cap)
             edges_.push_back({a, b});
             for (Coord x = cell_of(std::min(a.X, b.X)); x <= cell_of(std::max(a.X, b.X)); ++x)
                 for (Coord y = cell_of(std::min(a.Y, b.Y)); y <= cell_of(std::max(a.Y, b.Y)); ++y)
-                    grid_[key(x, y)].push_back(e);
+                    grid_[cell_key(x, y)].push_back(e);
         }
 }
 
@@ -46,9 +46,9 @@ double EdgeDistance::operator()(const Point& p) const {
     const Coord cx = cell_of(p.X), cy = cell_of(p.Y);
     for (Coord x = cx - 1; x <= cx + 1; ++x)
         for (Coord y = cy - 1; y <= cy + 1; ++y) {
-            const auto it = grid_.find(key(x, y));
+            const auto it = grid_.find(cell_key(x, y));
             if (it == grid_.end()) continue;
-            for (int e : it->second) best = std::min(best, segment_distance(p, edges_[e]));
+            for (int e : it->second) best = std::min(best, edge_distance(p, edges_[e]));
         }
     return best;
 }
@@ -96,7 +96,7 @@ std::vector<Bead> axis_beads(const Path& axis, const std::function<double(const 
         const int parts = std::max(1, static_cast<int>(std::ceil(len / step)));
         for (int k = 1; k <= parts; ++k) {
             const double t = double(k) / parts;
-            push_unique(pts, Point(a.X + static_cast<Coord>(std::llround(t * double(b.X - a.X))),
+            add_sample(pts, Point(a.X + static_cast<Coord>(std::llround(t * double(b.X - a.X))),
                                    a.Y + static_cast<Coord>(std::llround(t * double(b.Y - a.Y)))));
         }
     }
