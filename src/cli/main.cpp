@@ -264,8 +264,8 @@ int run(int argc, char** argv) {
                     "next, the weakest of each, a voxel finite-element stiffness in compression "
                     "and shear, each per gram [off]");
     check
-        ->add_option("--voxel", strength_options.voxel_mm,
-                     "With --strength: the finite elements' side, mm [2]")
+        ->add_option("--voxel-size", strength_options.voxel_mm,
+                     "With --strength: the side of the voxels (finite elements), mm [2]")
         ->check(strict(0.5, 50, "mm"));
     check
         ->add_option("--max-voxels", strength_options.max_voxels,
@@ -279,8 +279,8 @@ int run(int argc, char** argv) {
         ->check(CLI::IsMember({"linear", "cubic"}));
     check
         ->add_option("--filament-density", strength_options.density_g_cm3,
-                     "With --strength: for the grams, g/cm3 [1.24, PLA]")
-        ->check(strict(0.1, 25, "g/cm3"));
+                     "With --strength: for the grams (PLA's by default), g/cm^3 [1.24]")
+        ->check(strict(0.1, 25, "g/cm^3"));
 
     std::vector<std::string> profile_notes;
     try {
@@ -341,7 +341,7 @@ int run(int argc, char** argv) {
                 offset = o;
             }
             for (const char* o :
-                 {"--voxel", "--max-voxels", "--material-law", "--filament-density"})
+                 {"--voxel-size", "--max-voxels", "--material-law", "--filament-density"})
                 if (!check_strength && check->count(o))
                     return fail(fmt::format("{} needs --strength", o), carve::kExitUsage);
             std::unique_ptr<carve::StrengthMeter> meter;
