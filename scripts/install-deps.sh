@@ -3,7 +3,7 @@
 set -euo pipefail
 pkgs=(build-essential cmake ninja-build pkg-config libpolyclipping-dev libboost-dev nlohmann-json3-dev
       libcli11-dev libfmt-dev libzip-dev zlib1g-dev libpng-dev libgtest-dev libgmock-dev
-      libbenchmark-dev libjemalloc-dev libtbb-dev python3 python3-numpy python3-matplotlib clang-14 libclang-rt-14-dev
+      libbenchmark-dev libjemalloc-dev libtbb-dev libeigen3-dev python3 python3-numpy python3-matplotlib clang-14 libclang-rt-14-dev
       clang-format-14)
 missing=()
 for p in "${pkgs[@]}"; do

@@ -66,6 +66,9 @@ class Analyser {
     void check_model(const Paths& footprint, const Paths& support_footprint, double h);
     double disk_width_mm() const;
     void model_above_print();
+    void report_object(const Paths& footprint, double h);
+    // The lines being drawn are the object's (GcodeAnalysisOptions::object_layer).
+    bool object_type() const { return type_.empty() ? opt_.untyped_is_object : !other_type_; }
 
     static constexpr long long kMaxArcSegments = 10'000'000;
     // What no printer's file comes near, refused before it reaches the footprints, whose work
@@ -126,6 +129,7 @@ class Analyser {
     std::string type_;           // the last ;TYPE: comment
     bool support_type_ = false;  // it names support
     bool skirt_type_ = false;    // it names a skirt or brim (PrusaSlicer's "Skirt/Brim")
+    bool other_type_ = false;    // custom G-code, a wipe or prime tower, a purge: not the object
     double line_height_ = 0;     // the last ;HEIGHT: comment (PrusaSlicer), 0 = none
     bool have_model_z_ = false;  // a layer with more than support was read
     double model_z_ = 0;         // the last one's z

@@ -28,6 +28,7 @@ struct Polyline {
     double length = 0;     // mm
     bool support = false;  // drawn under a ;TYPE: naming support (any slicer's words)
     double height = 0;     // mm, from a ;HEIGHT: comment; 0 = the layer's z step
+    bool object = true;    // the object's own: not custom G-code, a tower, a purge
 };
 
 // Width of a bead that lays `volume_per_mm` (mm^3 per mm) at layer height `height`.

@@ -135,6 +135,11 @@ void Analyser::comment(std::string_view c) {
         support_type_ = lower.find("support") != std::string::npos;
         skirt_type_ =
             lower.find("skirt") != std::string::npos || lower.find("brim") != std::string::npos;
+        // PrusaSlicer "Custom" (its start G-code's purge line), "Wipe tower"; CuraEngine
+        // "PRIME-TOWER".
+        other_type_ = false;
+        for (const char* word : {"custom", "wipe", "prime", "purge"})
+            other_type_ = other_type_ || lower.find(word) != std::string::npos;
         return;
     }
     if (starts_with(c, "HEIGHT:")) {
@@ -438,13 +443,15 @@ void Analyser::extrude(double nx, double ny, double nz, double de, double length
             std::fabs(sw - pw) > kWidthTolerance * pw)
             extend = false;
     }
-    if (extend && (lines_.back().support != support_type_ ||
-                   (support_type_ && lines_.back().height != line_height_)))
+    if (extend &&
+        (lines_.back().support != support_type_ || lines_.back().object != object_type() ||
+         (support_type_ && lines_.back().height != line_height_)))
         extend = false;
     if (!extend) {
         lines_.emplace_back();
         lines_.back().points.push_back(Point(to_units(x_), to_units(y_)));
         lines_.back().support = support_type_;
+        lines_.back().object = object_type();
         // Only for support: PrusaSlicer prints its support thicker than the layers (and says
         // so), while its bridges' ;HEIGHT: is the thread's diameter, not the layer's.
         lines_.back().height = support_type_ ? line_height_ : 0;

@@ -52,6 +52,14 @@ struct GcodeAnalysisOptions {
     double model_top_mm = -1;
     double model_tolerance_mm = -1;
 
+    // carve check --strength: called once per layer holding the object, with its z, thickness,
+    // the footprint of the object's own lines and their volume (mm3). Left out: support, skirt,
+    // brim, ;TYPE:s naming custom G-code, a wipe or prime tower or a purge, and extrusion
+    // before the first ;TYPE: comment unless untyped_is_object (a file without any).
+    std::function<void(double z_mm, double height_mm, const Paths& footprint, double volume_mm3)>
+        object_layer;
+    bool untyped_is_object = true;
+
     // The look-ahead-free print time (stick_time_s): every move is a trapezoid from rest to rest
     // at its F, so that one measuring stick applies to every slicer whatever its planner.
     double stick_print_accel = 1000;         // mm/s^2, moves that extrude

@@ -87,6 +87,7 @@ void Analyser::finish_layer() {
     Paths support_footprint;
     double thickest = model_h;  // a ;HEIGHT: comment may say support is thicker
     for (const Polyline& l : lines_) thickest = std::max(thickest, l.height);
+    if (opt_.object_layer && !support_only) report_object(footprint, model_h);
     if (!support_only) {
         have_model_z_ = true;
         model_z_ = layer_.z_mm;
@@ -244,6 +245,25 @@ void Analyser::model_above_print() {
         if (uncovered_.layer(index, z, model, {}, disk_width_mm()) > 0)
             uncovered_.count_layer_above_print();
     }
+}
+
+void Analyser::report_object(const Paths& footprint, double h) {
+    double e = 0;
+    size_t own = 0;
+    for (const Polyline& l : lines_)
+        if (l.object && !l.support) e += l.e, ++own;
+    if (own == 0) return;
+    if (own == lines_.size()) {
+        opt_.object_layer(layer_.z_mm, h, footprint, e * filament_area_);
+        return;
+    }
+    // Support or a purge line beside the object on this layer: the object's lines alone.
+    std::vector<Polyline> lines;
+    lines.reserve(own);
+    for (const Polyline& l : lines_)
+        if (l.object && !l.support) lines.push_back(l);
+    opt_.object_layer(layer_.z_mm, h, widen(lines, h, filament_area_, opt_.bead),
+                      e * filament_area_);
 }
 
 void Analyser::check_model(const Paths& footprint, const Paths& support_footprint, double h) {

@@ -29,6 +29,7 @@
 #include "base/numbers.hpp"
 #include "base/output_paths.hpp"
 #include "check/gcode_analysis.hpp"
+#include "check/strength.hpp"
 #include "config/profiles.hpp"
 #include "config/setting_table.hpp"
 #include "gcode/placeholders.hpp"
@@ -255,6 +256,33 @@ int run(int argc, char** argv) {
                     "0.25 %, over 1 mm2 hanging inside, a piece of the model a line wide left "
                     "unprinted), naming each on stderr [off]");
 
+    bool check_strength = false;
+    carve::StrengthOptions strength_options;
+    std::string check_law = "linear";
+    check->add_flag("--strength", check_strength,
+                    "How strong the print is (skirt, brim, supports and custom G-code left "
+                    "out): grams, each layer's section (area, second moments) and bond with the "
+                    "next, the weakest of each, a voxel finite-element stiffness in compression "
+                    "and shear, each per gram [off]");
+    check
+        ->add_option("--voxel-size", strength_options.voxel_mm,
+                     "With --strength: the side of the voxels (finite elements), mm [2]")
+        ->check(strict(0.5, 50, "mm"));
+    check
+        ->add_option("--max-voxels", strength_options.max_voxels,
+                     "With --strength: voxels the solver takes at most; above, the voxel is "
+                     "doubled until the model fits [40000]")
+        ->check(strict(100, 2000000, "voxels", true));
+    check
+        ->add_option("--material-law", check_law,
+                     "With --strength: a voxel's Young's modulus from its filled fraction f: "
+                     "linear (E f) or cubic (E f^3) [linear]")
+        ->check(CLI::IsMember({"linear", "cubic"}));
+    check
+        ->add_option("--filament-density", strength_options.density_g_cm3,
+                     "With --strength: for the grams (PLA's by default), g/cm^3 [1.24]")
+        ->check(strict(0.1, 25, "g/cm^3"));
+
     std::vector<std::string> profile_notes;
     try {
         app.parse(argc, argv);
@@ -313,6 +341,19 @@ int run(int argc, char** argv) {
                 if (parts.size() == 3) o.z = *parts[2];
                 offset = o;
             }
+            for (const char* o :
+                 {"--voxel-size", "--max-voxels", "--material-law", "--filament-density"})
+                if (!check_strength && check->count(o))
+                    return fail(fmt::format("{} needs --strength", o), carve::kExitUsage);
+            std::unique_ptr<carve::StrengthMeter> meter;
+            if (check_strength) {
+                if (check_law == "cubic")
+                    strength_options.solver.law = carve::check::MaterialLaw::kCubic;
+                meter = std::make_unique<carve::StrengthMeter>(strength_options);
+                check_options.untyped_is_object = !carve::has_type_comments(check_gcode);
+                check_options.object_layer = [&meter](double z, double h, const carve::Paths& f,
+                                                      double v) { meter->layer(z, h, f, v); };
+            }
             carve::GcodeAnalysis a;
             if (!check_mesh.empty()) {
                 carve::MeshReport report;
@@ -332,11 +373,17 @@ int run(int argc, char** argv) {
                 if (check_strict) return fail("--strict needs --mesh", carve::kExitUsage);
                 a = carve::analyse_gcode(check_gcode, check_options);
             }
+            std::optional<carve::StrengthFigures> strength;
+            if (meter) strength = meter->finish();
             if (check_json) {
-                std::cout << carve::to_json(a, check_layers).dump(2) << "\n";
+                nlohmann::json j = carve::to_json(a, check_layers);
+                if (strength) j["strength"] = carve::to_json(*strength);
+                std::cout << j.dump(2) << "\n";
             } else {
                 std::cout << carve::describe(a);
                 if (check_layers) std::cout << "\n" << carve::describe_layers(a);
+                if (strength)
+                    std::cout << "\n" << carve::describe_strength(*strength, check_layers);
             }
             if (check_strict) {
                 const std::vector<std::string> failed = carve::failed_rules(a);
