@@ -23,7 +23,7 @@ constexpr double kLeftUnits2 = 100;
 // How far from where it meets the surface an uncovered piece counts (see uncovered.hpp).
 constexpr double kReachMm = 1.0;  // 0.0001 mm2: what an erosion leaves by rounding alone
 
-Paths unite(const Paths& region) {
+Paths union_nonzero(const Paths& region) {
     Clipper c;
     c.AddPaths(region, ClipperLib::ptSubject, true);
     Paths out;
@@ -31,10 +31,10 @@ Paths unite(const Paths& region) {
     return out;
 }
 
-struct Box {
+struct ContourBox {
     Coord min_x = std::numeric_limits<Coord>::max(), min_y = std::numeric_limits<Coord>::max();
     Coord max_x = std::numeric_limits<Coord>::min(), max_y = std::numeric_limits<Coord>::min();
-    explicit Box(const Path& p) {
+    explicit ContourBox(const Path& p) {
         for (const Point& q : p) {
             min_x = std::min(min_x, q.X), max_x = std::max(max_x, q.X);
             min_y = std::min(min_y, q.Y), max_y = std::max(max_y, q.Y);
@@ -65,7 +65,7 @@ std::vector<OpenPiece> open_pieces(const Paths& slice, const Paths& uncovered) {
     // may be rounded off a thin piece by a unit, so each is tried in turn).
     const Paths band = difference(slice, offset_round(slice, -kBandUnits));
     const Paths touching = intersection(uncovered, band);
-    std::vector<Box> boxes;
+    std::vector<ContourBox> boxes;
     boxes.reserve(pieces.size());
     for (const Paths& p : pieces) boxes.emplace_back(p.front());
     std::vector<int> at(pieces.size(), -1);  // the piece's index in out
@@ -88,7 +88,7 @@ InteriorTest::InteriorTest(const Paths& footprint, const Paths& model, Coord wid
     : model_(model), width_(width) {
     for (const Paths& piece : connected_pieces(footprint)) {
         for (size_t h = 1; h < piece.size(); ++h) {
-            const Box b(piece[h]);
+            const ContourBox b(piece[h]);
             holes_.push_back({piece[h], b.min_x, b.min_y, b.max_x, b.max_y,
                               std::fabs(ClipperLib::Area(piece[h]))});
         }
@@ -149,7 +149,7 @@ double UncoveredMeter::layer(int index, double z, const Paths& model, const Path
                              double width_mm) {
     if (model.empty()) return 0;
     // The slicers' slices overlap where a mesh's shells do: shrink their union, not each shell.
-    const Paths whole = unite(model);
+    const Paths whole = union_nonzero(model);
     const Paths slice = offset_round(whole, -to_units(kShrinkMm));
     const double slice_mm2 = region_area_mm2(slice);
     if (slice_mm2 <= 0) return 0;
