@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -228,6 +229,14 @@ TEST(ThinWallsRun, SliceWarnsOfWhatIsTooThinToPrint) {
     // The 0.2, 0.25 and 0.3 mm fins (20 mm long) on the 50 layers between z 2 and 12.
     EXPECT_NEAR(c.stats["unprinted_mm2"].get<double>(), (0.2 + 0.25 + 0.3) * 20 * 50, 40);
     EXPECT_EQ(c.stats["unprinted_layers"].get<int>(), 50);
+    // The same from a PrusaSlicer profile, its keys and its percentages of the nozzle.
+    const auto ini = test::scratch() / "thin.ini";
+    std::ofstream(ini) << "min_feature_size = 75%\nmin_bead_width = 85%\n";
+    const Checked p = slice_and_check(fins(), "fins_profile", "--load " + ini.string());
+    ASSERT_EQ(p.status, 0) << p.err;
+    EXPECT_NE(p.err.find("narrower than 0.3 mm and is not printed"), std::string::npos) << p.err;
+    EXPECT_DOUBLE_EQ(p.stats["unprinted_mm2"].get<double>(),
+                     c.stats["unprinted_mm2"].get<double>());
 }
 
 }  // namespace
