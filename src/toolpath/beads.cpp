@@ -97,7 +97,7 @@ std::vector<Bead> axis_beads(const Path& axis, const std::function<double(const 
         for (int k = 1; k <= parts; ++k) {
             const double t = double(k) / parts;
             add_sample(pts, Point(a.X + static_cast<Coord>(std::llround(t * double(b.X - a.X))),
-                                   a.Y + static_cast<Coord>(std::llround(t * double(b.Y - a.Y)))));
+                                  a.Y + static_cast<Coord>(std::llround(t * double(b.Y - a.Y)))));
         }
     }
     std::vector<double> width(pts.size());
