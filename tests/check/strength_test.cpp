@@ -97,7 +97,6 @@ std::string box_gcode(bool cura) {
     // Start G-code's purge: untyped before Cura's first ;TYPE:, PrusaSlicer's ;TYPE:Custom.
     if (!cura) g << ";TYPE:Custom\n";
     g << "G1 Z0.2\nG1 X5 Y5\nG1 X5 Y60 E10\n";
-    double e = 0;
     for (int layer = 1; layer <= 50; ++layer) {
         const double z = 0.2 * layer;
         if (cura) g << ";LAYER:" << layer - 1 << "\n";
@@ -112,7 +111,6 @@ std::string box_gcode(bool cura) {
         g << (cura ? ";TYPE:FILL\n" : ";TYPE:Internal infill\n");
         for (double y = 104; y <= 116; y += 4)
             g << "G1 X100 Y" << y << "\nG1 X120 Y" << y << " E" << 20 * per_mm << "\n";
-        e += 1;
     }
     return g.str();
 }
