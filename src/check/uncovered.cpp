@@ -3,11 +3,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <optional>
 
 #include "check/footprint.hpp"
 #include "check/printability.hpp"
+#include "geometry/polygon.hpp"
 
 namespace carve::check {
 
@@ -31,19 +31,9 @@ Paths union_nonzero(const Paths& region) {
     return out;
 }
 
-struct ContourBox {
-    Coord min_x = std::numeric_limits<Coord>::max(), min_y = std::numeric_limits<Coord>::max();
-    Coord max_x = std::numeric_limits<Coord>::min(), max_y = std::numeric_limits<Coord>::min();
-    explicit ContourBox(const Path& p) {
-        for (const Point& q : p) {
-            min_x = std::min(min_x, q.X), max_x = std::max(max_x, q.X);
-            min_y = std::min(min_y, q.Y), max_y = std::max(max_y, q.Y);
-        }
-    }
-    bool holds(const Point& q) const {
-        return q.X >= min_x && q.X <= max_x && q.Y >= min_y && q.Y <= max_y;
-    }
-};
+bool holds(const BBox2& box, const Point& q) {
+    return q.X >= box.min_x && q.X <= box.max_x && q.Y >= box.min_y && q.Y <= box.max_y;
+}
 
 // Whether q lies in the piece or on its boundary: inside its outer contour, not strictly inside
 // one of its holes.
@@ -65,14 +55,14 @@ std::vector<OpenPiece> open_pieces(const Paths& slice, const Paths& uncovered) {
     // may be rounded off a thin piece by a unit, so each is tried in turn).
     const Paths band = difference(slice, offset_round(slice, -kBandUnits));
     const Paths touching = intersection(uncovered, band);
-    std::vector<ContourBox> boxes;
+    std::vector<BBox2> boxes;
     boxes.reserve(pieces.size());
-    for (const Paths& p : pieces) boxes.emplace_back(p.front());
+    for (const Paths& p : pieces) boxes.push_back(bounds(p.front()));
     std::vector<int> at(pieces.size(), -1);  // the piece's index in out
     for (const Path& t : touching) {
         for (const Point& q : t) {
             size_t i = 0;
-            while (i < pieces.size() && !(boxes[i].holds(q) && in_piece(q, pieces[i]))) ++i;
+            while (i < pieces.size() && !(holds(boxes[i], q) && in_piece(q, pieces[i]))) ++i;
             if (i == pieces.size()) continue;
             if (at[i] < 0) at[i] = static_cast<int>(out.size()), out.push_back({{}, q, {}});
             out[at[i]].meets.push_back(t);
@@ -88,7 +78,7 @@ InteriorTest::InteriorTest(const Paths& footprint, const Paths& model, Coord wid
     : model_(model), width_(width) {
     for (const Paths& piece : connected_pieces(footprint)) {
         for (size_t h = 1; h < piece.size(); ++h) {
-            const ContourBox b(piece[h]);
+            const BBox2 b = bounds(piece[h]);
             holes_.push_back({piece[h], b.min_x, b.min_y, b.max_x, b.max_y,
                               std::fabs(ClipperLib::Area(piece[h]))});
         }
