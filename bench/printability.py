@@ -151,21 +151,24 @@ def slice_cmd(slicer, carve, model_path, out):
             settings + ['-l', model_path, '-o', out])
 
 
-def measure(args, model, model_path, slicer):
+def slice_and_check(args, model, model_path, slicer, slice_cmd):
+    """Slices MODEL with SLICER (carve every time, a peer when its G-code is not there yet) and
+    reads the G-code back with `carve check --mesh --json`: (row, check JSON), the JSON None
+    when the row holds an error."""
     stem = os.path.join(args.work, f'{model}_{slicer}')
     gcode = stem + '.gcode'
     row = {'model': model, 'slicer': slicer}
     if slicer == 'carve' or not os.path.exists(gcode):
         if slicer != 'carve' and not shutil.which(slice_cmd(slicer, '', '', '')[0]):
             row['error'] = 'not installed'
-            return row
+            return row, None
         print(f'slicing {model} with {slicer} ...', file=sys.stderr, flush=True)
         rc, wall = run(slice_cmd(slicer, args.carve, model_path, gcode), stem + '.slice.log')
         if rc != 0 or not os.path.exists(gcode):
             row['error'] = f'slicer exit {rc}'
             if os.path.exists(gcode):
                 os.remove(gcode)
-            return row
+            return row, None
         row['slice_wall_s'] = round(wall, 2)
     start = time.monotonic()
     out = subprocess.run([args.carve, 'check', gcode, '--mesh', model_path, '--json'],
@@ -173,8 +176,14 @@ def measure(args, model, model_path, slicer):
     row['check_wall_s'] = round(time.monotonic() - start, 2)
     if out.returncode != 0:
         row['error'] = 'check: ' + out.stderr.strip()
+        return row, None
+    return row, json.loads(out.stdout)
+
+
+def measure(args, model, model_path, slicer):
+    row, c = slice_and_check(args, model, model_path, slicer, slice_cmd)
+    if c is None:
         return row
-    c = json.loads(out.stdout)
     p = c['printability']
     volume = baselines.stl_volume_mm3(model_path)
     t = p['columns']['tallest']

@@ -22,13 +22,12 @@ import argparse
 import datetime
 import json
 import os
-import shutil
 import subprocess
 import sys
-import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import baselines  # noqa: E402
+import printability  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 SHARED = ['cat', 'elephant', 'fandisk', 'man', 'skull']
@@ -69,37 +68,10 @@ def shown(cmd):
     return text.replace(' -e0', ' -s KEY=VALUE... -e0 -s KEY=VALUE...') if '-e0' in words else text
 
 
-def run(cmd, log):
-    start = time.monotonic()
-    with open(log, 'w') as f:
-        rc = subprocess.call(cmd, stdout=f, stderr=subprocess.STDOUT)
-    return rc, time.monotonic() - start
-
-
 def measure(args, model, model_path, slicer):
-    stem = os.path.join(args.work, f'{model}_{slicer}')
-    gcode = stem + '.gcode'
-    row = {'model': model, 'slicer': slicer}
-    if slicer == 'carve' or not os.path.exists(gcode):
-        if slicer != 'carve' and not shutil.which(slice_cmd(slicer, '', '', '')[0]):
-            row['error'] = 'not installed'
-            return row
-        print(f'slicing {model} with {slicer} ...', file=sys.stderr, flush=True)
-        rc, wall = run(slice_cmd(slicer, args.carve, model_path, gcode), stem + '.slice.log')
-        if rc != 0 or not os.path.exists(gcode):
-            row['error'] = f'slicer exit {rc}'
-            if os.path.exists(gcode):
-                os.remove(gcode)
-            return row
-        row['slice_wall_s'] = round(wall, 2)
-    start = time.monotonic()
-    out = subprocess.run([args.carve, 'check', gcode, '--mesh', model_path, '--json'],
-                         capture_output=True, text=True)
-    row['check_wall_s'] = round(time.monotonic() - start, 2)
-    if out.returncode != 0:
-        row['error'] = 'check: ' + out.stderr.strip()
+    row, c = printability.slice_and_check(args, model, model_path, slicer, slice_cmd)
+    if c is None:
         return row
-    c = json.loads(out.stdout)
     u, big = c['uncovered'], c['largest_uncovered']
     row.update(
         uncovered_mm2=round(c['uncovered_mm2'], 2), uncovered_percent=round(c['uncovered_percent'], 5),
