@@ -69,8 +69,8 @@ ThinWalls thin_walls(const Paths& outline, const Paths& wall_region, const Setti
     const Coord s = settings.nozzle_radius(), w = settings.line_width();
     const Coord min_feature = std::max<Coord>(1, to_units(settings.min_feature_mm()));
     // open(O, w): erode(O, w) is erode(wall_region, w - s), one erosion of the smaller region.
-    const Paths wide = dilate(erode(wall_region, w - s), w);
-    const Paths narrow = subtract(outline, wide);
+    // The opening's dilation is read once, unresolved: its union would cost a Clipper pass.
+    const Paths narrow = subtract_positive(outline, dilation(erode(wall_region, w - s), w));
     if (narrow.empty()) return out;
     // What is narrower than the smallest feature goes: the rest holds a bead.
     const Paths printable = open(narrow, min_feature / 2);
@@ -91,6 +91,13 @@ ThinWalls thin_walls(const Paths& outline, const Paths& wall_region, const Setti
         if (out.beads.size() > before) cut.insert(cut.end(), piece.begin(), piece.end());
     }
     if (!cut.empty()) out.wall_region = subtract(wall_region, dilate(cut, s));
+    Paths lines;
+    for (const Extrusion& e : out.beads) {
+        lines.push_back(e.points);
+        if (e.closed) lines.back().push_back(e.points.front());
+    }
+    // Half the narrowest bead: the corridor stays on what the bead printed.
+    if (!lines.empty()) out.corridors = dilate_lines(lines, to_units(settings.min_bead_mm()) / 2);
     // Specks at the tips of corners are not parts of the model worth naming.
     const double speck = double(min_feature) * double(min_feature);
     for (const Paths& piece : components(subtract(narrow, dilate(printable, min_feature / 2))))

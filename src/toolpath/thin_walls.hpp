@@ -22,6 +22,10 @@ namespace carve {
 struct ThinWalls {
     std::vector<Extrusion> beads;  // Feature::OuterWall, each of one width (its flow)
     Paths wall_region;             // the outer wall's centreline region less the thin parts
+    // Where the nozzle may travel along the beads without leaving the part: a fin narrower
+    // than 2 s has no wall region to comb through, and a travel off a bead's tip would
+    // otherwise retract.
+    Paths corridors;
     // What of the slice is narrower than --min-feature-size: printed by nothing, reported.
     double unprinted_mm2 = 0;
 };

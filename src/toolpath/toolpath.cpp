@@ -137,6 +137,7 @@ struct WallPaths {
     // them; everything else starts where the nozzle is.
     bool placed_seams = false;
     double unprinted_mm2 = 0;  // of the slice, narrower than the narrowest part printed
+    Paths corridors;           // along the thin walls' beads (ThinWalls::corridors)
 };
 
 // The region inside the innermost wall's centreline.
@@ -151,6 +152,7 @@ WallPaths wall_paths(const LayerPartition& layer, const Paths& inner, const Sett
     std::vector<Extrusion>& outer = out.outer;
     ThinWalls thin = thin_walls(layer.outline, layer.wall_region, settings);
     out.unprinted_mm2 = thin.unprinted_mm2;
+    out.corridors = std::move(thin.corridors);
     add_loops(thin.wall_region, Feature::OuterWall, 0, double(w), outer);
     out.placed_seams = settings.seam != SeamMode::Nearest;
     if (out.placed_seams)
@@ -320,7 +322,8 @@ std::vector<Extrusion> remainder_lines(int layer_index, const BridgedPartition& 
 // 6. Travel between the paths (issue #18): inside the island without retraction where it
 // can, retracted and through the islands where it must leave. Planned here, on the worker
 // threads; only the travel into the layer is left to the G-code stage.
-void plan_travels(LayerToolpaths& result, const LayerPartition& layer, const Settings& settings) {
+void plan_travels(LayerToolpaths& result, const LayerPartition& layer, const Paths& corridors,
+                  const Settings& settings) {
     const Coord s = settings.nozzle_radius();
     const Coord w = settings.line_width();
     result.comb_region = comb_region(layer.wall_region, layer.covers, settings);
@@ -329,7 +332,9 @@ void plan_travels(LayerToolpaths& result, const LayerPartition& layer, const Set
     // centreline, built only if needed; not with Combing::Inside, which keeps off covers.
     std::optional<Comber> thin;
     const bool use_thin = settings.combing == Combing::All;
-    if (use_thin) result.thin_region = layer.wall_region;
+    if (use_thin)
+        result.thin_region =
+            corridors.empty() ? layer.wall_region : unite(layer.wall_region, corridors);
     const TravelOptions options = travel_options(settings);
     auto exit_of = [](const Extrusion& e) { return e.closed ? e.points.front() : e.points.back(); };
     // Between two support paths the nozzle travels through the air beside the model, round
@@ -370,7 +375,7 @@ void plan_travels(LayerToolpaths& result, const LayerPartition& layer, const Set
         }
         TravelPlan t = plan_travel(comber, at, e.points.front(), options);
         if (t.leaves && use_thin) {
-            if (!thin) thin.emplace(layer.wall_region);
+            if (!thin) thin.emplace(result.thin_region);
             t = plan_travel(comber, at, e.points.front(), options, &*thin);
         }
         result.travels[i].via = std::move(t.via);
@@ -481,7 +486,7 @@ LayerToolpaths plan_layer(const LayerRecord& record, const Settings& settings) {
 
     // 6. Travel between the paths.
     if (settings.combing != Combing::Off && !result.extrusions.empty())
-        plan_travels(result, layer, settings);
+        plan_travels(result, layer, walls.corridors, settings);
     return result;
 }
 

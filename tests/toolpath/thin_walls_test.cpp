@@ -222,6 +222,23 @@ TEST(ThinWallsRun, AThinVaseAndLetteringArePrinted) {
     EXPECT_LT(l.check["uncovered_mm2"].get<double>(), 1.0);
 }
 
+// A bead leaves the nozzle at a fin's tip, where the outer wall's region does not reach: the
+// travel back to the body runs along the bead, not retracted through the air (fandisk went from
+// 4 to 6 retractions before the beads were corridors for travel).
+TEST(ThinWallsRun, TravelOffAFinStaysOnItsBeadWithoutRetracting) {
+    std::vector<test::StlTriangle> t;
+    test::add_box(t, 0, 0, 0, 20, 10, 6);
+    test::add_box(t, 9.85f, 9.9f, 0, 10.15f, 20, 6);  // 0.3 mm, only a bead prints it
+    const Checked on = slice_and_check(t, "fin_travel");
+    const Checked off = slice_and_check(t, "fin_travel_off", "--no-thin-walls");
+    ASSERT_EQ(on.status, 0) << on.err;
+    ASSERT_EQ(off.status, 0) << off.err;
+    EXPECT_LT(on.check["uncovered_mm2"].get<double>(), 1.0);
+    EXPECT_GT(off.check["uncovered_mm2"].get<double>(), 50.0);  // the fin, 0.3 x 10 x 30 layers
+    // One island a layer: nothing to retract for, with the bead or without it.
+    EXPECT_LE(on.check["retractions"].get<int>(), off.check["retractions"].get<int>());
+}
+
 TEST(ThinWallsRun, SliceWarnsOfWhatIsTooThinToPrint) {
     const Checked c = slice_and_check(fins(), "fins_min_feature", "--min-feature-size 0.3");
     ASSERT_EQ(c.status, 0) << c.err;
