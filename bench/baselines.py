@@ -157,6 +157,22 @@ def stl_volume_mm3(path):
     return float(np.einsum('ij,ij->i', v[:, 0], np.cross(v[:, 1], v[:, 2])).sum() / 6)
 
 
+def stl_bbox(path):
+    """(min xyz, max xyz) of an STL's vertices, binary or ASCII."""
+    with open(path, 'rb') as f:
+        data = f.read()
+    if len(data) >= 84:
+        count = struct.unpack_from('<I', data, 80)[0]
+        if 84 + 50 * count == len(data):
+            rec = np.frombuffer(data, dtype=np.dtype([('n', '<f4', 3), ('v', '<f4', (3, 3)),
+                                                       ('a', '<u2')]), count=count, offset=84)
+            v = rec['v'].astype(np.float64).reshape(-1, 3)
+            return v.min(axis=0), v.max(axis=0)
+    v = np.array([list(map(float, m.groups())) for m in re.finditer(
+        rb'vertex\s+(\S+)\s+(\S+)\s+(\S+)', data)], dtype=np.float64)
+    return v.min(axis=0), v.max(axis=0)
+
+
 def timed(cmd, log_path):
     """Runs cmd under /usr/bin/time -v; returns (returncode, wall s, cpu s, peak RSS MB, log)."""
     time_path = log_path + '.time'

@@ -110,7 +110,8 @@ def write_results(args, rows, started, carve_version, paths):
         f'Run {started} by `bench/uncovered.py`; {carve_version} at its defaults; PrusaSlicer '
         '2.5 1 perimeter, 0 % infill, 2/2, with its classic perimeter generator (`--thin-walls`) '
         'and with Arachne; CuraEngine 4.13 1 wall, lightning 10 %, 2/2 (bench/baselines.py). '
-        'Every G-code measured by `carve check FILE --mesh MODEL --json` (docs/check.md): each '
+        'Every G-code measured by `carve check FILE --mesh MODEL --json` (docs/check.md), the mesh '
+        'where that slicer put it (`--mesh-offset`, bench/printability.py placement()): each '
         "layer's model slice shrunk by 0.1 mm, minus the footprint (every extruding move widened "
         'to its line width), the pieces open to the surface (what printed lines enclose, the '
         'interior, is not counted). Cell: uncovered mm² over all layers (% of the shrunk '
