@@ -112,15 +112,22 @@ const std::vector<Preset>& presets() {
          }},
         {"klipper",
          [](Settings& s) {
-             // PRINT_START gets the temperatures, but carve heats and waits before it too: the
-             // stock macros of Klipper's own configs read no parameters. printer.cfg holds the
-             // limits, so none are written; M204 S follows the moves. Thumbnails as Mainsail
+             // Klipper's own config/kit-voron2-250mm.cfg (Klipper 84104bbb): a 250 x 250 bed,
+             // 250 mm of Z, max_velocity 350, max_accel 3000, max_z_velocity 50, max_z_accel 350.
+             // Klipper takes M204 S as it comes, above max_accel too, so carve holds its
+             // accelerations to machine_max_acceleration_x/y (that max_accel) and states them in
+             // the configuration block. PRINT_START gets the temperatures, but carve heats and
+             // waits before it too: the stock macros read no parameters. Thumbnails as Mainsail
              // and Fluidd show them (their documentation's sizes).
-             s.printer_name = "Klipper generic";
-             s.bed_x = 300, s.bed_y = 300, s.max_print_height = 300;
+             s.printer_name = "Voron 2 250 (Klipper config/kit-voron2-250mm.cfg)";
+             s.bed_x = 250, s.bed_y = 250, s.max_print_height = 250;
              s.thumbnails = {{32, 32}, {400, 300}};
              s.flavor = GcodeFlavor::Klipper;
-             s.acceleration = 3000, s.travel_acceleration = 5000;
+             s.max_acceleration_x = s.max_acceleration_y = 3000;
+             s.max_acceleration_z = 350;
+             s.max_feedrate_x = s.max_feedrate_y = 350;
+             s.max_feedrate_z = 50;
+             s.acceleration = 3000, s.travel_acceleration = 3000;
              s.travel_speed = 250, s.max_print_speed = 200;
              s.retract_length = 0.8;
              s.start_gcode =

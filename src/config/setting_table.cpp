@@ -196,6 +196,26 @@ TextField pause_at_field() {
     return t;
 }
 
+// A G-code command or macro name for --pause-command: one line of printable text, no comment.
+TextField pause_command_field() {
+    TextField t;
+    t.get = [](const Settings& s) { return s.pause_command; };
+    t.set = [](Settings& s, const std::string& text, const std::string& source) {
+        const std::string v = trim_whitespace(text);
+        const bool printable = std::all_of(v.begin(), v.end(), [](char c) {
+            return static_cast<unsigned char>(c) >= 0x20 && c != 0x7f && c != ';';
+        });
+        if (!printable || v.size() > 100)
+            throw InputError(fmt::format(
+                "{}: '{}' is not a command; expected one line of at most 100 characters without "
+                "';', such as M601 or PAUSE",
+                source, text));
+        s.pause_command = v;
+    };
+    t.type_name = "COMMAND";
+    return t;
+}
+
 // PrusaSlicer's files state the first layer's height as printed: carve's 0 ("the layer
 // height") is written as that height (the configuration block, which hosts and viewers read),
 // and a file's height is read as given.
@@ -511,7 +531,12 @@ std::vector<SettingSpec> make_table() {
          false, "!--no-silent-mode,--silent-mode"},
         {"pause-at", "", "mm", 0, 0, pause_at_field(),
          "Pause before the first layer at or above each height, mm of the model: M600 "
-         "(filament change) on Marlin and RepRap, PAUSE on Klipper [none]"},
+         "(filament change) on Marlin and RepRap, PAUSE on Klipper, retracted and lifted 5 mm "
+         "before it and back after it [none]"},
+        {"pause-command", "", "", 0, 0, pause_command_field(),
+         "The command --pause-at writes: a G-code or a macro's name (M601, M0, PAUSE, "
+         "M600) [M600 on Marlin and RepRap; PAUSE on Klipper, which needs [pause_resume] and a "
+         "PAUSE macro]"},
         {"thumbnails", "thumbnails", "", 0, 0, thumbnails_field(),
          "PNG previews of the model in the header, PrusaSlicer's format, sizes WxH,WxH (e.g. "
          "16x16,220x124) [none; 16x16,220x124 with --printer mk3s, 32x32,400x300 with --printer "

@@ -156,6 +156,9 @@ struct Settings {
     // Heights (mm of the model) before whose first layer at or above the print pauses (M600 on
     // Marlin, PAUSE on Klipper).
     std::vector<double> pause_at;
+    // The command a pause writes, between its park and its return: "" = the flavour's (M600 on
+    // Marlin and RepRap, PAUSE on Klipper, which needs [pause_resume] and a PAUSE macro).
+    std::string pause_command;
 
     // Printer and filament.
     GcodeFlavor flavor = GcodeFlavor::Marlin;

@@ -75,6 +75,8 @@ Emitter::Emitter(const Settings& st, Coord off_x, Coord off_y, std::FILE* out, s
       objects_labelled_(1, 0),
       object_bounds_(1),
       planner_(machine_limits(st)) {
+    print_accel_ = commanded_acceleration(st, st.acceleration);
+    travel_accel_ = commanded_acceleration(st, st.travel_acceleration);
     const double r = st.filament_diameter / 2;
     filament_area_ = std::numbers::pi * r * r;
     retract_units_ = std::llround(std::max(0.0, st.retract_length) * kEScale);
@@ -166,7 +168,7 @@ void Emitter::layer(const LayerToolpaths& layer) {
         const double below = layer.index > 0 ? st_.layer_top_mm(layer.index - 1) - base : -1e9;
         if (z > below + 1e-9 && z <= st_.layer_top_mm(layer.index) - base + 1e-9) {
             line(fmt::format(";PAUSE_AT {}", plain_number(z)));
-            line(st_.flavor == GcodeFlavor::Klipper ? "PAUSE" : "M600");
+            pause();
             break;
         }
     }
@@ -196,6 +198,29 @@ void Emitter::layer(const LayerToolpaths& layer) {
     reset_e();
     close_section();
     flush(false);
+}
+
+// Parks as the firmwares' own pause macros do (Klipper's sample PAUSE, Marlin's M600 with
+// its park): retracted and lifted clear of the part before the command, so that the nozzle does
+// not sit hot on the part's edge, oozing; then back down and unretracted as it was. Before
+// anything is printed there is nothing to leave: the command alone.
+void Emitter::pause() {
+    const std::string command = !st_.pause_command.empty()           ? st_.pause_command
+                                : st_.flavor == GcodeFlavor::Klipper ? "PAUSE"
+                                                                     : "M600";
+    if (first_travel_ || z_ < 0) {
+        line(command);
+        return;
+    }
+    const bool was_retracted = retracted_;
+    retract();
+    const Coord at = z_;
+    const Coord top = to_units(st_.max_print_height) - z_offset_;
+    const Coord lifted = std::max(at, std::min(at + to_units(kPauseLift), top));
+    move_z(lifted, "the lift before a pause (--pause-at)");
+    line(command);
+    move_z(at, "the lift before a pause (--pause-at)");
+    if (!was_retracted) unretract();
 }
 
 void Emitter::end() {
@@ -497,20 +522,26 @@ int Emitter::object_of(const Point& p) const {
 void Emitter::print_paths(const LayerToolpaths& layer) {
     set_fan(fan_byte(layer_fan_));
     // Each object's run of extrusions between its own start and end lines: a host that cancels
-    // one skips them, the travel into the object included. One object: the whole layer.
+    // one skips them, the travel into the object included. Skirt, brim and raft belong to no
+    // object, as in PrusaSlicer's files: inside one's block they made its outline (Klipper's
+    // EXCLUDE_OBJECT_DEFINE) take in the others, and cancelling it dropped the rest of them.
     object_ = -1;
     static const Travel unplanned;
     for (size_t i = 0; i < layer.extrusions.size(); ++i) {
         const Extrusion& ex = layer.extrusions[i];
         if (ex.points.size() >= 2) {
-            const int k = object_of(ex.points.front());
+            const bool shared =
+                layer.index < 0 || ex.feature == Feature::Skirt || ex.feature == Feature::Brim;
+            const int k = shared ? -1 : object_of(ex.points.front());
             if (k != object_) {
                 if (object_ >= 0)
                     for (const std::string& l : object_end(st_, objects_[object_].name)) line(l);
-                for (const std::string& l :
-                     object_start(st_, objects_[k].name, k, !objects_labelled_[k]))
-                    line(l);
-                objects_labelled_[k] = 1;
+                if (k >= 0) {
+                    for (const std::string& l :
+                         object_start(st_, objects_[k].name, k, !objects_labelled_[k]))
+                        line(l);
+                    objects_labelled_[k] = 1;
+                }
                 object_ = k;
             }
         }

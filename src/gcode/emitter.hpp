@@ -125,7 +125,11 @@ class Emitter {
     static void add_stats(PrintStats& to, const PrintStats& s);
 
   private:
-    static constexpr double kZSpeed = 10.0;       // mm/s for layer changes and z-hops
+    static constexpr double kZSpeed = 10.0;  // mm/s for layer changes and z-hops
+    // mm a pause lifts the nozzle by (within the printer's height), clear of the part and of
+    // what oozes onto it, before the command's own parking, if it has one (a bare PAUSE has
+    // none).
+    static constexpr double kPauseLift = 5.0;
     static constexpr long long kEScale = 100000;  // E is written with 5 decimals
     // Text buffered before each fwrite, checked at each layer's end. Small enough to stay in
     // cache: a 1 MB buffer cost each chunk's emitter 256 fresh pages, at some 10 us a page
@@ -196,7 +200,10 @@ class Emitter {
     void retract();
     void wipe();
     void unretract();
-    void move_z(Coord z);
+    // `what` names the move when the printer's height refuses it (a lift or a layer change).
+    void move_z(Coord z, const char* what = nullptr);
+    // --pause-at's park, command and return.
+    void pause();
     void travel_to(const Point& p, const Path& via, TravelKind kind);
     void travel_move(const Point& p);
     TravelPlan plan_layer_entry(const Point& target_model);
@@ -240,6 +247,8 @@ class Emitter {
     double speed_factor_ = 1;          // cooling's slowdown of the layer being written
     int layer_fan_ = 0;                // percent, for the layer's ordinary extrusions
     double accel_ = -1;                // Klipper's M204 S in force
+    // The print's and the travel's accelerations as written and planned (limits.hpp).
+    double print_accel_ = 0, travel_accel_ = 0;
     // The objects on the bed: one (the model, named at construction) or what set_objects gave.
     std::vector<ObjectLabel> objects_;
     std::vector<char> objects_labelled_;  // M486 A named it

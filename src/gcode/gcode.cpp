@@ -169,6 +169,14 @@ struct GcodeWriter::Impl {
         lines.push_back(fmt::format(";LAYER_COUNT:{}", layer_count));
         lines.push_back(fmt::format("; estimated printing time (normal mode) = {}",
                                     format_duration(s.estimated_print_time_s)));
+        // A Klipper without [pause_resume] and a PAUSE macro reports an unknown command and
+        // prints on: the file says what it needs.
+        if (settings.flavor == GcodeFlavor::Klipper && !settings.pause_at.empty() &&
+            (settings.pause_command.empty() || settings.pause_command == "PAUSE"))
+            lines.push_back(
+                "; --pause-at writes PAUSE: Klipper pauses only with [pause_resume] and a PAUSE "
+                "macro in printer.cfg (Mainsail's and Fluidd's client macros define one); "
+                "--pause-command names another");
         if (!objects.empty()) {
             const bool klipper = settings.flavor == GcodeFlavor::Klipper;
             for (size_t k = 0; k < objects.size() && k < each.size(); ++k) {
@@ -180,8 +188,10 @@ struct GcodeWriter::Impl {
                     lines.push_back(l);
             }
         } else if (!b.empty()) {
+            // The object's own extent: the skirt and brim are printed outside its block.
+            const Bounds& o = !each.empty() && !each[0].empty() ? each[0] : b;
             for (const std::string& l :
-                 object_definition(settings, object, b.min_x, b.min_y, b.max_x, b.max_y))
+                 object_definition(settings, object, o.min_x, o.min_y, o.max_x, o.max_y))
                 lines.push_back(l);
         }
         lines.push_back("");

@@ -144,6 +144,8 @@ std::vector<std::string> config_block(const Settings& s) {
         kv.emplace_back(spec.config_key(), spec.prusa_text(s));
     }
     for (std::string_view key : kWordOrder) kv.emplace_back(key, word_value(key, s));
+    // Written when given, so that a file without it keeps the block it had.
+    if (!s.pause_command.empty()) kv.emplace_back("pause_command", s.pause_command);
     for (const CustomGcodeKey& c : custom_gcode_keys())
         kv.emplace_back(c.ini_key, escape_profile_text(s.*(c.text)));
     // PrusaSlicer has two switches for carve's one word (--support), so it is no table key.

@@ -26,6 +26,11 @@ MachineLimits machine_limits(const Settings& s) {
     return m;
 }
 
+double commanded_acceleration(const Settings& s, double accel) {
+    if (s.flavor != GcodeFlavor::Klipper) return accel;
+    return std::min({accel, s.max_acceleration_x, s.max_acceleration_y});
+}
+
 double retract_speed_limit(const Settings& s) {
     return s.flavor == GcodeFlavor::Klipper ? s.retract_speed
                                             : std::min(s.retract_speed, s.max_feedrate_e);

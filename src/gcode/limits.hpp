@@ -27,6 +27,12 @@ bool feed_limits_bind(const Settings& settings, double z_speed);
 // commanded feed reaches the limit the line changes no move, and the estimate is the same.
 std::vector<std::string> machine_limit_lines(const Settings& settings, double z_speed);
 
+// The acceleration a move asks for (the print's or the travel's) as carve writes and plans it.
+// Klipper takes M204 S as it comes, beyond printer.cfg's max_accel too: there it is held to the
+// machine's limit (machine_max_acceleration_x/y, which the klipper preset sets to that
+// max_accel). Marlin and RepRap cap each axis by the M201 they were given, so theirs stays.
+double commanded_acceleration(const Settings& settings, double accel);
+
 // The speed the firmware lets a filament-only move (retraction) reach.
 double retract_speed_limit(const Settings& settings);
 
