@@ -11,6 +11,7 @@
 #include <optional>
 #include <set>
 #include <sstream>
+#include <string_view>
 
 #include "base/error.hpp"
 #include "base/numbers.hpp"
@@ -47,6 +48,9 @@ const std::vector<Preset>& presets() {
              s.junction_deviation = 0;
              s.m73 = 1;
              s.silent_mode = 1;
+             // PrusaSlicer's MK3 profile's stealth limits (machine_max_acceleration_x = 1000,960,
+             // machine_max_feedrate_x = 200,100; the other axes the same in both modes).
+             s.stealth_max_acceleration = 960, s.stealth_max_feedrate = 100;
              s.printer_model = "MK3S";
              s.thumbnails = {{16, 16}, {220, 124}};  // PrusaSlicer's MK3S profile's
              s.retract_length = 0.8, s.retract_speed = 35;
@@ -242,6 +246,32 @@ bool set_to_something(const std::string& value) {
     return false;
 }
 
+// A profile that states the X/Y limits states the stealth mode's with them, or has none (its
+// limits are then the normal ones): PrusaSlicer's "1000,960" is normal,stealth. X and Y are one
+// limit for carve's stealth estimate, the lower.
+void apply_stealth_limits(const std::map<std::string, std::optional<std::string>>& seconds,
+                          Settings& s) {
+    auto one = [&](const std::string& kind, const char* option) {
+        std::optional<double> lowest;
+        bool stated = false;
+        for (const char* axis : {"_x", "_y"}) {
+            const auto it = seconds.find("machine_max_" + kind + axis);
+            if (it == seconds.end()) continue;
+            stated = true;
+            if (!it->second) continue;
+            const double v = number(it->first, *it->second);
+            lowest = std::min(lowest.value_or(v), v);
+        }
+        if (!stated) return;
+        for (const SettingSpec& spec : setting_table())
+            if (std::string_view(spec.option) == option)
+                spec.set(s, plain_number(lowest.value_or(0)),
+                         fmt::format("profile key 'machine_max_{}_x/y' (stealth)", kind));
+    };
+    one("acceleration", "stealth-max-acceleration");
+    one("feedrate", "stealth-max-feedrate");
+}
+
 // An extrusion width: mm, or a percentage of `nozzle` (the nozzle, PrusaSlicer 2.4 on; for
 // first_layer_extrusion_width the first layer's height, its ratio_over); 0 = automatic.
 double width_value(const std::string& key, const std::string& value, double nozzle) {
@@ -383,8 +413,18 @@ std::vector<std::string> read_prusa_profile(std::istream& in, const std::string&
                                           "min_feature_size"};
 
     std::vector<std::string> ignored;  // keys that change the print, not applied
+    // The stealth mode's X/Y limits: the second values of "normal,stealth" (stealth_limits()).
+    std::map<std::string, std::optional<std::string>> stealth;
     for (const auto& [key, v] : values) {
         const std::string& value = v.value;
+        if (key.starts_with("machine_max_acceleration_") ||
+            key.starts_with("machine_max_feedrate_"))
+            if (key.ends_with("_x") || key.ends_with("_y")) {
+                const size_t comma = value.find(',');
+                stealth[key] = comma == std::string::npos
+                                   ? std::nullopt
+                                   : std::optional(trim_whitespace(value.substr(comma + 1)));
+            }
         // Kept raw for the placeholders of the profile's custom G-code ([printer_model], ...).
         s.profile_values[key] = value;
         try {
@@ -422,6 +462,7 @@ std::vector<std::string> read_prusa_profile(std::istream& in, const std::string&
             set_to_something(value))
             ignored.push_back(key);
     }
+    apply_stealth_limits(stealth, s);
 
     // One line width for every wall: carve's geometry (the cavity walls' spacing, the covers'
     // lines) is built on it. The inner perimeters' width is the bulk of a carved print.

@@ -527,8 +527,16 @@ std::vector<SettingSpec> make_table() {
          false, "!--no-m73,--m73", "remaining_times"},
         {"silent-mode", "silent_mode", "0/1", 0, 1, &S::silent_mode,
          "The printer has a stealth mode: M73 also writes Q/S, the figures its screen shows "
-         "there (carve's one estimate) [off; on with --printer mk3s]",
+         "there, timed with --stealth-max-acceleration and --stealth-max-feedrate [off; on "
+         "with --printer mk3s]",
          false, "!--no-silent-mode,--silent-mode"},
+        {"stealth-max-acceleration", "", "mm/s^2", 0.0, 100000.0, &S::stealth_max_acceleration,
+         "With --silent-mode: the stealth mode's X and Y acceleration limit that M73 Q/S are "
+         "timed with (a profile's second machine_max_acceleration_x/y), mm/s^2 [0 = the "
+         "normal limits; 960 with --printer mk3s]"},
+        {"stealth-max-feedrate", "", "mm/s", 0.0, 10000.0, &S::stealth_max_feedrate,
+         "With --silent-mode: the stealth mode's X and Y speed limit (a profile's second "
+         "machine_max_feedrate_x/y), mm/s [0 = the normal limits; 100 with --printer mk3s]"},
         {"pause-at", "", "mm", 0, 0, pause_at_field(),
          "Pause before the first layer at or above each height, mm of the model: M600 "
          "(filament change) on Marlin and RepRap, PAUSE on Klipper, retracted and lifted 5 mm "

@@ -74,7 +74,7 @@ Emitter::Emitter(const Settings& st, Coord off_x, Coord off_y, std::FILE* out, s
       objects_{ObjectLabel{std::move(object)}},
       objects_labelled_(1, 0),
       object_bounds_(1),
-      planner_(machine_limits(st)) {
+      planner_(estimate_planner(st)) {
     print_accel_ = commanded_acceleration(st, st.acceleration);
     travel_accel_ = commanded_acceleration(st, st.travel_acceleration);
     const double r = st.filament_diameter / 2;
@@ -127,7 +127,7 @@ void Emitter::start() {
     line("G90 ; absolute coordinates");
     line(st_.relative_e ? "M83 ; relative extrusion" : "M82 ; absolute extrusion");
     line("G92 E0");
-    mark_progress(0);
+    mark_progress(0, 0);
     close_section();
 }
 
@@ -172,7 +172,7 @@ void Emitter::layer(const LayerToolpaths& layer) {
             break;
         }
     }
-    mark_progress(planner_.time());
+    mark_progress(planner_.time(), planner_.time_stealth());
     type_known_ = false;
     layer_comb_ = &layer.comb_region;
     layer_thin_ = &layer.thin_region;
@@ -225,7 +225,7 @@ void Emitter::pause() {
 
 void Emitter::end() {
     if (!retracted_ && !first_travel_) retract();
-    mark_progress(-1);  // 100 %: the total, known below
+    mark_progress(-1, -1);  // 100 %: the total, known below
     custom(st_.end_filament_gcode);
     line(";TYPE:Custom");
     if (st_.flavor == GcodeFlavor::Klipper && st_.end_gcode.empty()) line("PRINT_END");
@@ -244,17 +244,22 @@ void Emitter::end() {
     planner_.stop();
     close_section();
     run_stats_.estimated_print_time_s = time_base_;
+    run_stats_.estimated_stealth_time_s = stealth_base_;
     run_stats_.filament_length_mm = run_stats_.extruded_volume_mm3 / filament_area_;
     run_stats_.filament_weight_g = run_stats_.extruded_volume_mm3 / 1000.0 * st_.filament_density;
     for (ProgressMark& m : marks_)
-        if (m.elapsed_s < 0) m.elapsed_s = run_stats_.estimated_print_time_s;
+        if (m.elapsed_s < 0)
+            m.elapsed_s = run_stats_.estimated_print_time_s,
+            m.stealth_elapsed_s = run_stats_.estimated_stealth_time_s;
     flush(true);
 }
 
 void Emitter::close_section() {
-    sections_.push_back({stats_, planner_.take_done()});
+    const double time = planner_.take_done();
+    sections_.push_back({stats_, time, planner_.take_done_stealth()});
     add_stats(run_stats_, stats_);
     time_base_ += sections_.back().time_s;
+    stealth_base_ += sections_.back().stealth_time_s;
     stats_ = {};
 }
 
@@ -263,6 +268,7 @@ void Emitter::add_stats(PrintStats& to, const PrintStats& s) {
     to.filament_length_mm += s.filament_length_mm;
     to.filament_weight_g += s.filament_weight_g;
     to.estimated_print_time_s += s.estimated_print_time_s;
+    to.estimated_stealth_time_s += s.estimated_stealth_time_s;
     to.travel_length_mm += s.travel_length_mm;
     to.retractions += s.retractions;
     to.layers += s.layers;
@@ -305,13 +311,15 @@ void Emitter::begin_chunk(std::FILE* out) {
     run_stats_ = {};
     stats_ = {};
     time_base_ = 0;
+    stealth_base_ = 0;
     bounds_ = {};
     object_bounds_.assign(objects_.size(), Bounds{});
     custom_bytes_ = 0;
 }
 
-void Emitter::adopt_totals(double time_s, const PrintStats& stats) {
+void Emitter::adopt_totals(double time_s, double stealth_time_s, const PrintStats& stats) {
     time_base_ = time_s;
+    stealth_base_ = stealth_time_s;
     run_stats_ = stats;
 }
 
@@ -441,10 +449,12 @@ void Emitter::set_fan(int speed) {
 }
 
 // An M73 goes here, `local_s` into the open section (-1: at the end, the total).
-void Emitter::mark_progress(double local_s) {
+void Emitter::mark_progress(double local_s, double stealth_local_s) {
     if (!st_.m73) return;
     marks_.push_back({written_ + static_cast<long long>(buf_.size()),
-                      local_s < 0 ? local_s : time_base_ + local_s, sections_.size(), local_s});
+                      local_s < 0 ? local_s : time_base_ + local_s, sections_.size(), local_s,
+                      stealth_local_s < 0 ? stealth_local_s : stealth_base_ + stealth_local_s,
+                      stealth_local_s});
 }
 
 Emitter::Snapshot Emitter::save() const {

@@ -88,7 +88,7 @@ class Emitter {
     // as it goes or by the writer over the chunks: the same bits either way.
     struct Section {
         PrintStats stats;
-        double time_s = 0;
+        double time_s = 0, stealth_time_s = 0;
     };
     // What a layer's text depends on from the layers before it.
     struct Carry {
@@ -117,7 +117,7 @@ class Emitter {
     // The chunk's own text starts here, in `out`; what the warm-up measured is forgotten.
     void begin_chunk(std::FILE* out);
     // Before end(): the totals of the sections before this emitter's next one, from all chunks.
-    void adopt_totals(double time_s, const PrintStats& stats);
+    void adopt_totals(double time_s, double stealth_time_s, const PrintStats& stats);
     const std::vector<Section>& sections() const { return sections_; }
     size_t custom_bytes() const { return custom_bytes_; }
     // Throws InputError when the profile's custom G-code added more than its bound in all.
@@ -186,7 +186,7 @@ class Emitter {
         return static_cast<int>(std::lround(std::clamp(percent, 0, 100) * 2.55));
     }
     // An M73 goes here, `local_s` into the open section (-1: at the end, the total).
-    void mark_progress(double local_s);
+    void mark_progress(double local_s, double stealth_local_s);
     // Ends the open section: its figures and time go to the totals.
     void close_section();
     // G92 E0 (with absolute E): the next layer's E does not depend on the filament before it.
@@ -283,6 +283,7 @@ class Emitter {
     PrintStats stats_;                // of the open section
     PrintStats run_stats_;            // of the closed sections, summed in order
     double time_base_ = 0;            // their time, summed in order
+    double stealth_base_ = 0;         // and in the stealth mode
     std::vector<Section> sections_;
     bool flip_ = false;  // flip_next_order()
     Bounds bounds_;

@@ -15,6 +15,10 @@ namespace carve {
 // What the planner of the estimate obeys.
 MachineLimits machine_limits(const Settings& settings);
 
+// The planner of the estimate: with --silent-mode and stealth limits, it times every move in
+// the stealth mode too (M73 Q/S; the stealth limits replace the X/Y ones of the normal mode).
+MotionPlanner estimate_planner(const Settings& settings);
+
 // Whether a feed rate carve commands (any print speed, travel, `z_speed` for layer changes, the
 // retraction) is above the M203 limit of its axis, so that the firmware's cap changes the motion.
 bool feed_limits_bind(const Settings& settings, double z_speed);

@@ -9,6 +9,7 @@
 #include <array>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <sstream>
 #include <string>
@@ -336,4 +337,74 @@ TEST(Pause, RetractsAndLiftsBeforeTheCommandAndReturns) {
     std::string err;
     slice(small_part(), "--pause-at 5 --pause-command 'M600 ; x'", "park_bad", 1, &err);
     EXPECT_NE(err.find("--pause-command"), std::string::npos) << err;
+}
+
+namespace {
+
+// The M73 lines of a file: "P R" and "Q S" figures in order.
+struct M73s {
+    std::vector<std::pair<int, int>> normal, stealth;
+};
+
+M73s read_m73(const std::string& g) {
+    M73s m;
+    for (const std::string& l : lines_of(g)) {
+        if (command_of(l) != "M73") continue;
+        std::map<char, double> w = words(l);
+        if (w.count('P')) m.normal.emplace_back(int(w['P']), int(w['R']));
+        if (w.count('Q')) m.stealth.emplace_back(int(w['Q']), int(w['S']));
+    }
+    return m;
+}
+
+std::string header_time(const std::string& g, const std::string& mode) {
+    const std::string tag = "; estimated printing time (" + mode + " mode) = ";
+    const size_t at = g.find(tag);
+    if (at == std::string::npos) return "";
+    return g.substr(at + tag.size(), g.find('\n', at) - at - tag.size());
+}
+
+}  // namespace
+
+// On the mk3s, M73 Q/S are timed with PrusaSlicer's MK3S stealth limits (960 mm/s^2, 100 mm/s
+// in X and Y): the very figures the normal mode's M73 P/R state for a printer whose limits are
+// those, and not those of the normal mode. Cooling is off: it slows layers by the normal time.
+TEST(Stealth, QAndSAreTheEstimateUnderTheStealthLimits) {
+    const std::string args = "--cavities 1 --cooling 0 --printer mk3s --travel-speed 180";
+    const std::string g = slice(small_part(), args, "stealth");
+    const fs::path ini = scratch() / "stealth_limits.ini";
+    {
+        std::ofstream out(ini);
+        out << "machine_max_acceleration_x = 960\nmachine_max_acceleration_y = 960\n"
+               "machine_max_feedrate_x = 100\nmachine_max_feedrate_y = 100\n";
+    }
+    const std::string as_normal = slice(small_part(), args + " --load " + ini.string(), "slow");
+    const M73s a = read_m73(g), b = read_m73(as_normal);
+    ASSERT_GT(a.normal.size(), 10u);
+    EXPECT_EQ(a.stealth.size(), a.normal.size());
+    EXPECT_NE(a.stealth, a.normal);
+    // The profile that states single limits has no stealth mode of its own.
+    EXPECT_EQ(b.stealth, b.normal);
+    // Each line's figures are rounded from the times there: the stealth mode's percentages and
+    // minutes are the slow printer's.
+    EXPECT_EQ(a.stealth.front(), b.normal.front());
+    EXPECT_EQ(a.stealth.back(), b.normal.back());
+    std::vector<std::pair<int, int>> da = a.stealth, db = b.normal;
+    da.erase(std::unique(da.begin(), da.end()), da.end());
+    db.erase(std::unique(db.begin(), db.end()), db.end());
+    EXPECT_EQ(da, db);
+    EXPECT_EQ(header_time(g, "silent"), header_time(as_normal, "normal"));
+    EXPECT_NE(header_time(g, "silent"), header_time(g, "normal"));
+    // PrusaSlicer's own profile of the MK3S states them as "normal,stealth": read as the preset.
+    const fs::path prusa = scratch() / "stealth_prusa.ini";
+    {
+        std::ofstream out(prusa);
+        out << "machine_max_acceleration_x = 1000,960\nmachine_max_acceleration_y = 1000,960\n"
+               "machine_max_feedrate_x = 200,100\nmachine_max_feedrate_y = 200,100\n"
+               "silent_mode = 1\nremaining_times = 1\n";
+    }
+    const std::string read_back =
+        slice(small_part(), args + " --load " + prusa.string(), "stealth_prusa");
+    EXPECT_EQ(read_m73(read_back).stealth, a.stealth);
+    EXPECT_EQ(config_value(read_back, "stealth_max_acceleration"), "960");
 }
