@@ -249,17 +249,18 @@ bool set_to_something(const std::string& value) {
 // A profile that states the X/Y limits states the stealth mode's with them, or has none (its
 // limits are then the normal ones): PrusaSlicer's "1000,960" is normal,stealth. X and Y are one
 // limit for carve's stealth estimate, the lower.
-void apply_stealth_limits(const std::map<std::string, std::optional<std::string>>& seconds,
-                          Settings& s) {
+void apply_stealth_limits(const std::map<std::string, IniValue>& values, Settings& s) {
     auto one = [&](const std::string& kind, const char* option) {
         std::optional<double> lowest;
         bool stated = false;
         for (const char* axis : {"_x", "_y"}) {
-            const auto it = seconds.find("machine_max_" + kind + axis);
-            if (it == seconds.end()) continue;
+            const auto it = values.find("machine_max_" + kind + axis);
+            if (it == values.end()) continue;
             stated = true;
-            if (!it->second) continue;
-            const double v = number(it->first, *it->second);
+            const std::string& value = it->second.value;
+            const size_t comma = value.find(',');
+            if (comma == std::string::npos) continue;
+            const double v = number(it->first, value.substr(comma + 1));
             lowest = std::min(lowest.value_or(v), v);
         }
         if (!stated) return;
@@ -413,18 +414,8 @@ std::vector<std::string> read_prusa_profile(std::istream& in, const std::string&
                                           "min_feature_size"};
 
     std::vector<std::string> ignored;  // keys that change the print, not applied
-    // The stealth mode's X/Y limits: the second values of "normal,stealth" (stealth_limits()).
-    std::map<std::string, std::optional<std::string>> stealth;
     for (const auto& [key, v] : values) {
         const std::string& value = v.value;
-        if (key.starts_with("machine_max_acceleration_") ||
-            key.starts_with("machine_max_feedrate_"))
-            if (key.ends_with("_x") || key.ends_with("_y")) {
-                const size_t comma = value.find(',');
-                stealth[key] = comma == std::string::npos
-                                   ? std::nullopt
-                                   : std::optional(trim_whitespace(value.substr(comma + 1)));
-            }
         // Kept raw for the placeholders of the profile's custom G-code ([printer_model], ...).
         s.profile_values[key] = value;
         try {
@@ -462,7 +453,7 @@ std::vector<std::string> read_prusa_profile(std::istream& in, const std::string&
             set_to_something(value))
             ignored.push_back(key);
     }
-    apply_stealth_limits(stealth, s);
+    apply_stealth_limits(values, s);
 
     // One line width for every wall: carve's geometry (the cavity walls' spacing, the covers'
     // lines) is built on it. The inner perimeters' width is the bulk of a carved print.
