@@ -11,6 +11,7 @@
 #include <optional>
 #include <set>
 #include <sstream>
+#include <string_view>
 
 #include "base/error.hpp"
 #include "base/numbers.hpp"
@@ -47,6 +48,9 @@ const std::vector<Preset>& presets() {
              s.junction_deviation = 0;
              s.m73 = 1;
              s.silent_mode = 1;
+             // PrusaSlicer's MK3 profile's stealth limits (machine_max_acceleration_x = 1000,960,
+             // machine_max_feedrate_x = 200,100; the other axes the same in both modes).
+             s.stealth_max_acceleration = 960, s.stealth_max_feedrate = 100;
              s.printer_model = "MK3S";
              s.thumbnails = {{16, 16}, {220, 124}};  // PrusaSlicer's MK3S profile's
              s.retract_length = 0.8, s.retract_speed = 35;
@@ -112,15 +116,22 @@ const std::vector<Preset>& presets() {
          }},
         {"klipper",
          [](Settings& s) {
-             // PRINT_START gets the temperatures, but carve heats and waits before it too: the
-             // stock macros of Klipper's own configs read no parameters. printer.cfg holds the
-             // limits, so none are written; M204 S follows the moves. Thumbnails as Mainsail
+             // Klipper's own config/kit-voron2-250mm.cfg (Klipper 84104bbb): a 250 x 250 bed,
+             // 250 mm of Z, max_velocity 350, max_accel 3000, max_z_velocity 50, max_z_accel 350.
+             // Klipper takes M204 S as it comes, above max_accel too, so carve holds its
+             // accelerations to machine_max_acceleration_x/y (that max_accel) and states them in
+             // the configuration block. PRINT_START gets the temperatures, but carve heats and
+             // waits before it too: the stock macros read no parameters. Thumbnails as Mainsail
              // and Fluidd show them (their documentation's sizes).
-             s.printer_name = "Klipper generic";
-             s.bed_x = 300, s.bed_y = 300, s.max_print_height = 300;
+             s.printer_name = "Voron 2 250 (Klipper config/kit-voron2-250mm.cfg)";
+             s.bed_x = 250, s.bed_y = 250, s.max_print_height = 250;
              s.thumbnails = {{32, 32}, {400, 300}};
              s.flavor = GcodeFlavor::Klipper;
-             s.acceleration = 3000, s.travel_acceleration = 5000;
+             s.max_acceleration_x = s.max_acceleration_y = 3000;
+             s.max_acceleration_z = 350;
+             s.max_feedrate_x = s.max_feedrate_y = 350;
+             s.max_feedrate_z = 50;
+             s.acceleration = 3000, s.travel_acceleration = 3000;
              s.travel_speed = 250, s.max_print_speed = 200;
              s.retract_length = 0.8;
              s.start_gcode =
@@ -233,6 +244,33 @@ bool set_to_something(const std::string& value) {
             return true;
     }
     return false;
+}
+
+// A profile that states the X/Y limits states the stealth mode's with them, or has none (its
+// limits are then the normal ones): PrusaSlicer's "1000,960" is normal,stealth. X and Y are one
+// limit for carve's stealth estimate, the lower.
+void apply_stealth_limits(const std::map<std::string, IniValue>& values, Settings& s) {
+    auto one = [&](const std::string& kind, const char* option) {
+        std::optional<double> lowest;
+        bool stated = false;
+        for (const char* axis : {"_x", "_y"}) {
+            const auto it = values.find("machine_max_" + kind + axis);
+            if (it == values.end()) continue;
+            stated = true;
+            const std::string& value = it->second.value;
+            const size_t comma = value.find(',');
+            if (comma == std::string::npos) continue;
+            const double v = number(it->first, value.substr(comma + 1));
+            lowest = std::min(lowest.value_or(v), v);
+        }
+        if (!stated) return;
+        for (const SettingSpec& spec : setting_table())
+            if (std::string_view(spec.option) == option)
+                spec.set(s, plain_number(lowest.value_or(0)),
+                         fmt::format("profile key 'machine_max_{}_x/y' (stealth)", kind));
+    };
+    one("acceleration", "stealth-max-acceleration");
+    one("feedrate", "stealth-max-feedrate");
 }
 
 // An extrusion width: mm, or a percentage of `nozzle` (the nozzle, PrusaSlicer 2.4 on; for
@@ -415,6 +453,7 @@ std::vector<std::string> read_prusa_profile(std::istream& in, const std::string&
             set_to_something(value))
             ignored.push_back(key);
     }
+    apply_stealth_limits(values, s);
 
     // One line width for every wall: carve's geometry (the cavity walls' spacing, the covers'
     // lines) is built on it. The inner perimeters' width is the bulk of a carved print.

@@ -196,6 +196,26 @@ TextField pause_at_field() {
     return t;
 }
 
+// A G-code command or macro name for --pause-command: one line of printable text, no comment.
+TextField pause_command_field() {
+    TextField t;
+    t.get = [](const Settings& s) { return s.pause_command; };
+    t.set = [](Settings& s, const std::string& text, const std::string& source) {
+        const std::string v = trim_whitespace(text);
+        const bool printable = std::all_of(v.begin(), v.end(), [](char c) {
+            return static_cast<unsigned char>(c) >= 0x20 && c != 0x7f && c != ';';
+        });
+        if (!printable || v.size() > 100)
+            throw InputError(fmt::format(
+                "{}: '{}' is not a command; expected one line of at most 100 characters without "
+                "';', such as M601 or PAUSE",
+                source, text));
+        s.pause_command = v;
+    };
+    t.type_name = "COMMAND";
+    return t;
+}
+
 // PrusaSlicer's files state the first layer's height as printed: carve's 0 ("the layer
 // height") is written as that height (the configuration block, which hosts and viewers read),
 // and a file's height is read as given.
@@ -507,11 +527,24 @@ std::vector<SettingSpec> make_table() {
          false, "!--no-m73,--m73", "remaining_times"},
         {"silent-mode", "silent_mode", "0/1", 0, 1, &S::silent_mode,
          "The printer has a stealth mode: M73 also writes Q/S, the figures its screen shows "
-         "there (carve's one estimate) [off; on with --printer mk3s]",
+         "there, timed with --stealth-max-acceleration and --stealth-max-feedrate [off; on "
+         "with --printer mk3s]",
          false, "!--no-silent-mode,--silent-mode"},
+        {"stealth-max-acceleration", "", "mm/s^2", 0.0, 100000.0, &S::stealth_max_acceleration,
+         "With --silent-mode: the stealth mode's X and Y acceleration limit that M73 Q/S are "
+         "timed with (a profile's second machine_max_acceleration_x/y), mm/s^2 [0 = the "
+         "normal limits; 960 with --printer mk3s]"},
+        {"stealth-max-feedrate", "", "mm/s", 0.0, 10000.0, &S::stealth_max_feedrate,
+         "With --silent-mode: the stealth mode's X and Y speed limit (a profile's second "
+         "machine_max_feedrate_x/y), mm/s [0 = the normal limits; 100 with --printer mk3s]"},
         {"pause-at", "", "mm", 0, 0, pause_at_field(),
          "Pause before the first layer at or above each height, mm of the model: M600 "
-         "(filament change) on Marlin and RepRap, PAUSE on Klipper [none]"},
+         "(filament change) on Marlin and RepRap, PAUSE on Klipper, retracted and lifted 5 mm "
+         "before it and back after it [none]"},
+        {"pause-command", "", "", 0, 0, pause_command_field(),
+         "The command --pause-at writes: a G-code or a macro's name (M601, M0, PAUSE, "
+         "M600; Klipper's PAUSE needs its pause_resume section and a PAUSE macro) [M600 on "
+         "Marlin and RepRap, PAUSE on Klipper]"},
         {"thumbnails", "thumbnails", "", 0, 0, thumbnails_field(),
          "PNG previews of the model in the header, PrusaSlicer's format, sizes WxH,WxH (e.g. "
          "16x16,220x124) [none; 16x16,220x124 with --printer mk3s, 32x32,400x300 with --printer "

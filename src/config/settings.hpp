@@ -156,6 +156,9 @@ struct Settings {
     // Heights (mm of the model) before whose first layer at or above the print pauses (M600 on
     // Marlin, PAUSE on Klipper).
     std::vector<double> pause_at;
+    // The command a pause writes, between its park and its return: "" = the flavour's (M600 on
+    // Marlin and RepRap, PAUSE on Klipper, which needs [pause_resume] and a PAUSE macro).
+    std::string pause_command;
 
     // Printer and filament.
     GcodeFlavor flavor = GcodeFlavor::Marlin;
@@ -214,6 +217,9 @@ struct Settings {
     // Host and printer conveniences.
     int m73 = 0;          // M73 P<percent> R<minutes> progress (PrusaSlicer's remaining_times)
     int silent_mode = 0;  // the printer has a stealth mode: M73 Q/S too (PrusaSlicer's key)
+    // That mode's X/Y limits (the second values of a profile's machine_max_acceleration_x/y and
+    // machine_max_feedrate_x/y, PrusaSlicer's "normal,stealth"); 0 = the normal limits.
+    double stealth_max_acceleration = 0, stealth_max_feedrate = 0;  // mm/s^2, mm/s
     std::vector<std::pair<int, int>> thumbnails;  // sizes of the PNG previews, WxH
     std::string start_gcode = "G28 ; home all axes\nG1 Z5 F3000\nG92 E0\n";
     // The end lifts 10 mm clear of the part (within the printer's height, the offset

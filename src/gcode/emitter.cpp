@@ -74,7 +74,9 @@ Emitter::Emitter(const Settings& st, Coord off_x, Coord off_y, std::FILE* out, s
       objects_{ObjectLabel{std::move(object)}},
       objects_labelled_(1, 0),
       object_bounds_(1),
-      planner_(machine_limits(st)) {
+      planner_(estimate_planner(st)) {
+    print_accel_ = commanded_acceleration(st, st.acceleration);
+    travel_accel_ = commanded_acceleration(st, st.travel_acceleration);
     const double r = st.filament_diameter / 2;
     filament_area_ = std::numbers::pi * r * r;
     retract_units_ = std::llround(std::max(0.0, st.retract_length) * kEScale);
@@ -125,7 +127,7 @@ void Emitter::start() {
     line("G90 ; absolute coordinates");
     line(st_.relative_e ? "M83 ; relative extrusion" : "M82 ; absolute extrusion");
     line("G92 E0");
-    mark_progress(0);
+    mark_progress(0, 0);
     close_section();
 }
 
@@ -166,11 +168,11 @@ void Emitter::layer(const LayerToolpaths& layer) {
         const double below = layer.index > 0 ? st_.layer_top_mm(layer.index - 1) - base : -1e9;
         if (z > below + 1e-9 && z <= st_.layer_top_mm(layer.index) - base + 1e-9) {
             line(fmt::format(";PAUSE_AT {}", plain_number(z)));
-            line(st_.flavor == GcodeFlavor::Klipper ? "PAUSE" : "M600");
+            pause();
             break;
         }
     }
-    mark_progress(planner_.time());
+    mark_progress(planner_.time(), planner_.time_stealth());
     type_known_ = false;
     layer_comb_ = &layer.comb_region;
     layer_thin_ = &layer.thin_region;
@@ -198,9 +200,32 @@ void Emitter::layer(const LayerToolpaths& layer) {
     flush(false);
 }
 
+// Parks as the firmwares' own pause macros do (Klipper's sample PAUSE, Marlin's M600 with
+// its park): retracted and lifted clear of the part before the command, so that the nozzle does
+// not sit hot on the part's edge, oozing; then back down and unretracted as it was. Before
+// anything is printed there is nothing to leave: the command alone.
+void Emitter::pause() {
+    const std::string command = !st_.pause_command.empty()           ? st_.pause_command
+                                : st_.flavor == GcodeFlavor::Klipper ? "PAUSE"
+                                                                     : "M600";
+    if (first_travel_ || z_ < 0) {
+        line(command);
+        return;
+    }
+    const bool was_retracted = retracted_;
+    retract();
+    const Coord at = z_;
+    const Coord top = to_units(st_.max_print_height) - z_offset_;
+    const Coord lifted = std::max(at, std::min(at + to_units(kPauseLift), top));
+    move_z(lifted, "the lift before a pause (--pause-at)");
+    line(command);
+    move_z(at, "the lift before a pause (--pause-at)");
+    if (!was_retracted) unretract();
+}
+
 void Emitter::end() {
     if (!retracted_ && !first_travel_) retract();
-    mark_progress(-1);  // 100 %: the total, known below
+    mark_progress(-1, -1);  // 100 %: the total, known below
     custom(st_.end_filament_gcode);
     line(";TYPE:Custom");
     if (st_.flavor == GcodeFlavor::Klipper && st_.end_gcode.empty()) line("PRINT_END");
@@ -219,17 +244,22 @@ void Emitter::end() {
     planner_.stop();
     close_section();
     run_stats_.estimated_print_time_s = time_base_;
+    run_stats_.estimated_stealth_time_s = stealth_base_;
     run_stats_.filament_length_mm = run_stats_.extruded_volume_mm3 / filament_area_;
     run_stats_.filament_weight_g = run_stats_.extruded_volume_mm3 / 1000.0 * st_.filament_density;
     for (ProgressMark& m : marks_)
-        if (m.elapsed_s < 0) m.elapsed_s = run_stats_.estimated_print_time_s;
+        if (m.elapsed_s < 0)
+            m.elapsed_s = run_stats_.estimated_print_time_s,
+            m.stealth_elapsed_s = run_stats_.estimated_stealth_time_s;
     flush(true);
 }
 
 void Emitter::close_section() {
-    sections_.push_back({stats_, planner_.take_done()});
+    const double time = planner_.take_done();
+    sections_.push_back({stats_, time, planner_.take_done_stealth()});
     add_stats(run_stats_, stats_);
     time_base_ += sections_.back().time_s;
+    stealth_base_ += sections_.back().stealth_time_s;
     stats_ = {};
 }
 
@@ -238,6 +268,7 @@ void Emitter::add_stats(PrintStats& to, const PrintStats& s) {
     to.filament_length_mm += s.filament_length_mm;
     to.filament_weight_g += s.filament_weight_g;
     to.estimated_print_time_s += s.estimated_print_time_s;
+    to.estimated_stealth_time_s += s.estimated_stealth_time_s;
     to.travel_length_mm += s.travel_length_mm;
     to.retractions += s.retractions;
     to.layers += s.layers;
@@ -280,13 +311,15 @@ void Emitter::begin_chunk(std::FILE* out) {
     run_stats_ = {};
     stats_ = {};
     time_base_ = 0;
+    stealth_base_ = 0;
     bounds_ = {};
     object_bounds_.assign(objects_.size(), Bounds{});
     custom_bytes_ = 0;
 }
 
-void Emitter::adopt_totals(double time_s, const PrintStats& stats) {
+void Emitter::adopt_totals(double time_s, double stealth_time_s, const PrintStats& stats) {
     time_base_ = time_s;
+    stealth_base_ = stealth_time_s;
     run_stats_ = stats;
 }
 
@@ -416,10 +449,12 @@ void Emitter::set_fan(int speed) {
 }
 
 // An M73 goes here, `local_s` into the open section (-1: at the end, the total).
-void Emitter::mark_progress(double local_s) {
+void Emitter::mark_progress(double local_s, double stealth_local_s) {
     if (!st_.m73) return;
     marks_.push_back({written_ + static_cast<long long>(buf_.size()),
-                      local_s < 0 ? local_s : time_base_ + local_s, sections_.size(), local_s});
+                      local_s < 0 ? local_s : time_base_ + local_s, sections_.size(), local_s,
+                      stealth_local_s < 0 ? stealth_local_s : stealth_base_ + stealth_local_s,
+                      stealth_local_s});
 }
 
 Emitter::Snapshot Emitter::save() const {
@@ -497,20 +532,26 @@ int Emitter::object_of(const Point& p) const {
 void Emitter::print_paths(const LayerToolpaths& layer) {
     set_fan(fan_byte(layer_fan_));
     // Each object's run of extrusions between its own start and end lines: a host that cancels
-    // one skips them, the travel into the object included. One object: the whole layer.
+    // one skips them, the travel into the object included. Skirt, brim and raft belong to no
+    // object, as in PrusaSlicer's files: inside one's block they made its outline (Klipper's
+    // EXCLUDE_OBJECT_DEFINE) take in the others, and cancelling it dropped the rest of them.
     object_ = -1;
     static const Travel unplanned;
     for (size_t i = 0; i < layer.extrusions.size(); ++i) {
         const Extrusion& ex = layer.extrusions[i];
         if (ex.points.size() >= 2) {
-            const int k = object_of(ex.points.front());
+            const bool shared =
+                layer.index < 0 || ex.feature == Feature::Skirt || ex.feature == Feature::Brim;
+            const int k = shared ? -1 : object_of(ex.points.front());
             if (k != object_) {
                 if (object_ >= 0)
                     for (const std::string& l : object_end(st_, objects_[object_].name)) line(l);
-                for (const std::string& l :
-                     object_start(st_, objects_[k].name, k, !objects_labelled_[k]))
-                    line(l);
-                objects_labelled_[k] = 1;
+                if (k >= 0) {
+                    for (const std::string& l :
+                         object_start(st_, objects_[k].name, k, !objects_labelled_[k]))
+                        line(l);
+                    objects_labelled_[k] = 1;
+                }
                 object_ = k;
             }
         }

@@ -88,7 +88,7 @@ class Emitter {
     // as it goes or by the writer over the chunks: the same bits either way.
     struct Section {
         PrintStats stats;
-        double time_s = 0;
+        double time_s = 0, stealth_time_s = 0;
     };
     // What a layer's text depends on from the layers before it.
     struct Carry {
@@ -117,7 +117,7 @@ class Emitter {
     // The chunk's own text starts here, in `out`; what the warm-up measured is forgotten.
     void begin_chunk(std::FILE* out);
     // Before end(): the totals of the sections before this emitter's next one, from all chunks.
-    void adopt_totals(double time_s, const PrintStats& stats);
+    void adopt_totals(double time_s, double stealth_time_s, const PrintStats& stats);
     const std::vector<Section>& sections() const { return sections_; }
     size_t custom_bytes() const { return custom_bytes_; }
     // Throws InputError when the profile's custom G-code added more than its bound in all.
@@ -125,7 +125,11 @@ class Emitter {
     static void add_stats(PrintStats& to, const PrintStats& s);
 
   private:
-    static constexpr double kZSpeed = 10.0;       // mm/s for layer changes and z-hops
+    static constexpr double kZSpeed = 10.0;  // mm/s for layer changes and z-hops
+    // mm a pause lifts the nozzle by (within the printer's height), clear of the part and of
+    // what oozes onto it, before the command's own parking, if it has one (a bare PAUSE has
+    // none).
+    static constexpr double kPauseLift = 5.0;
     static constexpr long long kEScale = 100000;  // E is written with 5 decimals
     // Text buffered before each fwrite, checked at each layer's end. Small enough to stay in
     // cache: a 1 MB buffer cost each chunk's emitter 256 fresh pages, at some 10 us a page
@@ -182,7 +186,7 @@ class Emitter {
         return static_cast<int>(std::lround(std::clamp(percent, 0, 100) * 2.55));
     }
     // An M73 goes here, `local_s` into the open section (-1: at the end, the total).
-    void mark_progress(double local_s);
+    void mark_progress(double local_s, double stealth_local_s);
     // Ends the open section: its figures and time go to the totals.
     void close_section();
     // G92 E0 (with absolute E): the next layer's E does not depend on the filament before it.
@@ -196,7 +200,10 @@ class Emitter {
     void retract();
     void wipe();
     void unretract();
-    void move_z(Coord z);
+    // `what` names the move when the printer's height refuses it (a lift or a layer change).
+    void move_z(Coord z, const char* what = nullptr);
+    // --pause-at's park, command and return.
+    void pause();
     void travel_to(const Point& p, const Path& via, TravelKind kind);
     void travel_move(const Point& p);
     TravelPlan plan_layer_entry(const Point& target_model);
@@ -240,6 +247,8 @@ class Emitter {
     double speed_factor_ = 1;          // cooling's slowdown of the layer being written
     int layer_fan_ = 0;                // percent, for the layer's ordinary extrusions
     double accel_ = -1;                // Klipper's M204 S in force
+    // The print's and the travel's accelerations as written and planned (limits.hpp).
+    double print_accel_ = 0, travel_accel_ = 0;
     // The objects on the bed: one (the model, named at construction) or what set_objects gave.
     std::vector<ObjectLabel> objects_;
     std::vector<char> objects_labelled_;  // M486 A named it
@@ -274,6 +283,7 @@ class Emitter {
     PrintStats stats_;                // of the open section
     PrintStats run_stats_;            // of the closed sections, summed in order
     double time_base_ = 0;            // their time, summed in order
+    double stealth_base_ = 0;         // and in the stealth mode
     std::vector<Section> sections_;
     bool flip_ = false;  // flip_next_order()
     Bounds bounds_;

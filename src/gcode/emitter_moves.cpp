@@ -78,7 +78,7 @@ void Emitter::wipe() {
         }
         feed(v);
         buf_.push_back('\n');
-        planner_.move(dx, dy, v, st_.travel_acceleration);
+        planner_.move(dx, dy, v, travel_accel_);
         stats_.travel_length_mm += len;
         pos_ = q;
     }
@@ -111,13 +111,14 @@ void Emitter::unretract() {
     retracted_ = false;
 }
 
-void Emitter::move_z(Coord z) {
+void Emitter::move_z(Coord z, const char* what) {
     if (z == z_) return;
     put("G1 Z");
     fixed(z + z_offset_, 3);  // --z-offset: the printer's Z, not the layer's
-    bounds_.moved_to(
-        to_mm(z + z_offset_),
-        z > layer_z_ ? "a travel's lift (--z-hop, a profile's retract_lift)" : "a layer change");
+    if (!what)
+        what =
+            z > layer_z_ ? "a travel's lift (--z-hop, a profile's retract_lift)" : "a layer change";
+    bounds_.moved_to(to_mm(z + z_offset_), what);
     // A move to the layer's own height always states its feed, modal or not: Moonraker takes
     // the object's height from the highest "G1 Z.. F.." when a file has no
     // ;BEFORE_LAYER_CHANGE comments (it said 67.4 mm of the 120 mm cat).
@@ -128,8 +129,7 @@ void Emitter::move_z(Coord z) {
     const bool limited = st_.flavor != GcodeFlavor::Klipper;
     planner_.dwell(
         trapezoid_time(dz, 0, limited ? std::min(kZSpeed, st_.max_feedrate_z) : kZSpeed, 0,
-                       limited ? std::min(st_.travel_acceleration, st_.max_acceleration_z)
-                               : st_.travel_acceleration));
+                       limited ? std::min(travel_accel_, st_.max_acceleration_z) : travel_accel_));
     z_ = z;
 }
 
@@ -165,15 +165,14 @@ void Emitter::travel_to(const Point& p, const Path& via, TravelKind kind) {
 
 void Emitter::travel_move(const Point& p) {
     if (p == pos_) return;
-    use_acceleration(st_.travel_acceleration);
+    use_acceleration(travel_accel_);
     put("G0 X");
     fixed(p.X, 3);
     put(" Y");
     fixed(p.Y, 3);
     feed(st_.travel_speed);
     buf_.push_back('\n');
-    planner_.move(to_mm(p.X - pos_.X), to_mm(p.Y - pos_.Y), st_.travel_speed,
-                  st_.travel_acceleration);
+    planner_.move(to_mm(p.X - pos_.X), to_mm(p.Y - pos_.Y), st_.travel_speed, travel_accel_);
     stats_.travel_length_mm += std::hypot(to_mm(p.X - pos_.X), to_mm(p.Y - pos_.Y));
     pos_ = p;
 }
@@ -286,7 +285,7 @@ void Emitter::extrude(const Extrusion& ex, const Travel& travel) {
     }
     set_fan(fan_byte(ex.feature == Feature::Bridge ? bridge_fan_percent(st_, layer_) : layer_fan_));
     unretract();
-    use_acceleration(st_.acceleration);
+    use_acceleration(print_accel_);
     // --max-volumetric-speed: no faster than the cap over the line's cross-section, rounded
     // down to a whole mm/min so that the F written keeps under the cap. The cross-section is
     // the larger of the real one and the one ;WIDTH and ;HEIGHT state (3 decimals): a viewer
@@ -330,7 +329,7 @@ void Emitter::extrude(const Extrusion& ex, const Travel& travel) {
         feed(speed);
         buf_.push_back('\n');
         e_units_ = target;
-        planner_.move(dx, dy, speed, st_.acceleration);
+        planner_.move(dx, dy, speed, print_accel_);
         printed(q, len, e_per_mm, ex.feature);
     }
     if (st_.wipe) remember_for_wipe(ex, shifted);
@@ -378,7 +377,7 @@ void Emitter::arc_to(const std::vector<Point>& pts, size_t first, const Arc& arc
     e_units_ = target;
     for (size_t k = first; k < arc.last; ++k)
         planner_.move(to_mm(pts[k + 1].X - pts[k].X), to_mm(pts[k + 1].Y - pts[k].Y), speed,
-                      st_.acceleration);
+                      print_accel_);
     for (size_t k = first + 1; k < arc.last; ++k) printed(pts[k], 0, e_per_mm, feature);
     printed(q, len, e_per_mm, feature);
     ++stats_.arcs;

@@ -169,6 +169,17 @@ struct GcodeWriter::Impl {
         lines.push_back(fmt::format(";LAYER_COUNT:{}", layer_count));
         lines.push_back(fmt::format("; estimated printing time (normal mode) = {}",
                                     format_duration(s.estimated_print_time_s)));
+        if (settings.silent_mode)
+            lines.push_back(fmt::format("; estimated printing time (silent mode) = {}",
+                                        format_duration(s.estimated_stealth_time_s)));
+        // A Klipper without [pause_resume] and a PAUSE macro reports an unknown command and
+        // prints on: the file says what it needs.
+        if (settings.flavor == GcodeFlavor::Klipper && !settings.pause_at.empty() &&
+            (settings.pause_command.empty() || settings.pause_command == "PAUSE"))
+            lines.push_back(
+                "; --pause-at writes PAUSE: Klipper pauses only with [pause_resume] and a PAUSE "
+                "macro in printer.cfg (Mainsail's and Fluidd's client macros define one); "
+                "--pause-command names another");
         if (!objects.empty()) {
             const bool klipper = settings.flavor == GcodeFlavor::Klipper;
             for (size_t k = 0; k < objects.size() && k < each.size(); ++k) {
@@ -180,8 +191,10 @@ struct GcodeWriter::Impl {
                     lines.push_back(l);
             }
         } else if (!b.empty()) {
+            // The object's own extent: the skirt and brim are printed outside its block.
+            const Bounds& o = !each.empty() && !each[0].empty() ? each[0] : b;
             for (const std::string& l :
-                 object_definition(settings, object, b.min_x, b.min_y, b.max_x, b.max_y))
+                 object_definition(settings, object, o.min_x, o.min_y, o.max_x, o.max_y))
                 lines.push_back(l);
         }
         lines.push_back("");
@@ -427,18 +440,21 @@ PrintStats GcodeWriter::finish(const std::vector<std::string>& header_comments) 
     // In order: a chunk that did not start where the one before ended is written again by the
     // emitter of the one before, which goes on from the very state.
     PrintStats totals;
-    double time = 0;
+    double time = 0, stealth = 0;  // the normal and the stealth mode's (M73 Q/S)
     size_t custom_bytes = 0;
     long long offset = 0;
-    std::vector<double> section_start;  // the time before each section, all chunks through
+    // The time before each section, all chunks through, in either mode.
+    std::vector<double> section_start, stealth_start;
     Bounds bounds;
     std::vector<Bounds> object_bounds;
     std::vector<ProgressMark> marks;
     auto add_sections = [&](const Chunk& c, size_t first) {
         for (size_t i = first; i < c.sections.size(); ++i) {
             section_start.push_back(time);
+            stealth_start.push_back(stealth);
             Emitter::add_stats(totals, c.sections[i].stats);
             time += c.sections[i].time_s;
+            stealth += c.sections[i].stealth_time_s;
         }
     };
     auto add_extent = [&](const Chunk& c) {
@@ -474,7 +490,7 @@ PrintStats GcodeWriter::finish(const std::vector<std::string>& header_comments) 
             // The end, on the totals of every layer: its time and figures close them (the
             // emitter adds the end's section as the loop above does, and derives the filament
             // and the estimate from the sum).
-            c.emitter->adopt_totals(time, totals);
+            c.emitter->adopt_totals(time, stealth, totals);
             c.emitter->end();
             const size_t own = c.sections.size();
             c.keep_figures();
@@ -486,6 +502,9 @@ PrintStats GcodeWriter::finish(const std::vector<std::string>& header_comments) 
             mark.offset += offset;
             mark.section += sections_before;
             mark.elapsed_s = mark.local_s < 0 ? time : section_start[mark.section] + mark.local_s;
+            mark.stealth_elapsed_s = mark.stealth_local_s < 0
+                                         ? stealth
+                                         : stealth_start[mark.section] + mark.stealth_local_s;
             marks.push_back(mark);
         }
         sections_before += c.sections.size();
@@ -508,7 +527,7 @@ PrintStats GcodeWriter::finish(const std::vector<std::string>& header_comments) 
         bodies.push_back(c.body.file);
     }
     copy_with_progress(bodies, out, marks, s.estimated_print_time_s, m.output_path,
-                       m.settings.silent_mode != 0);
+                       m.settings.silent_mode != 0 ? s.estimated_stealth_time_s : -1);
     chunks.clear();
     text.comment_block(m.tail(s));
     text.flush_all();

@@ -21,6 +21,9 @@ struct PrintStats {
     double filament_length_mm = 0;
     double filament_weight_g = 0;
     double estimated_print_time_s = 0;
+    // The same moves timed under the stealth mode's limits (--silent-mode); the normal time
+    // without stealth limits.
+    double estimated_stealth_time_s = 0;
     double travel_length_mm = 0;
     int retractions = 0;
     int layers = 0;

@@ -130,20 +130,23 @@ std::vector<std::string> config_block(const Settings& s) {
             std::string_view(spec.option).starts_with("support-") &&
             std::string_view(spec.option) != "support-angle")
             continue;
-        // The first layer and the flow (issue #36) are written when they change the print,
-        // so that a print without them keeps the block it had before they existed; the first
-        // layer's height always is, in its place among the words (it was a fixed word before,
-        // the layer height), as printed.
+        // The first layer and the flow (issue #36), and the stealth limits (issue #51), are
+        // written when they change the print, so that a print without them keeps the block it
+        // had before they existed; the first layer's height always is, in its place among the
+        // words (it was a fixed word before, the layer height), as printed.
         const std::string_view option = spec.option;
         if (option == "first-layer-height") continue;
         if ((option == "first-layer-extrusion-width" || option == "extrusion-multiplier" ||
              option == "max-volumetric-speed" || option == "elephant-foot-compensation" ||
-             option == "xy-size-compensation" || option == "z-offset") &&
+             option == "xy-size-compensation" || option == "z-offset" ||
+             option == "stealth-max-acceleration" || option == "stealth-max-feedrate") &&
             spec.get(s) == spec.get(defaults))
             continue;
         kv.emplace_back(spec.config_key(), spec.prusa_text(s));
     }
     for (std::string_view key : kWordOrder) kv.emplace_back(key, word_value(key, s));
+    // Written when given, so that a file without it keeps the block it had.
+    if (!s.pause_command.empty()) kv.emplace_back("pause_command", s.pause_command);
     for (const CustomGcodeKey& c : custom_gcode_keys())
         kv.emplace_back(c.ini_key, escape_profile_text(s.*(c.text)));
     // PrusaSlicer has two switches for carve's one word (--support), so it is no table key.

@@ -26,6 +26,22 @@ MachineLimits machine_limits(const Settings& s) {
     return m;
 }
 
+MotionPlanner estimate_planner(const Settings& s) {
+    const MachineLimits normal = machine_limits(s);
+    if (!s.silent_mode || (s.stealth_max_acceleration <= 0 && s.stealth_max_feedrate <= 0))
+        return MotionPlanner(normal);
+    MachineLimits stealth = normal;
+    if (s.stealth_max_acceleration > 0)
+        stealth.accel_x = stealth.accel_y = s.stealth_max_acceleration;
+    if (s.stealth_max_feedrate > 0) stealth.feed_x = stealth.feed_y = s.stealth_max_feedrate;
+    return MotionPlanner(normal, stealth);
+}
+
+double commanded_acceleration(const Settings& s, double accel) {
+    if (s.flavor != GcodeFlavor::Klipper) return accel;
+    return std::min({accel, s.max_acceleration_x, s.max_acceleration_y});
+}
+
 double retract_speed_limit(const Settings& s) {
     return s.flavor == GcodeFlavor::Klipper ? s.retract_speed
                                             : std::min(s.retract_speed, s.max_feedrate_e);

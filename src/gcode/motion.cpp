@@ -34,71 +34,88 @@ void MotionPlanner::move(double dx, double dy, double speed, double accel) {
     auto cap = [](double v, double axis_limit, double share) {
         return share > 1e-12 ? std::min(v, axis_limit / share) : v;
     };
-    speed = cap(cap(speed, limits_.feed_x, std::abs(ux)), limits_.feed_y, std::abs(uy));
-    accel = cap(cap(accel, limits_.accel_x, std::abs(ux)), limits_.accel_y, std::abs(uy));
-    blocks_.push_back({len, ux, uy, speed, accel});
+    auto capped = [&](const MachineLimits& m) {
+        return Capped{cap(cap(speed, m.feed_x, std::abs(ux)), m.feed_y, std::abs(uy)),
+                      cap(cap(accel, m.accel_x, std::abs(ux)), m.accel_y, std::abs(uy))};
+    };
+    const Capped normal = capped(limits_);
+    blocks_.push_back({len, ux, uy, normal, dual_ ? capped(stealth_) : normal});
 }
 
-double MotionPlanner::junction_speed(const Block& p, const Block& q) const {
-    double v = std::min(p.speed, q.speed);
-    if (limits_.junction_deviation <= 0) {
+double MotionPlanner::junction_speed(const Block& p, const Block& q, bool stealth) const {
+    const MachineLimits& m = stealth ? stealth_ : limits_;
+    const Capped& a = stealth ? p.stealth : p.normal;
+    const Capped& b = stealth ? q.stealth : q.normal;
+    double v = std::min(a.speed, b.speed);
+    if (m.junction_deviation <= 0) {
         // Classic jerk: the change of each axis's speed at v stays within its jerk.
         const double cx = std::abs(p.ux - q.ux), cy = std::abs(p.uy - q.uy);
-        if (cx > 1e-12) v = std::min(v, limits_.jerk_x / cx);
-        if (cy > 1e-12) v = std::min(v, limits_.jerk_y / cy);
+        if (cx > 1e-12) v = std::min(v, m.jerk_x / cx);
+        if (cy > 1e-12) v = std::min(v, m.jerk_y / cy);
         return v;
     }
     const double cos_theta = -(p.ux * q.ux + p.uy * q.uy);
     if (cos_theta > 0.999999) return 0;  // reversal
     if (cos_theta > -0.999999) {
         const double sin_half = std::sqrt(0.5 * (1 - cos_theta));
-        const double a = std::min(p.accel, q.accel);
-        v = std::min(v, std::sqrt(a * limits_.junction_deviation * sin_half / (1 - sin_half)));
+        const double acc = std::min(a.accel, b.accel);
+        v = std::min(v, std::sqrt(acc * m.junction_deviation * sin_half / (1 - sin_half)));
     }
     return v;
 }
 
-double MotionPlanner::safe_speed(const Block& b) const {
-    if (limits_.junction_deviation > 0) return 0;
-    double v = b.speed;
-    if (std::abs(b.ux) > 1e-12) v = std::min(v, limits_.jerk_x / std::abs(b.ux));
-    if (std::abs(b.uy) > 1e-12) v = std::min(v, limits_.jerk_y / std::abs(b.uy));
+double MotionPlanner::safe_speed(const Block& b, bool stealth) const {
+    const MachineLimits& m = stealth ? stealth_ : limits_;
+    if (m.junction_deviation > 0) return 0;
+    double v = stealth ? b.stealth.speed : b.normal.speed;
+    if (std::abs(b.ux) > 1e-12) v = std::min(v, m.jerk_x / std::abs(b.ux));
+    if (std::abs(b.uy) > 1e-12) v = std::min(v, m.jerk_y / std::abs(b.uy));
     return v;
 }
 
 void MotionPlanner::stop() {
-    done_ += plan(blocks_);
+    const double t = plan(blocks_, false);
+    done_ += t;
+    done_stealth_ += dual_ ? plan(blocks_, true) : t;
     blocks_.clear();
 }
 
 void MotionPlanner::dwell(double seconds) {
     stop();
     done_ += seconds;
+    done_stealth_ += seconds;
 }
 
 double MotionPlanner::time() const {
-    return done_ + plan(blocks_);
+    return done_ + plan(blocks_, false);
 }
 
-double MotionPlanner::plan(const std::vector<Block>& b) const {
+double MotionPlanner::time_stealth() const {
+    return done_stealth_ + plan(blocks_, dual_);
+}
+
+double MotionPlanner::plan(const std::vector<Block>& b, bool stealth) const {
     const size_t n = b.size();
     if (n == 0) return 0;
+    auto accel = [&](size_t i) { return stealth ? b[i].stealth.accel : b[i].normal.accel; };
     // entry[i]: speed at the start of block i; entry[n] = 0 (rest at the end).
     std::vector<double> entry(n + 1, 0.0);
-    entry[0] = safe_speed(b[0]);
-    entry[n] = safe_speed(b[n - 1]);
-    for (size_t i = 1; i < n; ++i) entry[i] = junction_speed(b[i - 1], b[i]);
+    entry[0] = safe_speed(b[0], stealth);
+    entry[n] = safe_speed(b[n - 1], stealth);
+    for (size_t i = 1; i < n; ++i) entry[i] = junction_speed(b[i - 1], b[i], stealth);
     // Backward: each block must be able to slow down to the next entry speed.
     for (size_t i = n; i-- > 0;)
-        entry[i] = std::min(entry[i],
-                            std::sqrt(entry[i + 1] * entry[i + 1] + 2 * b[i].accel * b[i].length));
+        entry[i] =
+            std::min(entry[i], std::sqrt(entry[i + 1] * entry[i + 1] + 2 * accel(i) * b[i].length));
     // Forward: and to reach its exit speed from its entry speed.
     for (size_t i = 0; i < n; ++i)
         entry[i + 1] =
-            std::min(entry[i + 1], std::sqrt(entry[i] * entry[i] + 2 * b[i].accel * b[i].length));
+            std::min(entry[i + 1], std::sqrt(entry[i] * entry[i] + 2 * accel(i) * b[i].length));
     double t = 0;
-    for (size_t i = 0; i < n; ++i)
-        t += trapezoid_time(b[i].length, entry[i], b[i].speed, entry[i + 1], b[i].accel);
+    for (size_t i = 0; i < n; ++i) {
+        const Capped& c = stealth ? b[i].stealth : b[i].normal;
+        t += trapezoid_time(b[i].length, entry[i], c.speed, entry[i + 1], c.accel);
+    }
     return t;
 }
 

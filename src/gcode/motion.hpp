@@ -42,6 +42,11 @@ class MotionPlanner {
         limits_.junction_deviation = junction_deviation_mm;
     }
     explicit MotionPlanner(const MachineLimits& limits) : limits_(limits) {}
+    // With `stealth`, the same moves are also timed under a second set of limits (a Prusa
+    // printer's stealth mode, M73 Q/S): time_stealth() and take_done_stealth(). Without it those
+    // are the normal figures.
+    MotionPlanner(const MachineLimits& limits, const MachineLimits& stealth)
+        : limits_(limits), stealth_(stealth), dual_(true) {}
 
     // An XY move (mm) at nominal speed (mm/s) and acceleration (mm/s^2).
     void move(double dx, double dy, double speed, double accel);
@@ -59,19 +64,33 @@ class MotionPlanner {
         done_ = 0;
         return d;
     }
+    double time_stealth() const;
+    // Taken with take_done(), at the same places.
+    double take_done_stealth() {
+        const double d = done_stealth_;
+        done_stealth_ = 0;
+        return d;
+    }
     bool operator==(const MotionPlanner&) const = default;
 
   private:
+    // A move's speed and acceleration as each mode's limits cap them.
+    struct Capped {
+        double speed, accel;
+        bool operator==(const Capped&) const = default;
+    };
     struct Block {
-        double length, ux, uy, speed, accel;
+        double length, ux, uy;
+        Capped normal, stealth;
         bool operator==(const Block&) const = default;
     };
-    double plan(const std::vector<Block>& blocks) const;
-    double junction_speed(const Block& p, const Block& q) const;
-    double safe_speed(const Block& b) const;  // entry from, or exit to, rest
+    double plan(const std::vector<Block>& blocks, bool stealth) const;
+    double junction_speed(const Block& p, const Block& q, bool stealth) const;
+    double safe_speed(const Block& b, bool stealth) const;  // entry from, or exit to, rest
 
-    MachineLimits limits_;
-    double done_ = 0;
+    MachineLimits limits_, stealth_;
+    bool dual_ = false;
+    double done_ = 0, done_stealth_ = 0;
     std::vector<Block> blocks_;
 };
 

@@ -12,20 +12,30 @@
 
 namespace carve {
 
-std::string m73_line(double elapsed_s, double total_s, bool stealth) {
-    const double left = std::max(0.0, total_s - elapsed_s);
+namespace {
+
+// Percent done (rounded down, 100 only at the end) and minutes left (rounded).
+std::pair<long long, long long> progress_figures(ProgressTime t) {
+    const double left = std::max(0.0, t.total_s - t.elapsed_s);
     long long percent = 100;
-    if (total_s > 0 && elapsed_s < total_s)
-        percent =
-            std::clamp<long long>(std::llround(std::floor(100.0 * elapsed_s / total_s)), 0, 100);
-    const long long minutes = std::llround(left / 60.0);
-    if (stealth) return fmt::format("M73 P{0} R{1}\nM73 Q{0} S{1}\n", percent, minutes);
-    return fmt::format("M73 P{} R{}\n", percent, minutes);
+    if (t.total_s > 0 && t.elapsed_s < t.total_s)
+        percent = std::clamp<long long>(std::llround(std::floor(100.0 * t.elapsed_s / t.total_s)),
+                                        0, 100);
+    return {percent, std::llround(left / 60.0)};
+}
+
+}  // namespace
+
+std::string m73_line(ProgressTime normal, const ProgressTime* stealth) {
+    const auto [percent, minutes] = progress_figures(normal);
+    if (!stealth) return fmt::format("M73 P{} R{}\n", percent, minutes);
+    const auto [q, s] = progress_figures(*stealth);
+    return fmt::format("M73 P{} R{}\nM73 Q{} S{}\n", percent, minutes, q, s);
 }
 
 void copy_with_progress(const std::vector<std::FILE*>& bodies, std::FILE* out,
                         const std::vector<ProgressMark>& marks, double total_s,
-                        const std::string& path, bool stealth) {
+                        const std::string& path, double stealth_total_s) {
     auto fail = [&] { throw OutputError("cannot write " + path + ": " + std::strerror(errno)); };
     // 64 KB: a megabyte zeroed here was 256 fresh pages in the serial end of every run.
     std::vector<char> chunk(1 << 16);
@@ -33,7 +43,9 @@ void copy_with_progress(const std::vector<std::FILE*>& bodies, std::FILE* out,
     size_t next = 0;   // the next mark to write
     std::string last;  // the line written last: the same figures are not repeated
     auto progress = [&](const ProgressMark& mark) {
-        const std::string line = m73_line(mark.elapsed_s, total_s, stealth);
+        const ProgressTime stealth{mark.stealth_elapsed_s, stealth_total_s};
+        const std::string line =
+            m73_line({mark.elapsed_s, total_s}, stealth_total_s >= 0 ? &stealth : nullptr);
         if (line == last) return;
         if (std::fwrite(line.data(), 1, line.size(), out) != line.size()) fail();
         last = line;

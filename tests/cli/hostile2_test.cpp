@@ -148,7 +148,7 @@ TEST(HostileNames, ProfileTextStaysOnItsCommentLine) {
 
 // --- nothing printed beyond the machine
 
-// 310 mm: over every preset's height (klipper's is 300).
+// 310 mm: over every preset's height (the highest, 250).
 TEST(HostileMachine, ATowerTallerThanThePrinterIsRefusedOnEveryPreset) {
     const fs::path d = folder("tower");
     const fs::path tower = box(d, "tower.stl", 10, 10, 310);
