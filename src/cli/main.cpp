@@ -30,6 +30,7 @@
 #include "base/output_paths.hpp"
 #include "check/gcode_analysis.hpp"
 #include "check/strength.hpp"
+#include "config/presets.hpp"
 #include "config/profiles.hpp"
 #include "config/setting_table.hpp"
 #include "gcode/placeholders.hpp"
@@ -151,9 +152,10 @@ int run(int argc, char** argv) {
         "Built-in printer preset: " + carve::printer_preset_names() + " [generic]");
     slice
         ->add_option("--preset", preset,
-                     "The report's presets: 2c0s (2 covers, no shell) or "
-                     "3c1s (3 covers, 1 shell) [none: 2 covers, 0 shells]")
-        ->check(CLI::IsMember({"2c0s", "3c1s"}));
+                     "The report's presets: 2c0s (2 covers, no shell) or 3c1s (3 covers, 1 "
+                     "shell); or strong (--strong 1: the report's carving and 4 shells, the "
+                     "stiffest for its weight that carve measured) [none: 2 covers, 0 shells]")
+        ->check(CLI::IsMember({"2c0s", "3c1s", "strong"}));
     slice->add_option("--report", run.report_path,
                       "Write an HTML report (self-contained) to this file [none]");
     slice->add_option("--svg-layers", run.svg_dir,
@@ -407,13 +409,20 @@ int run(int argc, char** argv) {
                 carve::kExitUsage);
         if (!profile_path.empty())
             profile_notes = carve::load_prusa_profile(profile_path, settings, profile_options);
-        if (preset == "2c0s") settings.covers = 2, settings.shells = 0;
-        if (preset == "3c1s") settings.covers = 3, settings.shells = 1;
+        if (!preset.empty()) carve::apply_print_preset(preset, settings);
         for (const auto& [spec, option_on] : switches)
             if (option_on.first->count() > 0)
                 given.emplace_back(spec, option_on.second ? "1" : "0");
         for (const auto& [spec, text] : given)
             spec->set(settings, text, std::string("--") + spec->option);
+        {
+            // --strong moves shells and the scheme, but not those typed on the command line.
+            const auto typed = [&given](std::string_view option) {
+                return std::any_of(given.begin(), given.end(),
+                                   [&](const auto& g) { return option == g.first->option; });
+            };
+            carve::apply_strength(settings, typed("shells"), typed("carving"));
+        }
         // Only once every option is in: --carving may come after an option of its scheme.
         for (const auto& given_option : given) carve::check_scheme(*given_option.first, settings);
         for (const std::string& n : profile_notes)

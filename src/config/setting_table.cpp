@@ -268,6 +268,10 @@ std::vector<SettingSpec> make_table() {
         {"covers", "", "layers", 0, 50, &S::covers, "Solid layers at tops and bottoms, layers [2]"},
         {"shells", "", "lines", 0, 20, &S::shells,
          "Extra perimeters inside the outer wall, lines [0]"},
+        {"strong", "", "ratio", 0.0, 1.0, &S::strength,
+         "How strong to print, a ratio from carve's default (0) to --preset strong (1); above "
+         "0 the report's carving and round(4 x S) shells; --shells and --carving given win "
+         "[0]"},
         {"extrusion-width", "", "mm", 0.0, 3.0, &S::extrusion_width,
          "Line width w of every wall and cover, mm; a profile's perimeter_extrusion_width or "
          "extrusion_width sets it [0 = the nozzle diameter]"},

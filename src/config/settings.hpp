@@ -58,6 +58,9 @@ struct Settings {
     bool cavities_auto = false;  // stop when V^j erodes away at radius w
     int covers = 2;
     int shells = 0;
+    // 0 to 1, from carve's default to --preset strong: more shells and the report's nested
+    // walls (config/presets.hpp), applied once every option is in.
+    double strength = 0;
     WallMode walls = WallMode::Single;
     double restriction_factor = 1.4;  // t = 1.4 s
     double opening_factor = 0.9;      // s' = 0.9 s
