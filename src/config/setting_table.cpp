@@ -547,8 +547,8 @@ std::vector<SettingSpec> make_table() {
          "before it and back after it [none]"},
         {"pause-command", "", "", 0, 0, pause_command_field(),
          "The command --pause-at writes: a G-code or a macro's name (M601, M0, PAUSE, "
-         "M600; Klipper's PAUSE needs its pause_resume section and a PAUSE macro) [M600 on "
-         "Marlin and RepRap, PAUSE on Klipper]"},
+         "M600; Klipper's PAUSE needs its pause_resume section and a PAUSE macro) [none: "
+         "M600 on Marlin and RepRap, PAUSE on Klipper]"},
         {"thumbnails", "thumbnails", "", 0, 0, thumbnails_field(),
          "PNG previews of the model in the header, PrusaSlicer's format, sizes WxH,WxH (e.g. "
          "16x16,220x124) [none; 16x16,220x124 with --printer mk3s, 32x32,400x300 with --printer "
