@@ -8,7 +8,8 @@
 #include <cstdio>
 #include <numbers>
 #include <string>
-#include <unordered_set>
+#include <unordered_map>
+#include <utility>
 
 #include "mesh/shells.hpp"
 
@@ -55,8 +56,7 @@ class QuickHull {
         for (const auto& t : tri) {
             HullFacet f = facet(t[0], t[1], t[2]);
             if (dot(f.normal, centre) - f.offset > 0) f = facet(t[0], t[2], t[1]);
-            made.push_back(facets_.size());
-            facets_.push_back(std::move(f));
+            made.push_back(push(std::move(f)));
         }
         std::vector<uint32_t> all(p_.size());
         for (uint32_t i = 0; i < all.size(); ++i) all[i] = i;
@@ -65,6 +65,9 @@ class QuickHull {
             const size_t f = open_.back();
             open_.pop_back();
             if (facets_[f].alive && !facets_[f].outside.empty()) add_point(f);
+            // A hull has fewer than twice as many facets as points: more means rounding has
+            // broken it, and no hull face is proposed rather than a wrong one.
+            if (facets_.size() > 4 * p_.size() + 64) return false;
         }
         return true;
     }
@@ -132,30 +135,37 @@ class QuickHull {
         uint32_t eye = facets_[from].outside.front();
         for (uint32_t i : facets_[from].outside)
             if (height(facets_[from], i) > height(facets_[from], eye)) eye = i;
-        // The facets the eye sees; the horizon is their edges whose twin is not among them.
-        std::vector<size_t> visible;
-        std::unordered_set<uint64_t> edges;
-        auto key = [](uint32_t a, uint32_t b) { return (uint64_t(a) << 32) | b; };
-        for (size_t f = 0; f < facets_.size(); ++f)
-            if (facets_[f].alive && height(facets_[f], eye) > eps_) {
-                visible.push_back(f);
-                for (int k = 0; k < 3; ++k)
-                    edges.insert(key(facets_[f].v[k], facets_[f].v[(k + 1) % 3]));
-            }
-        std::vector<uint32_t> orphans;
-        std::vector<size_t> made;
-        for (size_t f : visible) {
-            HullFacet& old = facets_[f];
-            old.alive = false;
-            orphans.insert(orphans.end(), old.outside.begin(), old.outside.end());
-            old.outside.clear();
-            for (int k = 0; k < 3; ++k) {
-                const uint32_t a = old.v[k], b = old.v[(k + 1) % 3];
-                if (edges.count(key(b, a))) continue;
-                made.push_back(facets_.size());
-                facets_.push_back(facet(a, b, eye));
+        // The facets the eye sees, walked across their edges from the first so that they form
+        // one patch whatever rounding says of facets elsewhere; its rim is the horizon.
+        std::vector<size_t> visible{from};
+        std::vector<std::pair<uint32_t, uint32_t>> horizon;
+        facets_[from].alive = false;  // marks it visited; every visible facet dies anyway
+        for (size_t k = 0; k < visible.size(); ++k) {
+            const HullFacet& f = facets_[visible[k]];
+            for (int e = 0; e < 3; ++e) {
+                const uint32_t a = f.v[e], b = f.v[(e + 1) % 3];
+                const auto twin = edge_.find(key(b, a));
+                if (twin == edge_.end()) continue;  // already dead: inside the patch
+                HullFacet& g = facets_[twin->second];
+                if (!g.alive) continue;
+                if (height(g, eye) > eps_) {
+                    g.alive = false;
+                    visible.push_back(twin->second);
+                } else {
+                    horizon.push_back({a, b});
+                }
             }
         }
+        std::vector<uint32_t> orphans;
+        for (size_t f : visible) {
+            HullFacet& old = facets_[f];
+            for (int e = 0; e < 3; ++e) edge_.erase(key(old.v[e], old.v[(e + 1) % 3]));
+            orphans.insert(orphans.end(), old.outside.begin(), old.outside.end());
+            old.outside.clear();
+            old.outside.shrink_to_fit();
+        }
+        std::vector<size_t> made;
+        for (const auto& [a, b] : horizon) made.push_back(push(facet(a, b, eye)));
         std::erase(orphans, eye);
         assign(orphans, made);
         compact();
@@ -171,16 +181,27 @@ class QuickHull {
         for (size_t f = 0; f < facets_.size(); ++f)
             if (facets_[f].alive) renumber[f] = kept.size(), kept.push_back(std::move(facets_[f]));
         facets_ = std::move(kept);
+        for (auto& [k, f] : edge_) f = renumber[f];
         std::vector<size_t> open;
         for (size_t f : open_)
             if (renumber[f] != SIZE_MAX) open.push_back(renumber[f]);
         open_ = std::move(open);
     }
 
+    static uint64_t key(uint32_t a, uint32_t b) { return (uint64_t(a) << 32) | b; }
+    // A living facet, its edges recorded so that its neighbours find it.
+    size_t push(HullFacet f) {
+        const size_t i = facets_.size();
+        for (int e = 0; e < 3; ++e) edge_[key(f.v[e], f.v[(e + 1) % 3])] = i;
+        facets_.push_back(std::move(f));
+        return i;
+    }
+
     const std::vector<Vec3>& p_;
     const double eps_;
     std::vector<HullFacet> facets_;
     std::vector<size_t> open_;
+    std::unordered_map<uint64_t, size_t> edge_;  // directed edge -> the living facet it bounds
 };
 
 Rotation axis_angle(const Vec3& axis, double angle) {
