@@ -5,7 +5,8 @@ axis-aligned orientations of that turned model sliced by hand (each written as i
 sliced with `--support auto` at the same settings). Figures: the material of the run --orient
 auto chose and of the best by hand, the orientation each picked, and the time --orient auto
 spent choosing as a ratio of one slice (the turned model sliced as given). Writes
-bench/results/orient.md and .json.
+bench/results/orient.md and .json; whatever follows the line `<!-- notes -->` in the existing
+orient.md is kept.
 
     bench/orient.py [--carve build/carve] [--models cat,skull] [--work /tmp/carve_orient]
 """
@@ -22,6 +23,7 @@ import numpy as np
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 MODELS = os.environ.get('CARVE_SHARED_MODELS', os.path.join(ROOT, '..', 'shared', 'models'))
 SHARED = ['cat', 'elephant', 'fandisk', 'man', 'skull']
+NOTES = '<!-- notes -->'
 
 
 def read_stl(path):
@@ -121,6 +123,11 @@ def main():
     json.dump(rows, open(out + '.json', 'w'), indent=1)
     rev = subprocess.run(['git', '-C', ROOT, 'rev-parse', '--short', 'HEAD'], capture_output=True,
                          text=True).stdout.strip()
+    notes = ''
+    if os.path.exists(out + '.md'):
+        text = open(out + '.md').read()
+        if NOTES in text:
+            notes = text[text.index(NOTES):]
     with open(out + '.md', 'w') as md:
         md.write('# --orient auto against the best axis-aligned orientation by hand\n\n')
         md.write(f'`nice /usr/bin/python3 bench/orient.py` at {rev}, '
@@ -146,6 +153,8 @@ def main():
             cells = [f"{b['material_mm3'] / 1000:.2f} / {b['time_s'] / 60:.0f}"
                      if b['material_mm3'] is not None else 'does not fit' for b in r['by_hand']]
             md.write(f"| {r['model']} | " + ' | '.join(cells) + ' |\n')
+        if notes:
+            md.write('\n' + notes)
     print('wrote', out + '.md')
 
 
