@@ -7,7 +7,9 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <utility>
+#include <vector>
 
 #include "base/error.hpp"
 
@@ -115,8 +117,14 @@ void choose_orientation(const Settings& settings, const RunOptions& options, Mes
             options.model_path, result.mesh.items.size()));
     constexpr int kHullFaces = 6;
     OrientationChoice choice;
-    for (const OrientationCandidate& c : orientation_candidates(mesh, kHullFaces))
-        choice.trials.push_back(try_candidate(mesh, c, settings, options, result));
+    const std::vector<OrientationCandidate> candidates = orientation_candidates(mesh, kHullFaces);
+    for (size_t k = 0; k < candidates.size(); ++k) {
+        // The choice takes a few slices' time before the run's own progress starts.
+        if (options.progress)
+            std::fprintf(stderr, "carve: orientation %zu/%zu: %s\n", k + 1, candidates.size(),
+                         describe(candidates[k]).c_str());
+        choice.trials.push_back(try_candidate(mesh, candidates[k], settings, options, result));
+    }
     std::optional<size_t> best;
     for (size_t k = 0; k < choice.trials.size(); ++k)
         if (choice.trials[k].fits && (!best || better(choice.trials[k], choice.trials[*best])))
