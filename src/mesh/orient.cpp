@@ -9,6 +9,7 @@
 #include <numbers>
 #include <string>
 #include <unordered_map>
+#include <unordered_set>
 #include <utility>
 
 #include "mesh/shells.hpp"
@@ -131,6 +132,37 @@ class QuickHull {
             if (!facets_[f].outside.empty()) open_.push_back(f);
     }
 
+    // The rim of the patch `visible` (its facets marked dead): its edges whose twin lives.
+    std::vector<std::pair<uint32_t, uint32_t>> rim(const std::vector<size_t>& visible) const {
+        std::vector<std::pair<uint32_t, uint32_t>> out;
+        for (size_t f : visible)
+            for (int e = 0; e < 3; ++e) {
+                const uint32_t a = facets_[f].v[e], b = facets_[f].v[(e + 1) % 3];
+                const auto twin = edge_.find(key(b, a));
+                if (twin != edge_.end() && facets_[twin->second].alive) out.push_back({a, b});
+            }
+        return out;
+    }
+    // True when `horizon` passes a vertex twice; then the living facets at that vertex no
+    // lower than the eye's rounding join `visible` and `horizon` is walked again.
+    bool horizon_pinched(std::vector<std::pair<uint32_t, uint32_t>>& horizon,
+                         std::vector<size_t>& visible, uint32_t eye) {
+        std::unordered_set<uint32_t> starts, pinched;
+        for (const auto& [a, b] : horizon)
+            if (!starts.insert(a).second) pinched.insert(a);
+        if (pinched.empty()) return false;
+        for (size_t f = 0; f < facets_.size(); ++f) {
+            HullFacet& g = facets_[f];
+            if (!g.alive || height(g, eye) < -eps_) continue;
+            if (pinched.count(g.v[0]) || pinched.count(g.v[1]) || pinched.count(g.v[2])) {
+                g.alive = false;
+                visible.push_back(f);
+            }
+        }
+        horizon = rim(visible);
+        return true;
+    }
+
     void add_point(size_t from) {
         uint32_t eye = facets_[from].outside.front();
         for (uint32_t i : facets_[from].outside)
@@ -155,6 +187,27 @@ class QuickHull {
                     horizon.push_back({a, b});
                 }
             }
+        }
+        // A horizon through one vertex twice is a patch pinched there: rounding called a facet
+        // beside it hidden between two that see the eye (coplanar points, as a CAD part's flat
+        // faces hold), and the new facets would share an edge three ways. The facets about that
+        // vertex that are level with the eye within rounding join the patch; if it is still
+        // pinched, the eye is dropped (the hull stays closed, a little smaller).
+        // A new facet facing away from the one it replaces along its horizon edge is a sliver
+        // turned inside out: the eye lies level with the hull there within rounding, and is
+        // dropped too.
+        bool drop = false;
+        for (int round = 0; !drop && horizon_pinched(horizon, visible, eye); ++round)
+            drop = round == 4;
+        for (size_t k = 0; !drop && k < horizon.size(); ++k) {
+            const auto [a, b] = horizon[k];
+            drop = dot(facet(a, b, eye).normal, facets_[edge_.at(key(a, b))].normal) <= 0;
+        }
+        if (drop) {
+            for (size_t f : visible) facets_[f].alive = true;
+            std::erase(facets_[from].outside, eye);
+            if (!facets_[from].outside.empty()) open_.push_back(from);
+            return;
         }
         std::vector<uint32_t> orphans;
         for (size_t f : visible) {

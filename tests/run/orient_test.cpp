@@ -68,6 +68,30 @@ TEST(HullPlanes, BoxHasSixFacesOfItsAreas) {
     EXPECT_EQ(orientation_candidates(flat, 6).size(), 6u);
 }
 
+// A real mesh (the repository's fandisk, 6,475 vertices, many of them coplanar on its flat
+// faces): rounding once made the hull's visible patches pinched or inside out, and the hull grew
+// until memory ran out. Its area is Qhull's (scipy.spatial.ConvexHull of the same vertices:
+// 14,647.5 mm2).
+TEST(HullPlanes, FandiskHullIsQhulls) {
+    MeshReport report;
+    const Mesh mesh = load_mesh(std::string(CARVE_SOURCE_DIR) + "/data/sample/fandisk.stl", report);
+    const std::vector<HullPlane> planes = hull_planes(mesh.vertices);
+    ASSERT_FALSE(planes.empty());
+    double hull_area = 0;
+    for (const HullPlane& p : planes) hull_area += p.area_mm2;
+    // Within 0.5 %: points level with the hull within rounding are dropped rather than risk a
+    // facet inside out (14,632 mm2 here); the broken hull had 16,834.
+    EXPECT_NEAR(hull_area, 14647.5, 0.005 * 14647.5);
+    // Laid on its largest hull plane, the model stands on a facet: three vertices or more at its
+    // lowest height.
+    Mesh turned = mesh;
+    rotate_mesh(turned, lay_down(planes[0].normal));
+    const BBox3 box = bounding_box(turned);
+    int on_bed = 0;
+    for (const Vec3& v : turned.vertices) on_bed += v.z < box.min.z + 1e-3;
+    EXPECT_GE(on_bed, 3);
+}
+
 TEST(HullPlanes, LayDownTurnsTheFaceOntoTheBed) {
     const Vec3 n{0.6, -0.48, 0.64};
     const Vec3 d = lay_down(n).apply(n);
