@@ -342,6 +342,11 @@ std::vector<SettingSpec> make_table() {
                       "--whole-width may be and still be carved whole, mm [1000]"}),
         {"scale", "", "ratio", 0.01, 100.0, &S::scale,
          "Scale the model uniformly by this factor, ratio [1]"},
+        {"orient", "", "", 0, 0, words(&S::orient, {"given", "auto"}),
+         "How the model lies on the bed: given (as loaded) or auto (the axis-aligned turns and "
+         "the largest faces of its convex hull laid down, each carved at coarse layers with "
+         "supports; the least material wins, then the shorter print, then less overhang) "
+         "[given]"},
         // Skirt and brim (toolpath/skirt.hpp), PrusaSlicer's keys and defaults (its printer
         // profiles' brim_separation).
         {"skirts", "skirts", "loops", 0, 100, &S::skirts,

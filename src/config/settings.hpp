@@ -35,6 +35,9 @@ enum class SupportMode { None, Auto, Buildplate };
 //   (4.2), local minima bridged (4.4). Its options: --tear-limit, --wall-extension.
 // Both: --cavities, --walls, the bridge and rib options.
 enum class CarvingScheme { Whole, Report };
+// How the model lies on the bed (issue #48): given = as loaded; auto = of the axis-aligned turns
+// and the convex hull's largest faces laid down, the one that carves with the least material.
+enum class OrientMode { Given, Auto };
 
 struct Settings {
     // Geometry of the process.
@@ -73,6 +76,7 @@ struct Settings {
     double bridge_angle_step = 5.0;  // degrees
     bool prune_bridges = true;
     double scale = 1.0;  // uniform scale applied to the model about its centre
+    OrientMode orient = OrientMode::Given;
     // Copies of the model printed side by side as separate objects (a print farm's plate), and
     // the gap between them, mm (PrusaSlicer's default object distance).
     int copies = 1;

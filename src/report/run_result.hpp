@@ -4,14 +4,34 @@
 #pragma once
 
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "check/gcode_analysis.hpp"
 #include "gcode/gcode.hpp"
 #include "mesh/mesh.hpp"
+#include "mesh/orient.hpp"
 #include "toolpath/toolpath.hpp"
 
 namespace carve {
+
+// One orientation --orient auto tried: carved at coarse layers (so its figures compare with the
+// other candidates', not with the run's own), or refused because it does not fit the printer.
+struct OrientationTrial {
+    OrientationCandidate candidate;
+    bool fits = true;
+    std::string refused;      // why it does not fit, when it does not
+    double material_mm3 = 0;  // extruded, supports included
+    double support_mm3 = 0;
+    double print_time_s = 0;
+    double overhang_mm2 = 0;     // the model's own, summed over the layers
+    double layer_height_mm = 0;  // the coarse layers it was carved at
+};
+struct OrientationChoice {
+    std::vector<OrientationTrial> trials;
+    size_t chosen = 0;
+    double choice_time_s = 0;  // wall time of the whole choice
+};
 
 // Figures of one run; the stats JSON is made from these.
 struct RunResult {
@@ -57,9 +77,10 @@ struct RunResult {
     double cover_volume_mm3 = 0;
     double processing_time_s = 0;
     double peak_memory_mb = 0;
-    std::vector<double> layer_material_mm3;  // per layer, bottom up (for the report's plot)
-    std::optional<GcodeAnalysis> check;      // with RunOptions::check_output
-    double check_time_s = 0;                 // its cost, not in processing_time_s
+    std::vector<double> layer_material_mm3;        // per layer, bottom up (for the report's plot)
+    std::optional<OrientationChoice> orientation;  // with --orient auto
+    std::optional<GcodeAnalysis> check;            // with RunOptions::check_output
+    double check_time_s = 0;                       // its cost, not in processing_time_s
     double material_percent() const {
         return mesh.volume_mm3 > 0 ? 100.0 * print.extruded_volume_mm3 / mesh.volume_mm3 : 0;
     }

@@ -47,6 +47,47 @@ static double support_mm3(const RunResult& run) {
            run.feature_mm3[size_t(Feature::SupportInterface)];
 }
 
+// The rotation of one candidate: its name, axis and angle, the matrix (v' = m v about the
+// origin) and which direction of the model as loaded faces the bed.
+static nlohmann::json rotation_json(const OrientationCandidate& c) {
+    nlohmann::json j;
+    j["name"] = c.name;
+    j["description"] = describe(c);
+    const Vec3 a = c.rotation.axis();
+    j["axis"] = {a.x, a.y, a.z};
+    j["angle_deg"] = c.rotation.angle_deg();
+    j["matrix"] = c.rotation.m;
+    j["down"] = {c.down.x, c.down.y, c.down.z};
+    return j;
+}
+
+static nlohmann::json orientation_json(const OrientationChoice& o) {
+    nlohmann::json j;
+    j["chosen"] = rotation_json(o.trials[o.chosen].candidate);
+    j["choice_time_s"] = o.choice_time_s;
+    nlohmann::json list = nlohmann::json::array();
+    for (size_t k = 0; k < o.trials.size(); ++k) {
+        const OrientationTrial& t = o.trials[k];
+        nlohmann::json c = rotation_json(t.candidate);
+        c["fits"] = t.fits;
+        c["chosen"] = k == o.chosen;
+        if (t.fits) {
+            // At the coarse layers the choice carves at, with supports: figures to compare
+            // with one another, not with the run's own.
+            c["layer_height_mm"] = t.layer_height_mm;
+            c["extruded_volume_mm3"] = t.material_mm3;
+            c["support_volume_mm3"] = t.support_mm3;
+            c["estimated_print_time_s"] = t.print_time_s;
+            c["external_overhang_mm2"] = t.overhang_mm2;
+        } else {
+            c["refused"] = t.refused;
+        }
+        list.push_back(std::move(c));
+    }
+    j["candidates"] = std::move(list);
+    return j;
+}
+
 nlohmann::json stats_json(const RunResult& run, const Settings& settings) {
     nlohmann::json j;
     j["model_volume_mm3"] = run.mesh.volume_mm3;
@@ -113,6 +154,7 @@ nlohmann::json stats_json(const RunResult& run, const Settings& settings) {
     j["material_by_feature"] = m;
     j["mesh_closed"] = run.mesh.closed();
     j["mesh_warnings"] = run.mesh.warnings;
+    if (run.orientation) j["orientation"] = orientation_json(*run.orientation);
     if (run.check) {
         // What `carve check --mesh --json` says of the written G-code (--stats-check).
         j["check"] = to_json(*run.check);
@@ -139,8 +181,32 @@ nlohmann::json stats_json(const RunResult& run, const Settings& settings) {
     return j;
 }
 
+// --orient auto's candidates, one line each, the chosen one marked.
+static std::string orientation_text(const OrientationChoice& o) {
+    std::string out = fmt::format(
+        "orient     {} of {} orientations, chosen in {:.2f} s (carved at {} mm layers with "
+        "supports):\n",
+        describe(o.trials[o.chosen].candidate), o.trials.size(), o.choice_time_s,
+        o.trials[o.chosen].layer_height_mm);
+    for (size_t k = 0; k < o.trials.size(); ++k) {
+        const OrientationTrial& t = o.trials[k];
+        const std::string name = describe(t.candidate);
+        if (!t.fits) {
+            out += fmt::format("  {} {:<44} does not fit the printer\n", k == o.chosen ? '*' : ' ',
+                               name);
+            continue;
+        }
+        out +=
+            fmt::format("  {} {:<44} {:8.2f} cm3 ({:.2f} supports) {:>12} {:8.0f} mm2 overhang\n",
+                        k == o.chosen ? '*' : ' ', name, t.material_mm3 / 1000,
+                        t.support_mm3 / 1000, format_duration(t.print_time_s), t.overhang_mm2);
+    }
+    return out;
+}
+
 std::string summary_text(const RunResult& run, const Settings& settings) {
     std::string out;
+    if (run.orientation) out += orientation_text(*run.orientation);
     out += fmt::format("model      {:.1f} cm3, {} triangles, {} layers of {} mm\n",
                        run.mesh.volume_mm3 / 1000, run.mesh.triangles, run.layers,
                        settings.layer_height);

@@ -25,6 +25,7 @@
 #include "gcode/gcode.hpp"
 #include "report/stats.hpp"
 #include "run/layer_pipeline.hpp"
+#include "run/orient.hpp"
 #include "run/run_setup.hpp"
 #include "run/span_log.hpp"
 #include "slice/slicer.hpp"
@@ -110,6 +111,11 @@ PrintStats finish_gcode(GcodeWriter& writer, const RunOptions& options, const Ru
         fmt::format("carving_scheme = {}", scheme_name(settings.carving)),
         fmt::format("cavities = {}", result.cavities),
     };
+    // Only with --orient auto: a run as given keeps the header it had.
+    if (result.orientation)
+        header.push_back(fmt::format(
+            "orientation = {}",
+            describe(result.orientation->trials[result.orientation->chosen].candidate)));
     writer.set_threads(threads);
     return writer.finish(header);
 }
@@ -147,18 +153,12 @@ void print_profile(const LayerPipeline& layers, double load_s, double finish_s,
     std::fputs(clock.wall->table().c_str(), stderr);
 }
 
-}  // namespace
-
-RunResult run_slice(const Settings& settings, const RunOptions& options) {
-    RunClock clock;
+// The run from its mesh on: `load_start_ns` is when the main thread began the run's work.
+RunResult slice_loaded(const Settings& settings, const RunOptions& options, RunMesh run_mesh,
+                       RunResult result, RunClock& clock, int64_t load_start_ns) {
     auto note = [&](const std::string& s) {
         if (options.note) options.note(s);
     };
-    RunResult result;
-    const int64_t load_start_ns = thread_cpu_ns();  // the main thread alone until the pipeline
-
-    RunMesh run_mesh = load_run_mesh(settings, options, result, note);
-    clock.phase_ends("load");
     check_run_size(settings, options, result.mesh.bbox);
     const Placement place = centre_on_bed(settings, result.mesh.bbox);
     TopDownSlicer slicer(run_mesh.mesh, settings.layer_height, settings.model_layer_mm(0));
@@ -195,8 +195,31 @@ RunResult run_slice(const Settings& settings, const RunOptions& options) {
     outputs.finish(result, settings, options);
     clock.phase_ends("outputs");
     finish_s += cpu_s_since(writers_start_ns);
-    if (profiling_enabled()) print_profile(layers, load_s, finish_s, chunks, threads, clock);
+    // The candidates of --orient auto are part of the run that chose among them.
+    if (profiling_enabled() && !options.discard_outputs)
+        print_profile(layers, load_s, finish_s, chunks, threads, clock);
     return result;
+}
+
+}  // namespace
+
+RunResult slice_run_mesh(const Settings& settings, const RunOptions& options, RunMesh run_mesh,
+                         RunResult result) {
+    RunClock clock;
+    return slice_loaded(settings, options, std::move(run_mesh), std::move(result), clock,
+                        thread_cpu_ns());
+}
+
+RunResult run_slice(const Settings& settings, const RunOptions& options) {
+    RunClock clock;
+    RunResult result;
+    const int64_t load_start_ns = thread_cpu_ns();  // the main thread alone until the pipeline
+    RunMesh run_mesh = load_run_mesh(settings, options, result, [&](const std::string& s) {
+        if (options.note) options.note(s);
+    });
+    clock.phase_ends("load");
+    return slice_loaded(settings, options, std::move(run_mesh), std::move(result), clock,
+                        load_start_ns);
 }
 
 }  // namespace carve

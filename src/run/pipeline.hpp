@@ -33,6 +33,9 @@ struct RunOptions {
     // Called on a worker thread for each layer, in the parallel filter after its toolpaths
     // are planned. Tests throw from it to see an error in a parallel stage reach the caller.
     std::function<void(int layer)> in_parallel_stage;
+    // Make every output under its temporary name and remove it at the end (the candidates of
+    // --orient auto: their figures are wanted, not their G-code).
+    bool discard_outputs = false;
 };
 
 RunResult run_slice(const Settings& settings, const RunOptions& options);

@@ -16,6 +16,7 @@
 #include "geometry/polygon.hpp"
 #include "report/stats.hpp"
 #include "run/layer_figures.hpp"
+#include "run/orient.hpp"
 #include "toolpath/raft.hpp"
 #include "toolpath/skirt.hpp"
 
@@ -41,6 +42,9 @@ RunMesh load_run_mesh(const Settings& settings, const RunOptions& options, RunRe
         result.mesh.bbox = bounding_box(run.mesh);
         result.mesh.volume_mm3 = signed_volume(run.mesh);
     }
+    // Turned before it is copied: each copy lies as the one chosen.
+    if (settings.orient == OrientMode::Auto)
+        choose_orientation(settings, options, run.mesh, result);
     if (settings.copies > 1) {
         // The copies are one mesh of disjoint shells: every stage works on them as on islands
         // of one model; only the G-code labels each copy as its own object.
@@ -312,7 +316,7 @@ void RunOutputs::finish(RunResult& result, const Settings& settings, const RunOp
                               &group);
     if (svg_dir) group.hold(std::move(svg_dir));
     if (raster_dir) group.hold(std::move(raster_dir));
-    group.commit_all();
+    if (!options.discard_outputs) group.commit_all();
 }
 
 }  // namespace carve

@@ -1,0 +1,25 @@
+// --orient auto (issue #48): the orientation the run prints in, chosen by carving each candidate
+// (mesh/orient.hpp) at coarse layers with supports and keeping the one extruding the least
+// (private to src/run).
+#pragma once
+
+#include "config/settings.hpp"
+#include "mesh/mesh.hpp"
+#include "report/run_result.hpp"
+#include "run/pipeline.hpp"
+#include "run/run_setup.hpp"
+
+namespace carve {
+
+// Turns `mesh` (loaded and scaled, one copy) to the orientation chosen and fills
+// result.orientation with every candidate's figures. Throws InputError when none fits the
+// printer, naming why the first did not.
+void choose_orientation(const Settings& settings, const RunOptions& options, Mesh& mesh,
+                        RunResult& result);
+
+// The run after loading (pipeline.cpp): `run_mesh` sliced into options.gcode_path, `result`
+// holding its loaded figures. The candidates are sliced through it too.
+RunResult slice_run_mesh(const Settings& settings, const RunOptions& options, RunMesh run_mesh,
+                         RunResult result);
+
+}  // namespace carve
