@@ -196,6 +196,28 @@ TextField pause_at_field() {
     return t;
 }
 
+// --cut: heights "100,250.5" (as --pause-at) or "auto".
+TextField cut_field() {
+    TextField t = pause_at_field();
+    const auto get_heights = t.get;
+    const auto set_heights = t.set;
+    t.get = [get_heights](const Settings& s) {
+        return s.cut_auto ? std::string("auto") : get_heights(s);
+    };
+    t.set = [set_heights](Settings& s, const std::string& text, const std::string& source) {
+        s.cut_auto = text == "auto";
+        if (s.cut_auto) {
+            s.cut_at.clear();
+            return;
+        }
+        Settings heights;
+        set_heights(heights, text, source);
+        s.cut_at = std::move(heights.pause_at);
+    };
+    t.type_name = "Z[,Z..]|auto";
+    return t;
+}
+
 // PrusaSlicer's files state the first layer's height as printed: carve's 0 ("the layer
 // height") is written as that height (the configuration block, which hosts and viewers read),
 // and a file's height is read as given.
@@ -512,6 +534,19 @@ std::vector<SettingSpec> make_table() {
         {"pause-at", "", "mm", 0, 0, pause_at_field(),
          "Pause before the first layer at or above each height, mm of the model: M600 "
          "(filament change) on Marlin and RepRap, PAUSE on Klipper [none]"},
+        {"cut", "", "mm", 0, 0, cut_field(),
+         "Cut the model across z at these heights above its bottom, mm, or 'auto' (the fewest "
+         "cuts that fit every piece on the bed, where the cut faces are smallest); the pieces "
+         "print on plates, one G-code each [none]"},
+        {"cut-connectors", "", "", 0, 0, words(&S::cut_connectors, {"none", "dowel", "pin"}),
+         "What joins the pieces of --cut: dowel (holes in both faces), pin (a pin on the piece "
+         "below, a hole in the one above) or none [dowel]"},
+        {"dowel-diameter", "", "mm", 1.0, 50.0, &S::dowel_diameter,
+         "With --cut: the diameter of a dowel or pin, mm [5]"},
+        {"dowel-depth", "", "mm", 1.0, 100.0, &S::dowel_depth,
+         "With --cut: the depth of each connector hole, mm [6]"},
+        {"connector-clearance", "", "mm", 0.0, 2.0, &S::connector_clearance,
+         "With --cut: added to the radius of a hole around a dowel or pin, mm [0.15]"},
         {"thumbnails", "thumbnails", "", 0, 0, thumbnails_field(),
          "PNG previews of the model in the header, PrusaSlicer's format, sizes WxH,WxH (e.g. "
          "16x16,220x124) [none; 16x16,220x124 with --printer mk3s, 32x32,400x300 with --printer "

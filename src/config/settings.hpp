@@ -26,6 +26,9 @@ enum class SeamMode { Aligned, Nearest, Rear, Random };
 // Supports for the model's own overhangs (issue #20): none; auto = down to the bed or onto the
 // model's top; buildplate = only where nothing of the model lies below, down to the bed.
 enum class SupportMode { None, Auto, Buildplate };
+// What joins the pieces of a --cut: nothing, dowel holes in both faces, or a pin on the piece
+// below and a hole in the one above.
+enum class CutConnectors { None, Dowel, Pin };
 // How the interior is carved (issue #37).
 // whole: carve's own scheme, the default. Each part of the volume to carve is one cavity, taken
 //   whole from the slice where it appears; its ceilings are covers bridged from wall to wall and
@@ -156,6 +159,14 @@ struct Settings {
     // Heights (mm of the model) before whose first layer at or above the print pauses (M600 on
     // Marlin, PAUSE on Klipper).
     std::vector<double> pause_at;
+    // --cut (issue #48): planes across z, mm above the model's bottom, or chosen (cut_auto);
+    // the pieces print on plates of their own, joined by the connectors in their cut faces.
+    std::vector<double> cut_at;
+    bool cut_auto = false;
+    CutConnectors cut_connectors = CutConnectors::Dowel;
+    double dowel_diameter = 5, dowel_depth = 6;  // mm, of the dowel or pin and of each hole
+    double connector_clearance = 0.15;           // mm added to a hole's radius
+    bool cutting() const { return cut_auto || !cut_at.empty(); }
 
     // Printer and filament.
     GcodeFlavor flavor = GcodeFlavor::Marlin;

@@ -154,8 +154,9 @@ std::vector<double> plan_cuts(const Mesh& mesh, const CutLimits& limits,
         if (!fits(boxes[k]))
             throw InputError(fmt::format(
                 "{}: at {:.1f} to {:.1f} mm of its height the model is {:.1f} x {:.1f} mm, larger "
-                "than the bed ({:.0f} x {:.0f} mm) whichever way it lies: no cut across z brings "
-                "it onto the bed; scale it down or choose a larger --bed",
+                "than the {:.0f} x {:.0f} mm of the bed a piece may take (the skirt's room left "
+                "round it) whichever way it lies: no cut across z brings it onto the bed; scale "
+                "it down or choose a larger --bed",
                 model_path, plane(k) - box.min.z, plane(k + 1) - box.min.z, boxes[k].w(),
                 boxes[k].d(), limits.max_x, limits.max_y));
     // Fewest pieces first, then the least cut face: best[k] ends a piece at plane k.

@@ -51,7 +51,7 @@ double cpu_s_since(int64_t start_ns) {
 
 // The run's clocks: its wall time, and under CARVE_PROFILE the wall time of each phase.
 struct RunClock {
-    RunClock() {
+    explicit RunClock(std::chrono::steady_clock::time_point started) : start(started) {
         if (profiling_enabled()) {
             profile_geometry();
             wall.emplace();
@@ -63,7 +63,7 @@ struct RunClock {
     double elapsed_s() const {
         return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     }
-    const std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
+    const std::chrono::steady_clock::time_point start;
     std::optional<WallPhases> wall;
 };
 
@@ -150,14 +150,25 @@ void print_profile(const LayerPipeline& layers, double load_s, double finish_s,
 }  // namespace
 
 RunResult run_slice(const Settings& settings, const RunOptions& options) {
-    RunClock clock;
+    const auto started = std::chrono::steady_clock::now();
+    const int64_t started_cpu_ns = thread_cpu_ns();  // the main thread alone until the pipeline
     auto note = [&](const std::string& s) {
         if (options.note) options.note(s);
     };
     RunResult result;
-    const int64_t load_start_ns = thread_cpu_ns();  // the main thread alone until the pipeline
-
     RunMesh run_mesh = load_run_mesh(settings, options, result, note);
+    return slice_run_mesh(settings, options, std::move(run_mesh), std::move(result), started,
+                          started_cpu_ns);
+}
+
+RunResult slice_run_mesh(const Settings& settings, const RunOptions& options, RunMesh run_mesh,
+                         RunResult result, std::chrono::steady_clock::time_point started,
+                         int64_t started_cpu_ns) {
+    RunClock clock(started);
+    auto note = [&](const std::string& s) {
+        if (options.note) options.note(s);
+    };
+    const int64_t load_start_ns = started_cpu_ns;
     clock.phase_ends("load");
     check_run_size(settings, options, result.mesh.bbox);
     const Placement place = centre_on_bed(settings, result.mesh.bbox);
