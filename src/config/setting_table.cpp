@@ -202,7 +202,10 @@ TextField cut_field() {
     const auto get_heights = t.get;
     const auto set_heights = t.set;
     t.get = [get_heights](const Settings& s) {
-        return s.cut_auto ? std::string("auto") : get_heights(s);
+        if (s.cut_auto) return std::string("auto");
+        Settings heights;
+        heights.pause_at = s.cut_at;
+        return get_heights(heights);
     };
     t.set = [set_heights](Settings& s, const std::string& text, const std::string& source) {
         s.cut_auto = text == "auto";
