@@ -136,6 +136,12 @@ std::vector<double> cut_heights(const Settings& settings, const RunOptions& opti
                             options.model_path, z, height));
         zs.push_back(box.min.z + z);
     }
+    // settings.cut_at is sorted (the field sorts its heights).
+    for (size_t k = 1; k < settings.cut_at.size(); ++k)
+        if (settings.cut_at[k] - settings.cut_at[k - 1] < 1.0)
+            throw InputError(fmt::format("{}: --cut {} and {} mm are closer than 1 mm",
+                                         options.model_path, settings.cut_at[k - 1],
+                                         settings.cut_at[k]));
     return zs;
 }
 
