@@ -358,6 +358,11 @@ void OutputGroup::commit_all() {
     pending_.clear();
 }
 
+void OutputGroup::hand_over(OutputGroup& other) {
+    for (auto& p : pending_) other.pending_.push_back(std::move(p));
+    pending_.clear();
+}
+
 void write_file_atomically(const std::string& path, std::string_view text, OutputGroup* group) {
     auto file = std::make_unique<AtomicFile>(path);
     file->write(text);

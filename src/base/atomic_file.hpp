@@ -92,6 +92,8 @@ class OutputGroup {
   public:
     void hold(std::unique_ptr<PendingOutput> output) { pending_.push_back(std::move(output)); }
     void commit_all();
+    // Moves every output held to `other`, committed with its own (the plates of a --cut).
+    void hand_over(OutputGroup& other);
 
   private:
     std::vector<std::unique_ptr<PendingOutput>> pending_;

@@ -463,6 +463,18 @@ int run(int argc, char** argv) {
         run.note = [quiet](const std::string& s) {
             if (!quiet) std::fprintf(stderr, "carve: warning: %s\n", s.c_str());
         };
+        if (settings.cutting()) {
+            const carve::CutRunResult cut = carve::run_cut(settings, run);
+            if (!quiet) {
+                std::cout << cut.pieces << " pieces on " << cut.plates.size() << " plates\n";
+                for (size_t p = 0; p < cut.plates.size(); ++p)
+                    std::cout << "plate " << p + 1 << ":\n"
+                              << carve::summary_text(cut.plates[p], settings) << "G-code     "
+                              << cut.gcode_paths[p] << "\n";
+                if (!run.stats_path.empty()) std::cout << "stats      " << run.stats_path << "\n";
+            }
+            return 0;
+        }
         const carve::RunResult result = carve::run_slice(settings, run);
         if (!quiet) {
             std::cout << carve::summary_text(result, settings);

@@ -216,6 +216,31 @@ TextField pause_command_field() {
     return t;
 }
 
+// --cut: heights "100,250.5" (as --pause-at) or "auto".
+TextField cut_field() {
+    TextField t = pause_at_field();
+    const auto get_heights = t.get;
+    const auto set_heights = t.set;
+    t.get = [get_heights](const Settings& s) {
+        if (s.cut_auto) return std::string("auto");
+        Settings heights;
+        heights.pause_at = s.cut_at;
+        return get_heights(heights);
+    };
+    t.set = [set_heights](Settings& s, const std::string& text, const std::string& source) {
+        s.cut_auto = text == "auto";
+        if (s.cut_auto) {
+            s.cut_at.clear();
+            return;
+        }
+        Settings heights;
+        set_heights(heights, text, source);
+        s.cut_at = std::move(heights.pause_at);
+    };
+    t.type_name = "Z[,Z..]|auto";
+    return t;
+}
+
 // PrusaSlicer's files state the first layer's height as printed: carve's 0 ("the layer
 // height") is written as that height (the configuration block, which hosts and viewers read),
 // and a file's height is read as given.
@@ -554,6 +579,19 @@ std::vector<SettingSpec> make_table() {
          "The command --pause-at writes: a G-code or a macro's name (M601, M0, PAUSE, "
          "M600; Klipper's PAUSE needs its pause_resume section and a PAUSE macro) [none: "
          "M600 on Marlin and RepRap, PAUSE on Klipper]"},
+        {"cut", "", "mm", 0, 0, cut_field(),
+         "Cut the model across z at these heights above its bottom, mm, or 'auto' (the fewest "
+         "cuts that fit every piece on the bed, where the cut faces are smallest); the pieces "
+         "print on plates, one G-code each [none]"},
+        {"cut-connectors", "", "", 0, 0, words(&S::cut_connectors, {"none", "dowel", "pin"}),
+         "What joins the pieces of --cut: dowel (holes in both faces), pin (a pin on the piece "
+         "below, a hole in the one above) or none [dowel]"},
+        {"dowel-diameter", "", "mm", 1.0, 50.0, &S::dowel_diameter,
+         "With --cut: the diameter of a dowel or pin, mm [5]"},
+        {"dowel-depth", "", "mm", 1.0, 100.0, &S::dowel_depth,
+         "With --cut: the depth of each connector hole, mm [6]"},
+        {"connector-clearance", "", "mm", 0.0, 2.0, &S::connector_clearance,
+         "With --cut: added to the radius of a hole around a dowel or pin, mm [0.15]"},
         {"thumbnails", "thumbnails", "", 0, 0, thumbnails_field(),
          "PNG previews of the model in the header, PrusaSlicer's format, sizes WxH,WxH (e.g. "
          "16x16,220x124) [none; 16x16,220x124 with --printer mk3s, 32x32,400x300 with --printer "

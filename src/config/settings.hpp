@@ -26,6 +26,9 @@ enum class SeamMode { Aligned, Nearest, Rear, Random };
 // Supports for the model's own overhangs (issue #20): none; auto = down to the bed or onto the
 // model's top; buildplate = only where nothing of the model lies below, down to the bed.
 enum class SupportMode { None, Auto, Buildplate };
+// What joins the pieces of a --cut: nothing, dowel holes in both faces, or a pin on the piece
+// below and a hole in the one above.
+enum class CutConnectors { None, Dowel, Pin };
 // How the interior is carved (issue #37).
 // whole: carve's own scheme, the default. Each part of the volume to carve is one cavity, taken
 //   whole from the slice where it appears; its ceilings are covers bridged from wall to wall and
@@ -166,6 +169,14 @@ struct Settings {
     // The command a pause writes, between its park and its return: "" = the flavour's (M600 on
     // Marlin and RepRap, PAUSE on Klipper, which needs [pause_resume] and a PAUSE macro).
     std::string pause_command;
+    // --cut (issue #48): planes across z, mm above the model's bottom, or chosen (cut_auto);
+    // the pieces print on plates of their own, joined by the connectors in their cut faces.
+    std::vector<double> cut_at;
+    bool cut_auto = false;
+    CutConnectors cut_connectors = CutConnectors::Dowel;
+    double dowel_diameter = 5, dowel_depth = 6;  // mm, of the dowel or pin and of each hole
+    double connector_clearance = 0.15;           // mm added to a hole's radius
+    bool cutting() const { return cut_auto || !cut_at.empty(); }
 
     // Printer and filament.
     GcodeFlavor flavor = GcodeFlavor::Marlin;

@@ -136,6 +136,10 @@ std::vector<std::string> config_block(const Settings& s) {
         // words (it was a fixed word before, the layer height), as printed.
         const std::string_view option = spec.option;
         if (option == "first-layer-height") continue;
+        // The cut's connectors (issue #48) are written in the plates of a cut only, so that a
+        // print of a whole model keeps the block it had before cuts existed.
+        if (!s.cutting() && (option.starts_with("dowel-") || option == "connector-clearance"))
+            continue;
         if ((option == "first-layer-extrusion-width" || option == "extrusion-multiplier" ||
              option == "max-volumetric-speed" || option == "elephant-foot-compensation" ||
              option == "xy-size-compensation" || option == "z-offset" ||
@@ -147,6 +151,9 @@ std::vector<std::string> config_block(const Settings& s) {
     for (std::string_view key : kWordOrder) kv.emplace_back(key, word_value(key, s));
     // Written when given, so that a file without it keeps the block it had.
     if (!s.pause_command.empty()) kv.emplace_back("pause_command", s.pause_command);
+    if (s.cutting())
+        for (std::string_view key : {"cut", "cut_connectors"})
+            kv.emplace_back(key, word_value(key, s));
     for (const CustomGcodeKey& c : custom_gcode_keys())
         kv.emplace_back(c.ini_key, escape_profile_text(s.*(c.text)));
     // PrusaSlicer has two switches for carve's one word (--support), so it is no table key.

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "base/error.hpp"
+#include "base/stage_timer.hpp"
 
 namespace carve {
 
@@ -92,7 +93,8 @@ OrientationTrial try_candidate(const Mesh& mesh, OrientationCandidate c, const S
     try {
         // The run's own limits refuse what does not fit the bed or the printer's height.
         const RunResult r =
-            slice_run_mesh(s, candidate_options(options), std::move(run), std::move(start));
+            slice_run_mesh(s, candidate_options(options), std::move(run), std::move(start),
+                           std::chrono::steady_clock::now(), thread_cpu_ns());
         t.material_mm3 = r.print.extruded_volume_mm3;
         t.support_mm3 = r.feature_mm3[size_t(Feature::Support)] +
                         r.feature_mm3[size_t(Feature::SupportInterface)];

@@ -17,9 +17,4 @@ namespace carve {
 void choose_orientation(const Settings& settings, const RunOptions& options, Mesh& mesh,
                         RunResult& result);
 
-// The run after loading (pipeline.cpp): `run_mesh` sliced into options.gcode_path, `result`
-// holding its loaded figures. The candidates are sliced through it too.
-RunResult slice_run_mesh(const Settings& settings, const RunOptions& options, RunMesh run_mesh,
-                         RunResult result);
-
 }  // namespace carve

@@ -52,7 +52,7 @@ double cpu_s_since(int64_t start_ns) {
 
 // The run's clocks: its wall time, and under CARVE_PROFILE the wall time of each phase.
 struct RunClock {
-    RunClock() {
+    explicit RunClock(std::chrono::steady_clock::time_point started) : start(started) {
         if (profiling_enabled()) {
             profile_geometry();
             wall.emplace();
@@ -64,7 +64,7 @@ struct RunClock {
     double elapsed_s() const {
         return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     }
-    const std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
+    const std::chrono::steady_clock::time_point start;
     std::optional<WallPhases> wall;
 };
 
@@ -153,12 +153,29 @@ void print_profile(const LayerPipeline& layers, double load_s, double finish_s,
     std::fputs(clock.wall->table().c_str(), stderr);
 }
 
-// The run from its mesh on: `load_start_ns` is when the main thread began the run's work.
-RunResult slice_loaded(const Settings& settings, const RunOptions& options, RunMesh run_mesh,
-                       RunResult result, RunClock& clock, int64_t load_start_ns) {
+}  // namespace
+
+RunResult run_slice(const Settings& settings, const RunOptions& options) {
+    const auto started = std::chrono::steady_clock::now();
+    const int64_t started_cpu_ns = thread_cpu_ns();  // the main thread alone until the pipeline
     auto note = [&](const std::string& s) {
         if (options.note) options.note(s);
     };
+    RunResult result;
+    RunMesh run_mesh = load_run_mesh(settings, options, result, note);
+    return slice_run_mesh(settings, options, std::move(run_mesh), std::move(result), started,
+                          started_cpu_ns);
+}
+
+RunResult slice_run_mesh(const Settings& settings, const RunOptions& options, RunMesh run_mesh,
+                         RunResult result, std::chrono::steady_clock::time_point started,
+                         int64_t started_cpu_ns) {
+    RunClock clock(started);
+    auto note = [&](const std::string& s) {
+        if (options.note) options.note(s);
+    };
+    const int64_t load_start_ns = started_cpu_ns;
+    clock.phase_ends("load");
     check_run_size(settings, options, result.mesh.bbox);
     const Placement place = centre_on_bed(settings, result.mesh.bbox);
     TopDownSlicer slicer(run_mesh.mesh, settings.layer_height, settings.model_layer_mm(0));
@@ -199,27 +216,6 @@ RunResult slice_loaded(const Settings& settings, const RunOptions& options, RunM
     if (profiling_enabled() && !options.discard_outputs)
         print_profile(layers, load_s, finish_s, chunks, threads, clock);
     return result;
-}
-
-}  // namespace
-
-RunResult slice_run_mesh(const Settings& settings, const RunOptions& options, RunMesh run_mesh,
-                         RunResult result) {
-    RunClock clock;
-    return slice_loaded(settings, options, std::move(run_mesh), std::move(result), clock,
-                        thread_cpu_ns());
-}
-
-RunResult run_slice(const Settings& settings, const RunOptions& options) {
-    RunClock clock;
-    RunResult result;
-    const int64_t load_start_ns = thread_cpu_ns();  // the main thread alone until the pipeline
-    RunMesh run_mesh = load_run_mesh(settings, options, result, [&](const std::string& s) {
-        if (options.note) options.note(s);
-    });
-    clock.phase_ends("load");
-    return slice_loaded(settings, options, std::move(run_mesh), std::move(result), clock,
-                        load_start_ns);
 }
 
 }  // namespace carve

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "base/atomic_file.hpp"
 #include "config/settings.hpp"
 #include "report/run_result.hpp"
 
@@ -36,9 +37,23 @@ struct RunOptions {
     // Make every output under its temporary name and remove it at the end (the candidates of
     // --orient auto: their figures are wanted, not their G-code).
     bool discard_outputs = false;
+    // When set, the run's finished outputs are handed to this group instead of renamed into
+    // place: the plates of a --cut are all renamed once the last is done.
+    OutputGroup* outputs_to = nullptr;
 };
 
 RunResult run_slice(const Settings& settings, const RunOptions& options);
+
+// --cut (settings.cutting()): the model cut into pieces, laid on the bed, arranged onto plates
+// and each plate sliced as run_slice does, one G-code each (-o with -plateN before its
+// extension); the stats JSON lists the plates and the pieces. A piece that cannot fit is
+// refused before anything is sliced, and nothing is written unless every plate is done.
+struct CutRunResult {
+    std::vector<RunResult> plates;
+    std::vector<std::string> gcode_paths;  // one per plate
+    size_t pieces = 0;
+};
+CutRunResult run_cut(const Settings& settings, const RunOptions& options);
 
 // The threads a run uses: --threads, or every core the process may run on.
 int thread_count(const Settings& settings);

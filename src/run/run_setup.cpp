@@ -196,7 +196,9 @@ void label_objects(GcodeWriter& writer, const RunOptions& options, const Setting
         std::vector<ObjectLabel> objects;
         for (size_t k = 0; k < copy_boxes.size(); ++k) {
             const CopyBox& c = copy_boxes[k];
-            objects.push_back({fmt::format("{}_{}", object_label(options.model_path), k + 1),
+            objects.push_back({k < run_mesh.object_names.size()
+                                   ? object_label(run_mesh.object_names[k])
+                                   : fmt::format("{}_{}", object_label(options.model_path), k + 1),
                                c.min_x, c.min_y, c.max_x, c.max_y});
         }
         writer.set_objects(std::move(objects));
@@ -316,7 +318,11 @@ void RunOutputs::finish(RunResult& result, const Settings& settings, const RunOp
                               &group);
     if (svg_dir) group.hold(std::move(svg_dir));
     if (raster_dir) group.hold(std::move(raster_dir));
-    if (!options.discard_outputs) group.commit_all();
+    // The candidates of --orient auto keep nothing: the group removes its temporaries.
+    if (options.outputs_to)
+        group.hand_over(*options.outputs_to);
+    else if (!options.discard_outputs)
+        group.commit_all();
 }
 
 }  // namespace carve

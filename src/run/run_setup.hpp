@@ -4,6 +4,8 @@
 // which calls the stages in order.
 #pragma once
 
+#include <chrono>
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <string>
@@ -27,11 +29,19 @@ namespace carve {
 // arranged in copies; result.mesh describes it, its warnings told through `note`.
 struct RunMesh {
     Mesh mesh;
-    BBox3 loaded_box;                 // before scaling: the 3MF items' frame
-    std::vector<CopyBox> copy_boxes;  // one per copy, when there are several
+    BBox3 loaded_box;                       // before scaling: the 3MF items' frame
+    std::vector<CopyBox> copy_boxes;        // one per copy, when there are several
+    std::vector<std::string> object_names;  // the copies' labels, when not numbered (--cut)
 };
 RunMesh load_run_mesh(const Settings& settings, const RunOptions& options, RunResult& result,
                       const std::function<void(const std::string&)>& note);
+
+// The run of an already loaded and placed mesh: run_slice after the loading, each plate of
+// run_cut. `result.mesh` describes `run_mesh`.
+// `started` and `started_cpu_ns` are when the run began (its wall time, the main thread's CPU).
+RunResult slice_run_mesh(const Settings& settings, const RunOptions& options, RunMesh run_mesh,
+                         RunResult result, std::chrono::steady_clock::time_point started,
+                         int64_t started_cpu_ns);
 
 // Where the model sits: the offset that centres it on the bed, and its lowest point.
 struct Placement {

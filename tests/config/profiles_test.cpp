@@ -415,6 +415,8 @@ TEST(ConfigBlock, WritesTheTablesSpellingsAndReadsBack) {
     s.avoid_crossing_perimeters = false;
     s.thumbnails = {{16, 16}, {32, 24}};
     s.support = SupportMode::Buildplate;  // the support rows are written only with supports
+    s.cut_at = {40};                      // and the cut's only in the plates of a cut (issue #48)
+    s.cut_connectors = CutConnectors::Pin;
     // ... and the first layer's width and the flow only away from their defaults (issue #36).
     s.first_layer_extrusion_width = 0.45, s.extrusion_multiplier = 0.95;
     s.max_volumetric_speed = 11, s.elephant_foot_compensation = 0.1;

@@ -1,0 +1,72 @@
+#!/usr/bin/python3
+"""Cuts shared models scaled 3x to fit a Prusa MK3S (--cut auto, issue #48) and tabulates the
+plates, pieces, material, print time and the time to slice, as bench/results/cut.md.
+
+Usage: bench/cut.py [MODEL...]   (default: man; names of /work/shared/models/*.stl)
+
+Runs build/carve once a model, on a machine that others share: the wall time is what that run
+took, not a figure to compare across runs. Standard library only.
+"""
+import json
+import os
+import subprocess
+import sys
+import tempfile
+import time
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+MODELS = "/work/shared/models"
+CARVE = os.path.join(ROOT, "build", "carve")
+
+
+def run(name):
+    with tempfile.TemporaryDirectory() as tmp:
+        out, stats = os.path.join(tmp, f"{name}.gcode"), os.path.join(tmp, f"{name}.json")
+        command = [CARVE, "slice", os.path.join(MODELS, f"{name}.stl"), "-o", out, "--stats",
+                   stats, "--printer", "mk3s", "--scale", "3", "--cut", "auto", "-q"]
+        start = time.monotonic()
+        done = subprocess.run(command, capture_output=True, text=True)
+        wall = time.monotonic() - start
+        if done.returncode != 0:
+            return {"name": name, "error": done.stderr.strip()}
+        j = json.load(open(stats))
+        return {"name": name, "command": " ".join(command[1:]).replace(tmp + "/", ""),
+                "plates": len(j["plates"]), "pieces": len(j["pieces"]),
+                "planes": j["cut"]["planes_mm"],
+                "connectors": sum(len(p["connectors"]) for p in j["pieces"]),
+                "volume": j["model_volume_mm3"],
+                "pieces_volume": sum(p["volume_mm3"] for p in j["pieces"]),
+                "material": j["material_percent"], "grams": j["filament_weight_g"],
+                "hours": j["estimated_print_time_s"] / 3600, "wall": wall}
+
+
+def main():
+    names = sys.argv[1:] or ["man"]
+    rows = [run(n) for n in names]
+    lines = ["# --cut auto on the shared models at 3x, Prusa MK3S (bench/cut.py)", "",
+             "Each model scaled 3x, cut across z by `--cut auto` into pieces that fit the MK3S "
+             "(250 x 210 x 210 mm, less the skirt's room), dowel holes by default. Time to "
+             "slice: the wall time of the whole run (every plate) on a 2-core machine shared "
+             "with other work.", "",
+             "| model | planes (mm) | pieces | plates | connectors | pieces' volume / model "
+             "| material % | filament g | print time h | time to slice s |",
+             "|---|---|---|---|---|---|---|---|---|---|"]
+    for r in rows:
+        if "error" in r:
+            lines.append(f"| {r['name']} | refused: {r['error']} |||||||||")
+            continue
+        planes = ", ".join(f"{z:.0f}" for z in r["planes"])
+        lines.append(f"| {r['name']} | {planes} | {r['pieces']} | {r['plates']} | "
+                     f"{r['connectors']} | {r['pieces_volume'] / r['volume']:.4f} | "
+                     f"{r['material']:.2f} | {r['grams']:.0f} | {r['hours']:.1f} | "
+                     f"{r['wall']:.1f} |")
+    lines += ["", "Commands (from the repository, models in /work/shared/models):", ""]
+    lines += [f"    carve {r['command']}" for r in rows if "command" in r]
+    text = "\n".join(lines) + "\n"
+    with open(os.path.join(ROOT, "bench", "results", "cut.md"), "w") as f:
+        f.write(text)
+    print(text)
+
+
+if __name__ == "__main__":
+    main()

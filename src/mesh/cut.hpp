@@ -1,0 +1,60 @@
+// Cutting a closed mesh across z into closed pieces (issue #48): the sides split along the
+// planes, each cut face capped by a triangulation of the section, and connectors set into the
+// faces (dowel holes in both, or a pin on the piece below and a hole in the piece above). The
+// pieces are meshes like any loaded one; what prints them is the run's business.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "mesh/mesh.hpp"
+
+namespace carve {
+
+enum class ConnectorKind { None, Dowel, Pin };
+
+struct ConnectorSpec {
+    ConnectorKind kind = ConnectorKind::Dowel;
+    double diameter_mm = 5;      // the dowel's or the pin's
+    double depth_mm = 6;         // of each hole; a pin stands depth - clearance
+    double clearance_mm = 0.15;  // added to a hole's radius around a pin or a dowel
+    double margin_mm = 2;        // least material between a hole and the face's edge
+    int per_island = 2;          // at most, on each separate part of a face
+};
+
+// A connector of a piece, in the model's frame (before the piece is laid on the bed).
+struct Connector {
+    double x = 0, y = 0;     // mm
+    double face_z = 0;       // the cut face it is set into
+    double diameter_mm = 0;  // the hole's (clearance included) or the pin's
+    double depth_mm = 0;     // into the piece (a hole) or out of it (a pin)
+    bool pin = false;
+};
+
+struct MeshPiece {
+    Mesh mesh;          // closed, in the model's frame
+    double z_from = 0;  // the cut below it (or the model's bottom), mm
+    double z_to = 0;    // the cut above it (or the model's top), mm
+    std::vector<Connector> connectors;
+};
+
+// The mesh cut at each of `zs` (the model's frame, ascending, inside it), pieces bottom up.
+// A plane through a vertex is moved by a fraction of a micrometre. Throws InputError when a
+// section cannot be closed (an open or self-crossing mesh) or two cuts are closer than 1 mm.
+std::vector<MeshPiece> cut_across_z(const Mesh& mesh, std::vector<double> zs,
+                                    const ConnectorSpec& spec);
+
+// The area of the mesh's section at z, mm^2 (its cut face), from the sides alone.
+double section_area_mm2(const Mesh& mesh, double z);
+
+// --cut auto: the fewest planes that leave every piece within `max_x` x `max_y` (either way
+// round) and `max_height` tall, no piece under `min_height`; among those, the least cut face
+// area in all. Planes are tried every `step` mm. Throws InputError naming the slab of the model
+// that no cut across z can bring onto the bed.
+struct CutLimits {
+    double max_x = 0, max_y = 0, max_height = 0, min_height = 1, step = 0.5;
+};
+std::vector<double> plan_cuts(const Mesh& mesh, const CutLimits& limits,
+                              const std::string& model_path);
+
+}  // namespace carve

@@ -1,0 +1,317 @@
+// run_cut (run/pipeline.hpp, issue #48): the model cut across z (mesh/cut.hpp), each piece laid
+// on the bed (the bottom one as the model stood, the others on their lower cut face, turned a
+// quarter about z when that is what fits), the pieces packed in shelves onto as few plates as
+// hold them, and each plate sliced as one run whose objects are its pieces.
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+
+#include "base/error.hpp"
+#include "base/stage_timer.hpp"
+#include "mesh/cut.hpp"
+#include "report/stats.hpp"
+#include "run/pipeline.hpp"
+#include "run/run_setup.hpp"
+
+namespace carve {
+
+namespace {
+
+// "out.gcode" -> "out-plate2.gcode", in the same folder.
+std::string plate_path(const std::string& path, size_t plate) {
+    if (path.empty()) return path;
+    const std::filesystem::path p(path);
+    std::string name = p.stem().string() + fmt::format("-plate{}", plate) + p.extension().string();
+    return (p.parent_path() / name).string();
+}
+
+struct Laid {
+    Mesh mesh;  // on the bed (lowest z = 0), its box's corner at x = y = 0
+    double w = 0, d = 0, h = 0;
+    size_t plate = 0;
+    double x = 0, y = 0;  // where its corner goes on its plate
+};
+
+Laid lay(const MeshPiece& piece, bool turn) {
+    Laid l;
+    l.mesh = piece.mesh;
+    if (turn)
+        for (Vec3& v : l.mesh.vertices) v = {-v.y, v.x, v.z};
+    const BBox3 b = bounding_box(l.mesh);
+    for (Vec3& v : l.mesh.vertices) v = {v.x - b.min.x, v.y - b.min.y, v.z - b.min.z};
+    l.w = b.max.x - b.min.x;
+    l.d = b.max.y - b.min.y;
+    l.h = b.max.z - b.min.z;
+    return l;
+}
+
+// What a plate keeps clear around its pieces: the skirt, brim and raft reach beyond them.
+double plate_margin(const Settings& s) {
+    double m =
+        std::max(s.brim_width, s.skirts > 0 ? s.skirt_distance + s.skirts * s.width_mm() : 0);
+    if (s.raft_layers > 0) m += s.raft_expansion + s.raft_first_layer_expansion;
+    return m + 1;
+}
+
+// Shelves, tallest pieces first: each piece onto the first plate with room for it.
+size_t arrange(std::vector<Laid>& laid, double bed_w, double bed_d, double gap) {
+    struct Shelf {
+        double y, depth, used;
+    };
+    std::vector<std::vector<Shelf>> plates;
+    std::vector<size_t> order(laid.size());
+    for (size_t k = 0; k < order.size(); ++k) order[k] = k;
+    std::stable_sort(order.begin(), order.end(),
+                     [&](size_t a, size_t b) { return laid[a].d > laid[b].d; });
+    for (size_t k : order) {
+        Laid& l = laid[k];
+        bool placed = false;
+        for (size_t p = 0; p < plates.size() && !placed; ++p) {
+            for (Shelf& s : plates[p])
+                if (l.d <= s.depth && s.used + gap + l.w <= bed_w) {
+                    l.plate = p;
+                    l.x = s.used + gap;
+                    l.y = s.y;
+                    s.used += gap + l.w;
+                    placed = true;
+                    break;
+                }
+            if (placed) break;
+            const double top = plates[p].back().y + plates[p].back().depth + gap;
+            if (top + l.d <= bed_d) {
+                plates[p].push_back({top, l.d, l.w});
+                l.plate = p;
+                l.x = 0;
+                l.y = top;
+                placed = true;
+            }
+        }
+        if (!placed) {
+            plates.push_back({{0, l.d, l.w}});
+            l.plate = plates.size() - 1;
+            l.x = l.y = 0;
+        }
+    }
+    return plates.size();
+}
+
+ConnectorSpec connector_spec(const Settings& s) {
+    ConnectorSpec spec;
+    spec.kind = s.cut_connectors == CutConnectors::None  ? ConnectorKind::None
+                : s.cut_connectors == CutConnectors::Pin ? ConnectorKind::Pin
+                                                         : ConnectorKind::Dowel;
+    spec.diameter_mm = s.dowel_diameter;
+    spec.depth_mm = s.dowel_depth;
+    spec.clearance_mm = s.connector_clearance;
+    return spec;
+}
+
+std::vector<double> cut_heights(const Settings& settings, const RunOptions& options,
+                                const Mesh& mesh, const BBox3& box) {
+    const double height = box.max.z - box.min.z;
+    const ConnectorSpec spec = connector_spec(settings);
+    if (settings.cut_auto) {
+        CutLimits limits;
+        const double margin = 2 * plate_margin(settings);
+        limits.max_x = settings.bed_x - margin;
+        limits.max_y = settings.bed_y - margin;
+        limits.max_height = settings.max_print_height - settings.model_base_mm() -
+                            settings.z_offset -
+                            (spec.kind == ConnectorKind::Pin ? spec.depth_mm : 0);
+        limits.min_height = spec.kind == ConnectorKind::None ? 2 : 2 * spec.depth_mm + 2;
+        // Planes on layer boundaries of the piece below.
+        limits.step =
+            settings.layer_height * std::max(1.0, std::round(1.0 / settings.layer_height));
+        return plan_cuts(mesh, limits, options.model_path);
+    }
+    std::vector<double> zs;
+    for (double z : settings.cut_at) {
+        if (!(z > 0 && z < height))
+            throw InputError(
+                fmt::format("{}: --cut {} mm is not inside the model (0 to {:.2f} mm "
+                            "above its bottom)",
+                            options.model_path, z, height));
+        zs.push_back(box.min.z + z);
+    }
+    // settings.cut_at is sorted (the field sorts its heights).
+    for (size_t k = 1; k < settings.cut_at.size(); ++k)
+        if (settings.cut_at[k] - settings.cut_at[k - 1] < 1.0)
+            throw InputError(fmt::format("{}: --cut {} and {} mm are closer than 1 mm",
+                                         options.model_path, settings.cut_at[k - 1],
+                                         settings.cut_at[k]));
+    return zs;
+}
+
+nlohmann::json piece_json(const MeshPiece& p, const Laid& l, size_t k, double bottom,
+                          const std::string& name) {
+    nlohmann::json connectors = nlohmann::json::array();
+    for (const Connector& c : p.connectors)
+        connectors.push_back({{"kind", c.pin ? "pin" : "hole"},
+                              {"x_mm", c.x},
+                              {"y_mm", c.y},
+                              {"face_z_mm", c.face_z - bottom},
+                              {"diameter_mm", c.diameter_mm},
+                              {"depth_mm", c.depth_mm}});
+    const BBox3 b = bounding_box(p.mesh);
+    return {{"piece", k + 1},
+            {"name", name},
+            {"plate", l.plate + 1},
+            {"z_from_mm", p.z_from - bottom},
+            {"z_to_mm", p.z_to - bottom},
+            {"volume_mm3", signed_volume(p.mesh)},
+            {"bbox",
+             {{"min", {b.min.x, b.min.y, b.min.z - bottom}},
+              {"max", {b.max.x, b.max.y, b.max.z - bottom}}}},
+            {"size_mm", {l.w, l.d, l.h}},
+            {"connectors", connectors}};
+}
+
+// The whole run's figures: the plates' sums, each plate's own stats, the pieces.
+nlohmann::json cut_stats(const RunResult& loaded, const std::vector<RunResult>& plates,
+                         const std::vector<std::string>& paths, const Settings& settings,
+                         nlohmann::json pieces, const std::vector<double>& heights, double wall_s) {
+    nlohmann::json j;
+    j["model_volume_mm3"] = loaded.mesh.volume_mm3;
+    j["triangles"] = loaded.mesh.triangles;
+    nlohmann::json list = nlohmann::json::array();
+    double extruded = 0, length = 0, weight = 0, time = 0, memory = 0;
+    int layers = 0, cavities = 0, bridges = 0;
+    for (size_t p = 0; p < plates.size(); ++p) {
+        nlohmann::json s = stats_json(plates[p], settings);
+        s["plate"] = p + 1;
+        s["gcode"] = paths[p];
+        extruded += plates[p].print.extruded_volume_mm3;
+        length += plates[p].print.filament_length_mm;
+        weight += plates[p].print.filament_weight_g;
+        time += plates[p].print.estimated_print_time_s;
+        memory = std::max(memory, plates[p].peak_memory_mb);
+        layers = std::max(layers, plates[p].layers);
+        cavities += plates[p].cavities;
+        bridges += plates[p].bridges;
+        list.push_back(std::move(s));
+    }
+    j["layers"] = layers;
+    j["cavities"] = cavities;
+    j["bridges"] = bridges;
+    j["extruded_volume_mm3"] = extruded;
+    j["filament_length_mm"] = length;
+    j["filament_weight_g"] = weight;
+    j["material_percent"] =
+        loaded.mesh.volume_mm3 > 0 ? extruded / loaded.mesh.volume_mm3 * 100 : 0;
+    j["estimated_print_time_s"] = time;
+    j["processing_time_s"] = wall_s;
+    j["peak_memory_mb"] = memory;
+    j["cut"] = {{"auto", settings.cut_auto}, {"planes_mm", heights}};
+    j["plates"] = std::move(list);
+    j["pieces"] = std::move(pieces);
+    return j;
+}
+
+}  // namespace
+
+CutRunResult run_cut(const Settings& settings, const RunOptions& options) {
+    const auto started = std::chrono::steady_clock::now();
+    auto note = [&](const std::string& s) {
+        if (options.note) options.note(s);
+    };
+    if (settings.copies > 1)
+        throw InputError(
+            fmt::format("{}: --cut prints the pieces of one model; --copies is not "
+                        "taken with it",
+                        options.model_path));
+    RunResult loaded;
+    RunMesh run_mesh = load_run_mesh(settings, options, loaded, note);
+    if (!loaded.mesh.closed())
+        throw InputError(
+            fmt::format("{}: --cut needs a closed surface; the mesh has {} open and "
+                        "{} non-manifold edges",
+                        options.model_path, loaded.mesh.open_edges, loaded.mesh.nonmanifold_edges));
+    const BBox3 box = loaded.mesh.bbox;
+    const std::vector<double> zs = cut_heights(settings, options, run_mesh.mesh, box);
+    std::vector<MeshPiece> pieces;
+    try {
+        pieces = cut_across_z(run_mesh.mesh, zs, connector_spec(settings));
+    } catch (const InputError& e) {
+        throw InputError(fmt::format("{}: {}", options.model_path, e.what()));
+    }
+    // Each piece on the bed, turned a quarter when only that fits; one that fits neither way
+    // (or is too tall) is refused by its number before anything is sliced.
+    const double margin = 2 * plate_margin(settings);
+    const double bed_w = settings.bed_x - margin, bed_d = settings.bed_y - margin;
+    const double max_h = settings.max_print_height - settings.model_base_mm() - settings.z_offset;
+    std::vector<Laid> laid;
+    for (size_t k = 0; k < pieces.size(); ++k) {
+        Laid l = lay(pieces[k], false);
+        if ((l.w > bed_w || l.d > bed_d) && l.d <= bed_w && l.w <= bed_d) l = lay(pieces[k], true);
+        if (settings.bed_check && (l.w > bed_w || l.d > bed_d || l.h > max_h + 1e-6))
+            throw InputError(fmt::format(
+                "{}: piece {} of {} ({:.1f} to {:.1f} mm of the model's height) is {:.1f} x {:.1f} "
+                "x {:.1f} mm, larger than the {:.0f} x {:.0f} mm the bed holds with its skirt "
+                "or {:.0f} mm tall; cut elsewhere, try --cut auto, or scale the model down",
+                options.model_path, k + 1, pieces.size(), pieces[k].z_from - box.min.z,
+                pieces[k].z_to - box.min.z, l.w, l.d, l.h, bed_w, bed_d, max_h));
+        laid.push_back(std::move(l));
+    }
+    const size_t plate_count = arrange(laid, bed_w, bed_d, settings.copy_gap);
+    const std::string stem = std::filesystem::path(options.model_path).stem().string();
+    OutputGroup group;
+    CutRunResult out;
+    out.pieces = pieces.size();
+    for (size_t p = 0; p < plate_count; ++p) {
+        RunMesh plate;
+        for (size_t k = 0; k < laid.size(); ++k) {
+            if (laid[k].plate != p) continue;
+            const Laid& l = laid[k];
+            const uint32_t base = uint32_t(plate.mesh.vertices.size());
+            for (const Vec3& v : l.mesh.vertices)
+                plate.mesh.vertices.push_back({v.x + l.x, v.y + l.y, v.z});
+            for (const auto& t : l.mesh.triangles)
+                plate.mesh.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
+            plate.copy_boxes.push_back({l.x, l.y, l.x + l.w, l.y + l.d});
+            plate.object_names.push_back(fmt::format("{}_piece{}", stem, k + 1));
+        }
+        plate.loaded_box = bounding_box(plate.mesh);
+        RunResult result;
+        result.mesh = loaded.mesh;
+        result.mesh.warnings.clear();
+        result.mesh.items.clear();
+        result.mesh.bbox = plate.loaded_box;
+        result.mesh.volume_mm3 = signed_volume(plate.mesh);
+        result.mesh.triangles = plate.mesh.triangles.size();
+        result.mesh.vertices = plate.mesh.vertices.size();
+        RunOptions plate_options = options;
+        plate_options.gcode_path = plate_path(options.gcode_path, p + 1);
+        plate_options.report_path = plate_path(options.report_path, p + 1);
+        plate_options.svg_dir = plate_path(options.svg_dir, p + 1);
+        plate_options.raster_dir = plate_path(options.raster_dir, p + 1);
+        plate_options.stats_path.clear();
+        plate_options.outputs_to = &group;
+        out.plates.push_back(slice_run_mesh(settings, plate_options, std::move(plate),
+                                            std::move(result), std::chrono::steady_clock::now(),
+                                            thread_cpu_ns()));
+        out.gcode_paths.push_back(plate_options.gcode_path);
+    }
+    if (!options.stats_path.empty()) {
+        nlohmann::json list = nlohmann::json::array();
+        for (size_t k = 0; k < pieces.size(); ++k)
+            list.push_back(piece_json(pieces[k], laid[k], k, box.min.z,
+                                      fmt::format("{}_piece{}", stem, k + 1)));
+        std::vector<double> heights;
+        for (double z : zs) heights.push_back(z - box.min.z);
+        const double wall_s =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+        write_file_atomically(options.stats_path,
+                              cut_stats(loaded, out.plates, out.gcode_paths, settings,
+                                        std::move(list), heights, wall_s)
+                                      .dump(2) +
+                                  "\n",
+                              &group);
+    }
+    group.commit_all();
+    return out;
+}
+
+}  // namespace carve

@@ -1,0 +1,166 @@
+// run_cut (run/pipeline.hpp, issue #48): a tall box cut into pieces that add up, each flat on
+// the bed of its plate with its connector holes where the other piece has them; --cut auto on a
+// model twice the printer's height; plates; a model no cut fits refused with nothing written.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include "base/error.hpp"
+#include "run/pipeline.hpp"
+#include "support/scratch.hpp"
+
+namespace fs = std::filesystem;
+
+namespace carve {
+namespace {
+
+fs::path scratch() {
+    static const test::ScratchDir dir("carve_cut_run_test_");
+    return dir.path();
+}
+
+std::string box_stl(const std::string& name, float x, float y, float z) {
+    const fs::path path = scratch() / name;
+    const float v[8][3] = {{0, 0, 0}, {x, 0, 0}, {x, y, 0}, {0, y, 0},
+                           {0, 0, z}, {x, 0, z}, {x, y, z}, {0, y, z}};
+    const int t[12][3] = {{0, 2, 1}, {0, 3, 2}, {4, 5, 6}, {4, 6, 7}, {0, 1, 5}, {0, 5, 4},
+                          {1, 2, 6}, {1, 6, 5}, {2, 3, 7}, {2, 7, 6}, {3, 0, 4}, {3, 4, 7}};
+    std::ofstream f(path, std::ios::binary);
+    const std::string header(80, '\0');
+    f.write(header.data(), 80);
+    const uint32_t n = 12;
+    f.write(reinterpret_cast<const char*>(&n), 4);
+    for (const auto& tri : t) {
+        const float normal[3] = {0, 0, 0};
+        f.write(reinterpret_cast<const char*>(normal), 12);
+        for (int k : tri) f.write(reinterpret_cast<const char*>(v[k]), 12);
+        const uint16_t attr = 0;
+        f.write(reinterpret_cast<const char*>(&attr), 2);
+    }
+    return path.string();
+}
+
+std::string read(const fs::path& p) {
+    std::ifstream f(p);
+    return {std::istreambuf_iterator<char>(f), {}};
+}
+
+// The text of one layer of the G-code (";LAYER:n" up to the next).
+std::string layer_text(const std::string& gcode, int n) {
+    const size_t from = gcode.find(";LAYER:" + std::to_string(n) + "\n");
+    if (from == std::string::npos) return {};
+    const size_t to = gcode.find(";LAYER:" + std::to_string(n + 1) + "\n", from);
+    return gcode.substr(from, to == std::string::npos ? std::string::npos : to - from);
+}
+
+RunOptions options(const std::string& model, const std::string& out) {
+    RunOptions o;
+    o.model_path = model;
+    o.gcode_path = (scratch() / (out + ".gcode")).string();
+    o.stats_path = (scratch() / (out + ".json")).string();
+    return o;
+}
+
+TEST(CutRun, TallBoxInTwoPiecesThatAddUp) {
+    Settings s;
+    s.cut_at = {40};
+    const RunOptions o = options(box_stl("tall.stl", 30, 20, 100), "tall");
+    const CutRunResult r = run_cut(s, o);
+    ASSERT_EQ(r.plates.size(), 1u);
+    EXPECT_EQ(r.pieces, 2u);
+    EXPECT_EQ(r.gcode_paths[0], (scratch() / "tall-plate1.gcode").string());
+    const nlohmann::json j = nlohmann::json::parse(read(o.stats_path));
+    ASSERT_EQ(j["pieces"].size(), 2u);
+    double total = 0, holes = 0;
+    for (const auto& p : j["pieces"]) {
+        total += p["volume_mm3"].get<double>();
+        EXPECT_EQ(p["plate"], 1);
+        ASSERT_EQ(p["connectors"].size(), 2u);
+        for (const auto& c : p["connectors"]) {
+            const double radius = c["diameter_mm"].get<double>() / 2;
+            holes += std::numbers::pi * radius * radius * c["depth_mm"].get<double>();
+            EXPECT_EQ(c["kind"], "hole");
+            EXPECT_NEAR(c["face_z_mm"].get<double>(), 40, 1e-6);
+        }
+    }
+    // The holes are the only material the pieces lack (their rings lie round the circles).
+    EXPECT_NEAR(total + holes, 30 * 20 * 100, 0.01 * 30 * 20 * 100);
+    EXPECT_LT(total, 30 * 20 * 100);
+    // Matching holes: the same x, y in both faces of the cut.
+    for (size_t k = 0; k < 2; ++k) {
+        EXPECT_EQ(j["pieces"][0]["connectors"][k]["x_mm"], j["pieces"][1]["connectors"][k]["x_mm"]);
+        EXPECT_EQ(j["pieces"][0]["connectors"][k]["y_mm"], j["pieces"][1]["connectors"][k]["y_mm"]);
+    }
+    // Both pieces flat on the bed: each prints on the first layer; the lower one (40 mm, 200
+    // layers) stops where the upper one (60 mm) goes on.
+    const std::string gcode = read(r.gcode_paths[0]);
+    const std::string first = layer_text(gcode, 0);
+    EXPECT_NE(first.find("printing object tall_piece1"), std::string::npos);
+    EXPECT_NE(first.find("printing object tall_piece2"), std::string::npos);
+    EXPECT_NE(layer_text(gcode, 199).find("printing object tall_piece1"), std::string::npos);
+    EXPECT_EQ(layer_text(gcode, 200).find("printing object tall_piece1"), std::string::npos);
+    EXPECT_NE(layer_text(gcode, 299).find("printing object tall_piece2"), std::string::npos);
+    EXPECT_EQ(r.plates[0].layers, 300);
+}
+
+TEST(CutRun, AutoCutsAModelTwiceThePrintersHeight) {
+    Settings s;
+    s.cut_auto = true;
+    s.cut_connectors = CutConnectors::Pin;
+    const RunOptions o = options(box_stl("tower.stl", 40, 30, 2 * s.max_print_height), "tower");
+    const CutRunResult r = run_cut(s, o);
+    const nlohmann::json j = nlohmann::json::parse(read(o.stats_path));
+    ASSERT_EQ(j["pieces"].size(), 3u);  // 420 mm in pieces no taller than 210 minus a pin
+    EXPECT_EQ(j["cut"]["planes_mm"].size(), 2u);
+    for (const auto& p : j["pieces"])
+        EXPECT_LE(p["size_mm"][2].get<double>(), s.max_print_height + 1e-6);
+    EXPECT_EQ(r.plates.size(), 1u);  // three 40 x 30 mm footprints side by side
+    EXPECT_TRUE(fs::exists(r.gcode_paths[0]));
+}
+
+TEST(CutRun, PiecesThatFillABedGoOnPlatesOfTheirOwn) {
+    Settings s;
+    s.cut_auto = true;
+    s.cut_connectors = CutConnectors::None;
+    const RunOptions o = options(box_stl("big.stl", 200, 150, 300), "big");
+    const CutRunResult r = run_cut(s, o);
+    ASSERT_EQ(r.plates.size(), 2u);
+    EXPECT_TRUE(fs::exists(scratch() / "big-plate1.gcode"));
+    EXPECT_TRUE(fs::exists(scratch() / "big-plate2.gcode"));
+    EXPECT_FALSE(fs::exists(scratch() / "big.gcode"));
+    const nlohmann::json j = nlohmann::json::parse(read(o.stats_path));
+    EXPECT_EQ(j["plates"].size(), 2u);
+    EXPECT_NE(j["pieces"][0]["plate"], j["pieces"][1]["plate"]);
+}
+
+TEST(CutRun, AModelNoCutFitsIsRefusedWithNothingWritten) {
+    Settings s;
+    s.cut_auto = true;
+    const RunOptions wide = options(box_stl("wide.stl", 300, 300, 20), "wide");
+    EXPECT_THROW(run_cut(s, wide), InputError);
+    // A given cut that leaves a piece too tall names the piece.
+    Settings given;
+    given.cut_at = {100};
+    const RunOptions tall = options(box_stl("high.stl", 30, 20, 400), "high");
+    try {
+        run_cut(given, tall);
+        ADD_FAILURE() << "no error";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("piece 2 of 2"), std::string::npos) << e.what();
+    }
+    for (const auto& entry : fs::directory_iterator(scratch())) {
+        const std::string name = entry.path().filename().string();
+        EXPECT_TRUE(name.rfind("wide", 0) != 0 || name == "wide.stl") << name;
+        EXPECT_TRUE(name.rfind("high", 0) != 0 || name == "high.stl") << name;
+    }
+}
+
+}  // namespace
+}  // namespace carve
