@@ -89,7 +89,7 @@ OrientationTrial try_candidate(const Mesh& mesh, OrientationCandidate c, const S
     start.mesh = loaded.mesh;
     start.mesh.bbox = box;
     start.mesh.items.clear();
-    RunMesh run{std::move(m), box, {}};
+    RunMesh run{std::move(m), box, {}, {}};
     try {
         // The run's own limits refuse what does not fit the bed or the printer's height.
         const RunResult r =
