@@ -66,6 +66,7 @@ constexpr std::string_view kWordOrder[] = {
     "filament_colour",
     "printer_model",
     "pause_at",
+    "orient",
 };
 
 // A word's value, spelt as the table or config_only_values() spell it.
