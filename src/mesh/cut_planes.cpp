@@ -171,19 +171,23 @@ std::vector<CutPlane> plan_planar_cuts(const Mesh& mesh, const CutLimits& limits
     }
     if (best.planes.empty()) return {};
     // Each plane moved along its normal, a few steps either way, while the cut face shrinks and
-    // every piece still fits.
+    // every piece still fits; passes again (at most four) while a plane moved.
     const double extent[3] = {box.max.x - box.min.x, box.max.y - box.min.y, box.max.z - box.min.z};
-    for (size_t i = 0; i < best.planes.size(); ++i) {
-        const Vec3 n = best.planes[i].normal;
-        const double span = n.x > 0.5 ? extent[0] : n.y > 0.5 ? extent[1] : extent[2];
-        for (double f : {-0.12, -0.06, 0.06, 0.12}) {
-            std::vector<CutPlane> planes = best.planes;
-            planes[i].point = {planes[i].point.x + n.x * f * span,
-                               planes[i].point.y + n.y * f * span,
-                               planes[i].point.z + n.z * f * span};
-            const Plan p = evaluate(mesh, std::move(planes), limits);
-            if (p.better_than(best)) best = p;
+    for (int pass = 0; pass < 4; ++pass) {
+        bool moved = false;
+        for (size_t i = 0; i < best.planes.size(); ++i) {
+            const Vec3 n = best.planes[i].normal;
+            const double span = n.x > 0.5 ? extent[0] : n.y > 0.5 ? extent[1] : extent[2];
+            for (double f : {-0.12, -0.06, -0.03, 0.03, 0.06, 0.12}) {
+                std::vector<CutPlane> planes = best.planes;
+                planes[i].point = {planes[i].point.x + n.x * f * span,
+                                   planes[i].point.y + n.y * f * span,
+                                   planes[i].point.z + n.z * f * span};
+                const Plan p = evaluate(mesh, std::move(planes), limits);
+                if (p.better_than(best)) best = p, moved = true;
+            }
         }
+        if (!moved) break;
     }
     area = best.area;
     return best.planes;
