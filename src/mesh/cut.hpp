@@ -74,7 +74,8 @@ std::vector<double> plan_cuts(const Mesh& mesh, const CutLimits& limits,
 
 // The mesh cut by each plane in turn (the pieces a plane crosses by more than 0.5 mm cut in
 // two), each by turning the mesh so the plane's normal is z, cutting it with cut_across_z and
-// turning the pieces back; the pieces stay in the model's frame. Throws as cut_across_z.
+// turning the pieces back; the pieces stay in the model's frame. Throws as cut_across_z,
+// and InputError for a plane that cuts no piece.
 std::vector<MeshPiece> cut_by_planes(const Mesh& mesh, const std::vector<CutPlane>& planes,
                                      const ConnectorSpec& spec);
 

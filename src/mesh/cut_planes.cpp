@@ -2,6 +2,8 @@
 // cut across z does the work, the pieces turned back; how a piece lies on a cut face; and
 // --cut auto's search over planes across x, y and z for models whose footprint no cut across z
 // brings onto the bed.
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -130,7 +132,15 @@ std::vector<MeshPiece> cut_by_planes(const Mesh& mesh, const std::vector<CutPlan
     const BBox3 b = bounding_box(mesh);
     pieces[0].z_from = b.min.z;
     pieces[0].z_to = b.max.z;
-    for (const CutPlane& plane : planes) pieces = cut_pieces(std::move(pieces), plane, spec);
+    for (size_t k = 0; k < planes.size(); ++k) {
+        const size_t before = pieces.size();
+        pieces = cut_pieces(std::move(pieces), planes[k], spec);
+        if (pieces.size() == before)
+            throw InputError(
+                fmt::format("plane {} (normal {:.3f}, {:.3f}, {:.3f}) cuts no piece "
+                            "of the model by more than 0.5 mm",
+                            k + 1, planes[k].normal.x, planes[k].normal.y, planes[k].normal.z));
+    }
     return pieces;
 }
 
