@@ -179,6 +179,8 @@ TEST(Cut, APlaneAcrossXIsTurnedOntoZAndBack) {
     rotate_mesh(laid, lay_on_cut_face(pieces[0]));
     const BBox3 b = bounding_box(laid);
     EXPECT_NEAR(b.max.z - b.min.z, 40, 1e-6);
+    // A plane that misses the model is refused.
+    EXPECT_THROW(cut_by_planes(m, {{{200, 0, 0}, {1, 0, 0}}}, spec), InputError);
     // A plane across z gives the pieces cut_across_z gives.
     const std::vector<MeshPiece> by_plane = cut_by_planes(m, {{{0, 0, 10}, {0, 0, 1}}}, spec);
     const std::vector<MeshPiece> by_z = cut_across_z(m, {10}, spec);
