@@ -241,6 +241,43 @@ TextField cut_field() {
     return t;
 }
 
+// --cut-plane: groups of six numbers X,Y,Z,NX,NY,NZ (a point and a normal), comma-joined.
+TextField cut_plane_field() {
+    TextField t;
+    t.get = [](const Settings& s) {
+        std::string out;
+        for (double v : s.cut_planes) {
+            if (!out.empty()) out += ',';
+            out += plain_number(v);
+        }
+        return out;
+    };
+    t.set = [](Settings& s, const std::string& text, const std::string& source) {
+        std::vector<double> values;
+        std::stringstream ss(text);
+        for (std::string item; std::getline(ss, item, ',');) {
+            const std::optional<double> v = parse_decimal(trim_whitespace(item));
+            if (!v || !(std::abs(*v) <= 10000))
+                throw InputError(fmt::format(
+                    "{}: '{}' is not a number from -10000 to 10000 (X,Y,Z,NX,NY,NZ[,..])", source,
+                    item));
+            values.push_back(*v);
+        }
+        if (values.size() % 6 != 0 || values.size() > 6 * 20)
+            throw InputError(fmt::format(
+                "{}: '{}' is not up to 20 planes of six numbers each, a point and a normal "
+                "(X,Y,Z,NX,NY,NZ[,..])",
+                source, text));
+        for (size_t k = 0; k < values.size(); k += 6)
+            if (std::hypot(values[k + 3], values[k + 4], values[k + 5]) < 1e-9)
+                throw InputError(
+                    fmt::format("{}: plane {} has no normal (0,0,0)", source, k / 6 + 1));
+        s.cut_planes = std::move(values);
+    };
+    t.type_name = "X,Y,Z,NX,NY,NZ[,..]";
+    return t;
+}
+
 // PrusaSlicer's files state the first layer's height as printed: carve's 0 ("the layer
 // height") is written as that height (the configuration block, which hosts and viewers read),
 // and a file's height is read as given.
@@ -583,6 +620,10 @@ std::vector<SettingSpec> make_table() {
          "Cut the model across z at these heights above its bottom, mm, or 'auto' (the fewest "
          "cuts that fit every piece on the bed, where the cut faces are smallest); the pieces "
          "print on plates, one G-code each [none]"},
+        {"cut-plane", "", "mm", 0, 0, cut_plane_field(),
+         "Cut the model by planes in any direction: a point (mm from the least x, y and z corner "
+         "of the model's box) and a normal each, X,Y,Z,NX,NY,NZ, groups comma-joined; each "
+         "piece lies on its largest cut face [none]"},
         {"cut-connectors", "", "", 0, 0, words(&S::cut_connectors, {"none", "dowel", "pin"}),
          "What joins the pieces of --cut: dowel (holes in both faces), pin (a pin on the piece "
          "below, a hole in the one above) or none [dowel]"},

@@ -173,10 +173,13 @@ struct Settings {
     // the pieces print on plates of their own, joined by the connectors in their cut faces.
     std::vector<double> cut_at;
     bool cut_auto = false;
+    // --cut-plane: planes in any direction, 6 numbers each (a point and a normal, mm of the
+    // model's frame as loaded and placed).
+    std::vector<double> cut_planes;
     CutConnectors cut_connectors = CutConnectors::Dowel;
     double dowel_diameter = 5, dowel_depth = 6;  // mm, of the dowel or pin and of each hole
     double connector_clearance = 0.15;           // mm added to a hole's radius
-    bool cutting() const { return cut_auto || !cut_at.empty(); }
+    bool cutting() const { return cut_auto || !cut_at.empty() || !cut_planes.empty(); }
 
     // Printer and filament.
     GcodeFlavor flavor = GcodeFlavor::Marlin;

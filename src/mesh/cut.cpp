@@ -386,7 +386,7 @@ std::vector<MeshPiece> cut_across_z(const Mesh& mesh, std::vector<double> zs,
                 above.push_back({x, y, hole_ring, z + spec.depth_mm});
                 below_c.push_back({x, y, z, pin ? spec.diameter_mm : 2 * hole_r,
                                    pin ? pin_height : spec.depth_mm, pin});
-                above_c.push_back({x, y, z, 2 * hole_r, spec.depth_mm, false});
+                above_c.push_back({x, y, z, 2 * hole_r, spec.depth_mm, false, {0, 0, -1}});
             }
         auto [lower, upper] = split(rest.mesh, z, below, above);
         MeshPiece piece;

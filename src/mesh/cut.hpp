@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "mesh/mesh.hpp"
+#include "mesh/orient.hpp"
 
 namespace carve {
 
@@ -29,6 +30,19 @@ struct Connector {
     double diameter_mm = 0;  // the hole's (clearance included) or the pin's
     double depth_mm = 0;     // into the piece (a hole) or out of it (a pin)
     bool pin = false;
+    Vec3 normal{0, 0, 1};  // the plane's normal, out of the face (a piece above a z cut: -z)
+};
+
+// A plane in any direction (--cut-plane): a point on it and its unit normal.
+struct CutPlane {
+    Vec3 point, normal;
+};
+
+// A flat face a cut left on a piece: its outward unit normal and area.
+struct CutFace {
+    Vec3 outward;
+    double area_mm2 = 0;
+    bool pins = false;  // a pin stands out of it: the piece cannot lie on it
 };
 
 struct MeshPiece {
@@ -36,6 +50,7 @@ struct MeshPiece {
     double z_from = 0;  // the cut below it (or the model's bottom), mm
     double z_to = 0;    // the cut above it (or the model's top), mm
     std::vector<Connector> connectors;
+    std::vector<CutFace> faces;  // filled by cut_by_planes
 };
 
 // The mesh cut at each of `zs` (the model's frame, ascending, inside it), pieces bottom up.
@@ -56,5 +71,23 @@ struct CutLimits {
 };
 std::vector<double> plan_cuts(const Mesh& mesh, const CutLimits& limits,
                               const std::string& model_path);
+
+// The mesh cut by each plane in turn (the pieces a plane crosses by more than 0.5 mm cut in
+// two), each by turning the mesh so the plane's normal is z, cutting it with cut_across_z and
+// turning the pieces back; the pieces stay in the model's frame. Throws as cut_across_z,
+// and InputError for a plane that cuts no piece.
+std::vector<MeshPiece> cut_by_planes(const Mesh& mesh, const std::vector<CutPlane>& planes,
+                                     const ConnectorSpec& spec);
+
+// The turn that lays a piece on its largest cut face with no pin (its largest face when all have
+// pins; none when it has no cut face): a flat face down, nothing to support under it.
+Rotation lay_on_cut_face(const MeshPiece& piece);
+
+// --cut auto with planes across x, y and z: the fewest pieces that fit (each laid by
+// lay_on_cut_face, turned a quarter about z when that fits), then the least cut face area. Only a
+// plan better than `best_pieces` pieces with `best_area` mm^2 of cut faces is returned (the plan
+// across z alone); none otherwise. `area` is set to the plan's cut face area.
+std::vector<CutPlane> plan_planar_cuts(const Mesh& mesh, const CutLimits& limits,
+                                       size_t best_pieces, double best_area, double& area);
 
 }  // namespace carve

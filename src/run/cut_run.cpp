@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
+#include <limits>
 #include <nlohmann/json.hpp>
 
 #include "base/error.hpp"
@@ -109,24 +110,23 @@ ConnectorSpec connector_spec(const Settings& s) {
     return spec;
 }
 
-std::vector<double> cut_heights(const Settings& settings, const RunOptions& options,
-                                const Mesh& mesh, const BBox3& box) {
-    const double height = box.max.z - box.min.z;
+CutLimits cut_limits(const Settings& settings) {
     const ConnectorSpec spec = connector_spec(settings);
-    if (settings.cut_auto) {
-        CutLimits limits;
-        const double margin = 2 * plate_margin(settings);
-        limits.max_x = settings.bed_x - margin;
-        limits.max_y = settings.bed_y - margin;
-        limits.max_height = settings.max_print_height - settings.model_base_mm() -
-                            settings.z_offset -
-                            (spec.kind == ConnectorKind::Pin ? spec.depth_mm : 0);
-        limits.min_height = spec.kind == ConnectorKind::None ? 2 : 2 * spec.depth_mm + 2;
-        // Planes on layer boundaries of the piece below.
-        limits.step =
-            settings.layer_height * std::max(1.0, std::round(1.0 / settings.layer_height));
-        return plan_cuts(mesh, limits, options.model_path);
-    }
+    CutLimits limits;
+    const double margin = 2 * plate_margin(settings);
+    limits.max_x = settings.bed_x - margin;
+    limits.max_y = settings.bed_y - margin;
+    limits.max_height = settings.max_print_height - settings.model_base_mm() - settings.z_offset -
+                        (spec.kind == ConnectorKind::Pin ? spec.depth_mm : 0);
+    limits.min_height = spec.kind == ConnectorKind::None ? 2 : 2 * spec.depth_mm + 2;
+    // Planes on layer boundaries of the piece below.
+    limits.step = settings.layer_height * std::max(1.0, std::round(1.0 / settings.layer_height));
+    return limits;
+}
+
+std::vector<double> cut_heights(const Settings& settings, const RunOptions& options,
+                                const BBox3& box) {
+    const double height = box.max.z - box.min.z;
     std::vector<double> zs;
     for (double z : settings.cut_at) {
         if (!(z > 0 && z < height))
@@ -145,6 +145,71 @@ std::vector<double> cut_heights(const Settings& settings, const RunOptions& opti
     return zs;
 }
 
+// Where the model is cut: heights across z (each piece laid as before), or planes in any
+// direction (each piece on its largest cut face).
+struct CutPlan {
+    std::vector<double> zs;
+    std::vector<CutPlane> planes;
+};
+
+CutPlan plan_cut(const Settings& settings, const RunOptions& options, const Mesh& mesh,
+                 const BBox3& box) {
+    CutPlan plan;
+    if (!settings.cut_planes.empty()) {
+        if (settings.cut_auto)
+            throw InputError(
+                fmt::format("{}: --cut auto chooses its planes; --cut-plane is "
+                            "not taken with it",
+                            options.model_path));
+        bool across_z = true;
+        for (size_t k = 0; k < settings.cut_planes.size(); k += 6) {
+            const double* v = &settings.cut_planes[k];
+            const double n = std::hypot(v[3], v[4], v[5]);
+            CutPlane p{{box.min.x + v[0], box.min.y + v[1], box.min.z + v[2]},
+                       {v[3] / n, v[4] / n, v[5] / n}};
+            across_z = across_z && std::abs(p.normal.z) > 1 - 1e-12;
+            plan.planes.push_back(p);
+        }
+        for (double z : settings.cut_at) plan.planes.push_back({{0, 0, box.min.z + z}, {0, 0, 1}});
+        if (across_z) {
+            // Planes across z are heights: the pieces lie as --cut lays them.
+            Settings heights = settings;
+            for (const CutPlane& p : plan.planes) heights.cut_at.push_back(p.point.z - box.min.z);
+            std::sort(heights.cut_at.begin(), heights.cut_at.end());
+            heights.cut_at.erase(std::unique(heights.cut_at.begin(), heights.cut_at.end()),
+                                 heights.cut_at.end());
+            plan.planes.clear();
+            plan.zs = cut_heights(heights, options, box);
+        }
+        return plan;
+    }
+    if (!settings.cut_auto) {
+        plan.zs = cut_heights(settings, options, box);
+        return plan;
+    }
+    // Across z alone when that fits in as few pieces as any, with as little cut face; planes
+    // across x and y (with z) otherwise, and for a footprint no cut across z can fit.
+    const CutLimits limits = cut_limits(settings);
+    size_t pieces = std::numeric_limits<size_t>::max();
+    double area = std::numeric_limits<double>::infinity();
+    std::string refused;
+    try {
+        plan.zs = plan_cuts(mesh, limits, options.model_path);
+        pieces = plan.zs.size() + 1;
+        area = 0;
+        for (double z : plan.zs) area += std::abs(section_area_mm2(mesh, z));
+    } catch (const InputError& e) {
+        refused = e.what();
+    }
+    double planar_area = 0;
+    plan.planes = plan_planar_cuts(mesh, limits, pieces, area, planar_area);
+    if (!plan.planes.empty())
+        plan.zs.clear();
+    else if (!refused.empty())
+        throw InputError(refused + "; nor do planes across x and y (up to 3 each, with z)");
+    return plan;
+}
+
 nlohmann::json piece_json(const MeshPiece& p, const Laid& l, size_t k, double bottom,
                           const std::string& name) {
     nlohmann::json connectors = nlohmann::json::array();
@@ -154,7 +219,8 @@ nlohmann::json piece_json(const MeshPiece& p, const Laid& l, size_t k, double bo
                               {"y_mm", c.y},
                               {"face_z_mm", c.face_z - bottom},
                               {"diameter_mm", c.diameter_mm},
-                              {"depth_mm", c.depth_mm}});
+                              {"depth_mm", c.depth_mm},
+                              {"normal", {c.normal.x, c.normal.y, c.normal.z}}});
     const BBox3 b = bounding_box(p.mesh);
     return {{"piece", k + 1},
             {"name", name},
@@ -172,7 +238,8 @@ nlohmann::json piece_json(const MeshPiece& p, const Laid& l, size_t k, double bo
 // The whole run's figures: the plates' sums, each plate's own stats, the pieces.
 nlohmann::json cut_stats(const RunResult& loaded, const std::vector<RunResult>& plates,
                          const std::vector<std::string>& paths, const Settings& settings,
-                         nlohmann::json pieces, const std::vector<double>& heights, double wall_s) {
+                         nlohmann::json pieces, const std::vector<double>& heights,
+                         nlohmann::json planes, double wall_s) {
     nlohmann::json j;
     j["model_volume_mm3"] = loaded.mesh.volume_mm3;
     j["triangles"] = loaded.mesh.triangles;
@@ -204,7 +271,7 @@ nlohmann::json cut_stats(const RunResult& loaded, const std::vector<RunResult>& 
     j["estimated_print_time_s"] = time;
     j["processing_time_s"] = wall_s;
     j["peak_memory_mb"] = memory;
-    j["cut"] = {{"auto", settings.cut_auto}, {"planes_mm", heights}};
+    j["cut"] = {{"auto", settings.cut_auto}, {"planes_mm", heights}, {"planes", planes}};
     j["plates"] = std::move(list);
     j["pieces"] = std::move(pieces);
     return j;
@@ -230,10 +297,13 @@ CutRunResult run_cut(const Settings& settings, const RunOptions& options) {
                         "{} non-manifold edges",
                         options.model_path, loaded.mesh.open_edges, loaded.mesh.nonmanifold_edges));
     const BBox3 box = loaded.mesh.bbox;
-    const std::vector<double> zs = cut_heights(settings, options, run_mesh.mesh, box);
+    const CutPlan plan = plan_cut(settings, options, run_mesh.mesh, box);
+    const std::vector<double>& zs = plan.zs;
     std::vector<MeshPiece> pieces;
     try {
-        pieces = cut_across_z(run_mesh.mesh, zs, connector_spec(settings));
+        pieces = plan.planes.empty()
+                     ? cut_across_z(run_mesh.mesh, zs, connector_spec(settings))
+                     : cut_by_planes(run_mesh.mesh, plan.planes, connector_spec(settings));
     } catch (const InputError& e) {
         throw InputError(fmt::format("{}: {}", options.model_path, e.what()));
     }
@@ -244,8 +314,11 @@ CutRunResult run_cut(const Settings& settings, const RunOptions& options) {
     const double max_h = settings.max_print_height - settings.model_base_mm() - settings.z_offset;
     std::vector<Laid> laid;
     for (size_t k = 0; k < pieces.size(); ++k) {
-        Laid l = lay(pieces[k], false);
-        if ((l.w > bed_w || l.d > bed_d) && l.d <= bed_w && l.w <= bed_d) l = lay(pieces[k], true);
+        // A piece of planes in any direction lies on its largest cut face.
+        MeshPiece down = pieces[k];
+        if (!plan.planes.empty()) rotate_mesh(down.mesh, lay_on_cut_face(down));
+        Laid l = lay(down, false);
+        if ((l.w > bed_w || l.d > bed_d) && l.d <= bed_w && l.w <= bed_d) l = lay(down, true);
         if (settings.bed_check && (l.w > bed_w || l.d > bed_d || l.h > max_h + 1e-6))
             throw InputError(fmt::format(
                 "{}: piece {} of {} ({:.1f} to {:.1f} mm of the model's height) is {:.1f} x {:.1f} "
@@ -301,11 +374,17 @@ CutRunResult run_cut(const Settings& settings, const RunOptions& options) {
                                       fmt::format("{}_piece{}", stem, k + 1)));
         std::vector<double> heights;
         for (double z : zs) heights.push_back(z - box.min.z);
+        nlohmann::json planes = nlohmann::json::array();
+        for (const CutPlane& c : plan.planes)
+            planes.push_back(
+                {{"point_mm",
+                  {c.point.x - box.min.x, c.point.y - box.min.y, c.point.z - box.min.z}},
+                 {"normal", {c.normal.x, c.normal.y, c.normal.z}}});
         const double wall_s =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
         write_file_atomically(options.stats_path,
                               cut_stats(loaded, out.plates, out.gcode_paths, settings,
-                                        std::move(list), heights, wall_s)
+                                        std::move(list), heights, std::move(planes), wall_s)
                                       .dump(2) +
                                   "\n",
                               &group);

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include "base/error.hpp"
@@ -151,8 +152,56 @@ TEST(Cut, AutoPlansTheFewestPieces) {
         plan_cuts(wide, limits, "wide.stl");
         FAIL() << "no error";
     } catch (const InputError& e) {
-        EXPECT_NE(std::string(e.what()).find("larger than the bed"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("larger than the"), std::string::npos) << e.what();
     }
+}
+
+TEST(Cut, APlaneAcrossXIsTurnedOntoZAndBack) {
+    const Mesh m = box(100, 20, 30);
+    ConnectorSpec spec;
+    const std::vector<MeshPiece> pieces = cut_by_planes(m, {{{40, 0, 0}, {1, 0, 0}}}, spec);
+    ASSERT_EQ(pieces.size(), 2u);
+    for (const MeshPiece& p : pieces) {
+        expect_sound(p.mesh);
+        ASSERT_EQ(p.faces.size(), 1u);
+        EXPECT_NEAR(p.faces[0].area_mm2, 20 * 30, 1e-6);
+        ASSERT_FALSE(p.connectors.empty());
+        for (const Connector& c : p.connectors) EXPECT_NEAR(c.x, 40, 1e-6);
+    }
+    EXPECT_NEAR(bounding_box(pieces[0].mesh).max.x, 40, 1e-3);
+    EXPECT_NEAR(bounding_box(pieces[1].mesh).min.x, 40, 1e-3);
+    EXPECT_NEAR(pieces[0].faces[0].outward.x, 1, 1e-12);
+    EXPECT_NEAR(pieces[1].faces[0].outward.x, -1, 1e-12);
+    EXPECT_NEAR(signed_volume(pieces[0].mesh) + signed_volume(pieces[1].mesh), 100 * 20 * 30,
+                0.01 * 100 * 20 * 30);
+    // Laid on its cut face: the face (at x = 40) goes to the bottom.
+    Mesh laid = pieces[0].mesh;
+    rotate_mesh(laid, lay_on_cut_face(pieces[0]));
+    const BBox3 b = bounding_box(laid);
+    EXPECT_NEAR(b.max.z - b.min.z, 40, 1e-6);
+    // A plane that misses the model is refused.
+    EXPECT_THROW(cut_by_planes(m, {{{200, 0, 0}, {1, 0, 0}}}, spec), InputError);
+    // A plane across z gives the pieces cut_across_z gives.
+    const std::vector<MeshPiece> by_plane = cut_by_planes(m, {{{0, 0, 10}, {0, 0, 1}}}, spec);
+    const std::vector<MeshPiece> by_z = cut_across_z(m, {10}, spec);
+    ASSERT_EQ(by_plane.size(), 2u);
+    for (size_t k = 0; k < 2; ++k)
+        EXPECT_NEAR(signed_volume(by_plane[k].mesh), signed_volume(by_z[k].mesh), 1e-6);
+}
+
+TEST(Cut, PlanarAutoCutsALongBoxAcrossX) {
+    CutLimits limits;
+    limits.max_x = 250;
+    limits.max_y = 210;
+    limits.max_height = 210;
+    double area = 0;
+    const std::vector<CutPlane> planes =
+        plan_planar_cuts(box(300, 60, 40), limits, std::numeric_limits<size_t>::max(), 0, area);
+    ASSERT_EQ(planes.size(), 1u);
+    EXPECT_NEAR(planes[0].normal.x, 1, 1e-12);
+    EXPECT_NEAR(area, 60 * 40, 1e-6);
+    // No plan better than one of a single piece.
+    EXPECT_TRUE(plan_planar_cuts(box(300, 60, 40), limits, 1, 0, area).empty());
 }
 
 }  // namespace

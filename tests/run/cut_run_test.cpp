@@ -3,16 +3,21 @@
 // model twice the printer's height; plates; a model no cut fits refused with nothing written.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <numbers>
+#include <sstream>
 #include <string>
 #include <vector>
 
 #include "base/error.hpp"
+#include "config/profiles.hpp"
 #include "run/pipeline.hpp"
 #include "support/scratch.hpp"
 
@@ -143,7 +148,8 @@ TEST(CutRun, PiecesThatFillABedGoOnPlatesOfTheirOwn) {
 TEST(CutRun, AModelNoCutFitsIsRefusedWithNothingWritten) {
     Settings s;
     s.cut_auto = true;
-    const RunOptions wide = options(box_stl("wide.stl", 300, 300, 20), "wide");
+    // Four planes across each of x, y and z at most leave pieces of 250 mm in all three.
+    const RunOptions wide = options(box_stl("wide.stl", 1000, 1000, 1000), "wide");
     EXPECT_THROW(run_cut(s, wide), InputError);
     // A given cut that leaves a piece too tall names the piece.
     Settings given;
@@ -160,6 +166,119 @@ TEST(CutRun, AModelNoCutFitsIsRefusedWithNothingWritten) {
         EXPECT_TRUE(name.rfind("wide", 0) != 0 || name == "wide.stl") << name;
         EXPECT_TRUE(name.rfind("high", 0) != 0 || name == "high.stl") << name;
     }
+}
+
+// The extent in x and y of what layer n extrudes for each object, by its label.
+std::map<std::string, std::array<double, 4>> first_layer_boxes(const std::string& gcode) {
+    std::map<std::string, std::array<double, 4>> boxes;
+    std::istringstream in(layer_text(gcode, 0));
+    std::string object;
+    double x = 0, y = 0;
+    for (std::string line; std::getline(in, line);) {
+        if (line.rfind("; printing object ", 0) == 0) object = line.substr(18);
+        if (line.rfind("; stop printing object", 0) == 0) object.clear();
+        if (line.rfind("G1 ", 0) != 0 && line.rfind("G0 ", 0) != 0) continue;
+        double nx = x, ny = y;
+        bool extrudes = false;
+        std::istringstream words(line.substr(0, line.find(';')));
+        for (std::string w; words >> w;) {
+            if (w[0] == 'X') nx = std::stod(w.substr(1));
+            if (w[0] == 'Y') ny = std::stod(w.substr(1));
+            if (w[0] == 'E') extrudes = std::stod(w.substr(1)) > 0;
+        }
+        if (extrudes && !object.empty() && (nx != x || ny != y)) {
+            auto [it, fresh] = boxes.try_emplace(object, std::array<double, 4>{x, y, x, y});
+            auto& b = it->second;
+            for (auto [px, py] : {std::pair{x, y}, std::pair{nx, ny}})
+                b = {std::min(b[0], px), std::min(b[1], py), std::max(b[2], px),
+                     std::max(b[3], py)};
+        }
+        x = nx, y = ny;
+    }
+    return boxes;
+}
+
+TEST(CutRun, ALongBoxIsCutAcrossXIntoTwoPiecesEachOnItsCutFace) {
+    Settings s;  // a 250 x 210 x 210 mm printer
+    s.cut_auto = true;
+    const RunOptions o = options(box_stl("long.stl", 300, 60, 40), "long");
+    const CutRunResult r = run_cut(s, o);
+    const nlohmann::json j = nlohmann::json::parse(read(o.stats_path));
+    ASSERT_EQ(j["pieces"].size(), 2u);
+    ASSERT_EQ(j["cut"]["planes"].size(), 1u);
+    EXPECT_EQ(j["cut"]["planes"][0]["normal"], (std::vector<double>{1, 0, 0}));
+    double total = 0;
+    for (const auto& p : j["pieces"]) {
+        total += p["volume_mm3"].get<double>();
+        // On its cut face: 60 x 40 mm down (either way round), 150 mm up.
+        const double w = p["size_mm"][0], d = p["size_mm"][1], h = p["size_mm"][2];
+        EXPECT_NEAR(std::max(w, d), 60, 1e-3);
+        EXPECT_NEAR(std::min(w, d), 40, 1e-3);
+        EXPECT_NEAR(h, 150, 1e-3);
+        for (const auto& c : p["connectors"]) EXPECT_NEAR(c["x_mm"].get<double>(), 150, 1e-3);
+    }
+    EXPECT_NEAR(total, 300 * 60 * 40, 0.01 * 300 * 60 * 40);
+    // Each piece's first layer covers its cut face, less the extrusion's half width round it.
+    const auto boxes = first_layer_boxes(read(r.gcode_paths[0]));
+    ASSERT_EQ(boxes.size(), 2u);
+    for (const auto& [name, b] : boxes)
+        EXPECT_NEAR((b[2] - b[0]) * (b[3] - b[1]), 60 * 40, 0.05 * 60 * 40) << name;
+    EXPECT_EQ(r.plates[0].layers, 750);
+}
+
+TEST(CutRun, ACutPlaneAcrossZGivesThePiecesOfCut) {
+    const std::string model = box_stl("plane.stl", 30, 20, 100);
+    Settings by_height;
+    by_height.cut_at = {40};
+    Settings by_plane;
+    by_plane.cut_planes = {0, 0, 40, 0, 0, 1};
+    const RunOptions a = options(model, "by_height"), b = options(model, "by_plane");
+    run_cut(by_height, a);
+    run_cut(by_plane, b);
+    const nlohmann::json ja = nlohmann::json::parse(read(a.stats_path));
+    const nlohmann::json jb = nlohmann::json::parse(read(b.stats_path));
+    ASSERT_EQ(ja["pieces"].size(), 2u);
+    for (size_t k = 0; k < 2; ++k)
+        for (const char* key : {"volume_mm3", "bbox", "size_mm", "connectors"})
+            EXPECT_EQ(ja["pieces"][k][key], jb["pieces"][k][key]) << key;
+    // The same plane tilted: still two pieces of the box's volume.
+    Settings tilted;
+    tilted.cut_planes = {15, 10, 50, 0.3, 0, 1};
+    const RunOptions t = options(model, "tilted");
+    run_cut(tilted, t);
+    const nlohmann::json jt = nlohmann::json::parse(read(t.stats_path));
+    ASSERT_EQ(jt["pieces"].size(), 2u);
+    EXPECT_NEAR(
+        jt["pieces"][0]["volume_mm3"].get<double>() + jt["pieces"][1]["volume_mm3"].get<double>(),
+        30 * 20 * 100, 0.01 * 30 * 20 * 100);
+}
+
+// Issue #48: the skull at 225 x 314 x 360 mm, whose footprint no cut across z fits an MK3S.
+TEST(CutRun, TheScaledSkullIsCutToFitAnMk3s) {
+    const std::string skull = "/work/shared/models/skull.stl";
+    if (!fs::exists(skull)) GTEST_SKIP() << "no " << skull;
+    Settings s;
+    apply_printer_preset("mk3s", s);
+    s.scale = 3;
+    s.cut_auto = true;
+    s.layer_height = 0.3;
+    RunOptions o = options(skull, "skull");
+    o.model_path = skull;
+    const CutRunResult r = run_cut(s, o);
+    const nlohmann::json j = nlohmann::json::parse(read(o.stats_path));
+    EXPECT_GE(j["pieces"].size(), 2u);
+    EXPECT_FALSE(j["cut"]["planes"].empty());
+    double total = 0;
+    for (const auto& p : j["pieces"]) {
+        total += p["volume_mm3"].get<double>();
+        const double w = p["size_mm"][0], d = p["size_mm"][1], h = p["size_mm"][2];
+        EXPECT_LE(w, 250);
+        EXPECT_LE(d, 210);
+        EXPECT_LE(h, 210);
+    }
+    EXPECT_NEAR(total, j["model_volume_mm3"].get<double>(),
+                0.01 * j["model_volume_mm3"].get<double>());
+    for (const std::string& path : r.gcode_paths) EXPECT_TRUE(fs::exists(path)) << path;
 }
 
 }  // namespace
