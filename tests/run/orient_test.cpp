@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "support/carve_run.hpp"
+#include "support/sanitizers.hpp"
 #include "support/stl_boxes.hpp"
 
 namespace carve {
@@ -140,6 +141,7 @@ TEST(OrientAuto, TiltedBoxIsLaidFlatOnAFace) {
 // A T: a 40 x 40 x 4 cap on a 10 x 10 x 40 stem needs supports under the cap as given, and none
 // upside down, standing on the cap.
 TEST(OrientAuto, TeeStandsOnItsCap) {
+    SKIP_UNDER_SANITIZERS("TiltedBoxIsLaidFlatOnAFace: the same candidates' runs, smaller");
     std::vector<StlTriangle> t;
     test::add_box(t, 15, 15, 0, 25, 25, 40);
     test::add_box(t, 0, 0, 40, 40, 40, 44);
