@@ -26,6 +26,7 @@ MachineLimits machine_limits(const Settings& s) {
         // configs (kit-voron2-250mm.cfg among them) keep.
         m.square_corner_velocity = kKlipperSquareCornerVelocity;
         m.min_cruise_ratio = kKlipperMinCruiseRatio;
+        m.extruder_corner_velocity = kKlipperExtruderCornerVelocity;
     }
     return m;
 }

@@ -25,7 +25,7 @@ double trapezoid_time(double length, double v_entry, double v_nominal, double v_
     return std::max(0.0, (peak - v_entry) / accel) + std::max(0.0, (peak - v_exit) / accel);
 }
 
-void MotionPlanner::move(double dx, double dy, double speed, double accel) {
+void MotionPlanner::move(double dx, double dy, double speed, double accel, double e_per_mm) {
     const double len = std::hypot(dx, dy);
     if (len <= 0) return;
     const double ux = dx / len, uy = dy / len;
@@ -39,7 +39,7 @@ void MotionPlanner::move(double dx, double dy, double speed, double accel) {
                       cap(cap(accel, m.accel_x, std::abs(ux)), m.accel_y, std::abs(uy))};
     };
     const Capped normal = capped(limits_);
-    blocks_.push_back({len, ux, uy, normal, dual_ ? capped(stealth_) : normal});
+    blocks_.push_back({len, ux, uy, e_per_mm, normal, dual_ ? capped(stealth_) : normal});
 }
 
 double MotionPlanner::junction_speed(const Block& p, const Block& q, bool stealth) const {
@@ -147,6 +147,10 @@ double MotionPlanner::plan_klipper(const std::vector<Block>& b, bool stealth) co
     }
     for (size_t i = 1; i < n; ++i) {
         double v2 = std::min({cruise_max[i], cruise_max[i - 1], max_start[i - 1] + delta[i - 1]});
+        // The extruder's own corner (extruder.py's calc_junction).
+        const double de = std::abs(b[i].e_per_mm - b[i - 1].e_per_mm);
+        if (de > 0 && m.extruder_corner_velocity > 0)
+            v2 = std::min(v2, std::pow(m.extruder_corner_velocity / de, 2));
         const double cos_theta = -(b[i].ux * b[i - 1].ux + b[i].uy * b[i - 1].uy);
         const double sin_d2 = std::sqrt(std::max(0.5 * (1 - cos_theta), 0.0));
         const double cos_d2 = std::sqrt(std::max(0.5 * (1 + cos_theta), 0.0));

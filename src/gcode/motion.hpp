@@ -16,7 +16,8 @@
 // velocity rule and a centripetal limit that shrinks with the moves' lengths, and its
 // minimum_cruise_ratio caps each run of accelerating and decelerating moves at the peak that
 // a pseudo acceleration of (1 - ratio) times the real one would reach, so that short moves
-// (curves, infill) spend part of their length cruising. With square_corner_velocity set, the
+// (curves, infill) spend part of their length cruising, and a junction lets the extruder change
+// speed by at most its instantaneous_corner_velocity. With square_corner_velocity set, the
 // planner plans as Klipper does.
 #pragma once
 
@@ -31,6 +32,8 @@ constexpr double kJunctionDeviationMm = 0.013;
 // configs keep.
 constexpr double kKlipperSquareCornerVelocity = 5.0;
 constexpr double kKlipperMinCruiseRatio = 0.5;
+// [extruder] instantaneous_corner_velocity: the extruder's speed change a junction allows.
+constexpr double kKlipperExtruderCornerVelocity = 1.0;
 
 // Time of a move of `length` that enters at v_entry, cruises at most at v_nominal and leaves at
 // v_exit, with constant acceleration; the entry and exit speeds must be mutually reachable.
@@ -45,6 +48,7 @@ struct MachineLimits {
     double junction_deviation = kJunctionDeviationMm;  // mm; 0 = classic jerk
     double square_corner_velocity = 0;                 // mm/s; > 0: Klipper's lookahead instead
     double min_cruise_ratio = 0;                       // Klipper's minimum_cruise_ratio, with it
+    double extruder_corner_velocity = 0;               // mm/s of filament; with it too
     bool operator==(const MachineLimits&) const = default;
 };
 
@@ -60,8 +64,9 @@ class MotionPlanner {
     MotionPlanner(const MachineLimits& limits, const MachineLimits& stealth)
         : limits_(limits), stealth_(stealth), dual_(true) {}
 
-    // An XY move (mm) at nominal speed (mm/s) and acceleration (mm/s^2).
-    void move(double dx, double dy, double speed, double accel);
+    // An XY move (mm) at nominal speed (mm/s) and acceleration (mm/s^2), extruding e_per_mm
+    // of filament per mm (Klipper's junctions limit the extruder's change of speed).
+    void move(double dx, double dy, double speed, double accel, double e_per_mm = 0);
     // The machine comes to rest: plans and times the buffered moves.
     void stop();
     // Time spent at rest (retractions, Z moves), after an implicit stop.
@@ -97,7 +102,7 @@ class MotionPlanner {
         bool operator==(const Capped&) const = default;
     };
     struct Block {
-        double length, ux, uy;
+        double length, ux, uy, e_per_mm;
         Capped normal, stealth;
         bool operator==(const Block&) const = default;
     };

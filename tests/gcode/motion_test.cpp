@@ -1,5 +1,6 @@
 // The estimate's Klipper model (motion.hpp): the times of Klipper 84104bbb's own toolhead.py
-// (LookAheadQueue.flush over Move objects, square_corner_velocity 5, minimum_cruise_ratio 0.5)
+// (LookAheadQueue.flush over Move objects, square_corner_velocity 5, minimum_cruise_ratio 0.5,
+// the extruder's instantaneous_corner_velocity 1)
 // for the same moves, and the cooling's times left as the junction deviation rule gives them.
 #include "gcode/motion.hpp"
 
@@ -15,6 +16,7 @@ MachineLimits klipper_limits() {
     MachineLimits m;
     m.square_corner_velocity = kKlipperSquareCornerVelocity;
     m.min_cruise_ratio = kKlipperMinCruiseRatio;
+    m.extruder_corner_velocity = kKlipperExtruderCornerVelocity;
     return m;
 }
 
@@ -55,6 +57,24 @@ TEST(KlipperModel, CurvesAndInfillAsKlippersLookahead) {
     }
     EXPECT_NEAR(circle.time(), 2.008293184584, 1e-9);
     EXPECT_NEAR(zigzag.time(), 2.096236814991, 1e-9);
+}
+
+TEST(KlipperModel, ExtruderCornerAtItsInstantaneousCornerVelocity) {
+    // Straight on from a travel into a line of 0.05 mm of filament per mm: the extruder's
+    // speed may jump by 1 mm/s, so the junction is 20 mm/s: 1.164 s. Widths changing within a
+    // line (0.03, 0.04, then a corner): Klipper 0.195715910679 s.
+    MotionPlanner k(klipper_limits()), widths(klipper_limits()), jd;
+    k.move(50, 0, 100, 1000, 0);
+    k.move(50, 0, 100, 1000, 0.05);
+    EXPECT_NEAR(k.time(), 1.164, 1e-9);
+    widths.move(5, 0, 100, 3000, 0.03);
+    widths.move(5, 0, 100, 3000, 0.04);
+    widths.move(5, 1, 100, 3000, 0.04);
+    EXPECT_NEAR(widths.time(), 0.195715910679, 1e-9);
+    // Marlin's planner has no such limit.
+    jd.move(50, 0, 100, 1000, 0);
+    jd.move(50, 0, 100, 1000, 0.05);
+    EXPECT_NEAR(jd.time(), trapezoid_time(100, 0, 100, 0, 1000), 1e-9);
 }
 
 TEST(KlipperModel, CoolingKeepsTheJunctionDeviationTimes) {
