@@ -14,6 +14,10 @@ It writes bench/results/hosts.md. Usage:
 
   /usr/bin/python3 bench/hosts_check.py --klipper DIR --moonraker DIR --octoprint DIR
       [--carve build/carve] [--models a.stl,b.stl] [--printers generic,mk3s,ender3,klipper]
+      [--support-models c.stl]
+
+--support-models are sliced with supports only: carve --support auto, PrusaSlicer
+support_material (automatic); their rows are named "MODEL (supports)".
 
 The source trees may also come from KLIPPER_DIR, MOONRAKER_DIR, OCTOPRINT_DIR. Whatever is
 missing (a tree, gcc-avr to build Klipper's MCU dictionary, prusa-slicer) is skipped with a
@@ -325,10 +329,12 @@ PEER_PRINT = {"perimeters": "1", "top_solid_layers": "2", "bottom_solid_layers":
               "top_solid_min_thickness": "0", "bottom_solid_min_thickness": "0"}
 
 
-def slice_prusa(carve_gcode, model, out, work):
+def slice_prusa(carve_gcode, model, out, work, support=False):
     keys = config_block(carve_gcode)
     ini = {k: keys[k] for k in PEER_KEYS if k in keys}
     ini.update(PEER_PRINT)
+    if support:
+        ini["support_material"] = "1"
     ini["machine_limits_usage"] = ("time_estimate_only" if ini.get("gcode_flavor") == "klipper"
                                    else "emit_to_gcode")
     ini_path = out + ".ini"
@@ -498,6 +504,8 @@ def main():
     ap.add_argument("--models", default=",".join([
         os.path.join(REPO, "data", "sample", "fandisk.stl"),
         os.path.join(REPO, "..", "shared", "models", "cat.stl")]))
+    ap.add_argument("--support-models", default="",
+                    help="models sliced with supports (carve --support auto) instead")
     ap.add_argument("--printers", default=",".join(PRESETS))
     ap.add_argument("--no-prusa", action="store_true", help="leave PrusaSlicer's G-code out")
     ap.add_argument("--work", default=None, help="scratch directory [a new temporary one]")
@@ -546,28 +554,33 @@ def main():
             "octoprint": revision(octoprint) if octoprint else "–",
             "prusa": prusa_version, "presets": a.printers.split(",")}
     rows = []
-    for model in a.models.split(","):
+    jobs = [(m, False) for m in a.models.split(",") if m]
+    jobs += [(m, True) for m in a.support_models.split(",") if m]
+    for model, support in jobs:
+        extra = ["--support", "auto"] if support else []
         name = os.path.splitext(os.path.basename(model))[0]
+        label = name + (" (supports)" if support else "")
+        name += "_support" if support else ""
         if not os.path.isfile(model):
             notes.append("model %s skipped: not found" % model)
             continue
         height = model_height(a.carve, model)
         for preset in meta["presets"]:
             g = os.path.join(work, "%s_%s_carve.gcode" % (name, preset))
-            r = run([a.carve, "slice", model, "-o", g, "--printer", preset, "-q"])
+            r = run([a.carve, "slice", model, "-o", g, "--printer", preset, "-q"] + extra)
             if r.returncode != 0:
                 notes.append("carve failed on %s --printer %s: %s" % (name, preset, r.stderr))
                 continue
             files = [("carve", g, None)]
             if prusa:
                 p = os.path.join(work, "%s_%s_prusa.gcode" % (name, preset))
-                why = slice_prusa(g, model, p, work)
+                why = slice_prusa(g, model, p, work, support)
                 if why is None or why.startswith("no thumbnails"):
                     files.append(("PrusaSlicer", p, why))
                 else:
                     notes.append("%s %s: %s" % (name, preset, why))
             for slicer, path, note in files:
-                row = {"model": name, "preset": preset, "slicer": slicer, "note": note,
+                row = {"model": label, "preset": preset, "slicer": slicer, "note": note,
                        "height": height, "header": header_figures(path)}
                 print("%s %s %s" % (name, preset, slicer), file=sys.stderr)
                 if klipper:
@@ -578,7 +591,7 @@ def main():
                         z = round(height / 2)
                         pg = os.path.join(work, "%s_%s_pause.gcode" % (name, preset))
                         r = run([a.carve, "slice", model, "-o", pg, "--printer", preset, "-q",
-                                 "--pause-at", str(z)])
+                                 "--pause-at", str(z)] + extra)
                         if r.returncode == 0:
                             row["klipper"]["pause"] = run_klipper(
                                 klipper, KLIPPER_SETUP[preset], pg, work)

@@ -480,11 +480,11 @@ void Emitter::restore_carry(const Carry& c) {
 // again slower while it is shorter than the minimum layer time, or with another fan.
 void Emitter::print_layer_cooled(const LayerToolpaths& layer) {
     const Snapshot before = save();
-    const double t0 = planner_.time();
+    const double t0 = planner_.time_cooling();
     speed_factor_ = 1;
     layer_fan_ = layer_fan_percent(st_, layer.index, std::numeric_limits<double>::infinity());
     print_paths(layer);
-    const double full = planner_.time() - t0;
+    const double full = planner_.time_cooling() - t0;
     const int fan = layer_fan_percent(st_, layer.index, full);
     const bool slow = needs_slowdown(st_, full);
     if (!slow && fan == layer_fan_) return;
@@ -497,7 +497,7 @@ void Emitter::print_layer_cooled(const LayerToolpaths& layer) {
         speed_factor_ = factor;
         layer_fan_ = fan;
         print_paths(layer);
-        const double tried = planner_.time() - t0;
+        const double tried = planner_.time_cooling() - t0;
         // Done when long enough, or when every extrusion is down to the minimum speed.
         if (!slow || tried >= target * 0.999 ||
             slowed_speed(fastest, factor, st_.min_print_speed) <= st_.min_print_speed)

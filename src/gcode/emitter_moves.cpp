@@ -329,7 +329,7 @@ void Emitter::extrude(const Extrusion& ex, const Travel& travel) {
         feed(speed);
         buf_.push_back('\n');
         e_units_ = target;
-        planner_.move(dx, dy, speed, print_accel_);
+        planner_.move(dx, dy, speed, print_accel_, e_per_mm);
         printed(q, len, e_per_mm, ex.feature);
     }
     if (st_.wipe) remember_for_wipe(ex, shifted);
@@ -377,7 +377,7 @@ void Emitter::arc_to(const std::vector<Point>& pts, size_t first, const Arc& arc
     e_units_ = target;
     for (size_t k = first; k < arc.last; ++k)
         planner_.move(to_mm(pts[k + 1].X - pts[k].X), to_mm(pts[k + 1].Y - pts[k].Y), speed,
-                      print_accel_);
+                      print_accel_, e_per_mm);
     for (size_t k = first + 1; k < arc.last; ++k) printed(pts[k], 0, e_per_mm, feature);
     printed(q, len, e_per_mm, feature);
     ++stats_.arcs;

@@ -22,6 +22,11 @@ MachineLimits machine_limits(const Settings& s) {
         // Klipper corners by its square corner velocity, not by what a G-code says; carve's
         // limits only describe the estimate there.
         m.accel_x = m.accel_y = m.feed_x = m.feed_y = MachineLimits::kNone;
+        // And its estimate plans as Klipper's lookahead, with the defaults that its stock
+        // configs (kit-voron2-250mm.cfg among them) keep.
+        m.square_corner_velocity = kKlipperSquareCornerVelocity;
+        m.min_cruise_ratio = kKlipperMinCruiseRatio;
+        m.extruder_corner_velocity = kKlipperExtruderCornerVelocity;
     }
     return m;
 }

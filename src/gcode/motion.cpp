@@ -25,7 +25,7 @@ double trapezoid_time(double length, double v_entry, double v_nominal, double v_
     return std::max(0.0, (peak - v_entry) / accel) + std::max(0.0, (peak - v_exit) / accel);
 }
 
-void MotionPlanner::move(double dx, double dy, double speed, double accel) {
+void MotionPlanner::move(double dx, double dy, double speed, double accel, double e_per_mm) {
     const double len = std::hypot(dx, dy);
     if (len <= 0) return;
     const double ux = dx / len, uy = dy / len;
@@ -39,7 +39,7 @@ void MotionPlanner::move(double dx, double dy, double speed, double accel) {
                       cap(cap(accel, m.accel_x, std::abs(ux)), m.accel_y, std::abs(uy))};
     };
     const Capped normal = capped(limits_);
-    blocks_.push_back({len, ux, uy, normal, dual_ ? capped(stealth_) : normal});
+    blocks_.push_back({len, ux, uy, e_per_mm, normal, dual_ ? capped(stealth_) : normal});
 }
 
 double MotionPlanner::junction_speed(const Block& p, const Block& q, bool stealth) const {
@@ -77,6 +77,7 @@ void MotionPlanner::stop() {
     const double t = plan(blocks_, false);
     done_ += t;
     done_stealth_ += dual_ ? plan(blocks_, true) : t;
+    done_cooling_ += limits_.square_corner_velocity > 0 ? plan(blocks_, false, false) : t;
     blocks_.clear();
 }
 
@@ -84,6 +85,7 @@ void MotionPlanner::dwell(double seconds) {
     stop();
     done_ += seconds;
     done_stealth_ += seconds;
+    done_cooling_ += seconds;
 }
 
 double MotionPlanner::time() const {
@@ -94,7 +96,13 @@ double MotionPlanner::time_stealth() const {
     return done_stealth_ + plan(blocks_, dual_);
 }
 
-double MotionPlanner::plan(const std::vector<Block>& b, bool stealth) const {
+double MotionPlanner::time_cooling() const {
+    return done_cooling_ + plan(blocks_, false, false);
+}
+
+double MotionPlanner::plan(const std::vector<Block>& b, bool stealth, bool firmware) const {
+    if (firmware && (stealth ? stealth_ : limits_).square_corner_velocity > 0)
+        return plan_klipper(b, stealth);
     const size_t n = b.size();
     if (n == 0) return 0;
     auto accel = [&](size_t i) { return stealth ? b[i].stealth.accel : b[i].normal.accel; };
@@ -115,6 +123,74 @@ double MotionPlanner::plan(const std::vector<Block>& b, bool stealth) const {
     for (size_t i = 0; i < n; ++i) {
         const Capped& c = stealth ? b[i].stealth : b[i].normal;
         t += trapezoid_time(b[i].length, entry[i], c.speed, entry[i + 1], c.accel);
+    }
+    return t;
+}
+
+// Klipper's LookAheadQueue.flush() over moves that start and end at rest, in squared speeds
+// as toolhead.py has them; the junctions as its Move.calc_junction().
+double MotionPlanner::plan_klipper(const std::vector<Block>& b, bool stealth) const {
+    const MachineLimits& m = stealth ? stealth_ : limits_;
+    const size_t n = b.size();
+    if (n == 0) return 0;
+    // Klipper's junction_deviation times the acceleration: the same for every move, whatever
+    // M204 set.
+    const double jd_accel =
+        m.square_corner_velocity * m.square_corner_velocity * (std::sqrt(2.0) - 1);
+    auto cap = [&](size_t i) -> const Capped& { return stealth ? b[i].stealth : b[i].normal; };
+    std::vector<double> cruise_max(n), delta(n), mcr_delta(n), max_start(n, 0.0),
+        max_mcr_start(n, 0.0);
+    for (size_t i = 0; i < n; ++i) {
+        cruise_max[i] = cap(i).speed * cap(i).speed;
+        delta[i] = 2 * b[i].length * cap(i).accel;
+        mcr_delta[i] = delta[i] * (1 - m.min_cruise_ratio);
+    }
+    for (size_t i = 1; i < n; ++i) {
+        double v2 = std::min({cruise_max[i], cruise_max[i - 1], max_start[i - 1] + delta[i - 1]});
+        // The extruder's own corner (extruder.py's calc_junction).
+        const double de = std::abs(b[i].e_per_mm - b[i - 1].e_per_mm);
+        if (de > 0 && m.extruder_corner_velocity > 0)
+            v2 = std::min(v2, std::pow(m.extruder_corner_velocity / de, 2));
+        const double cos_theta = -(b[i].ux * b[i - 1].ux + b[i].uy * b[i - 1].uy);
+        const double sin_d2 = std::sqrt(std::max(0.5 * (1 - cos_theta), 0.0));
+        const double cos_d2 = std::sqrt(std::max(0.5 * (1 + cos_theta), 0.0));
+        if (1 - sin_d2 > 0 && cos_d2 > 0) {
+            // The approximated circle touches both moves no further than their middles.
+            const double quarter_tan = 0.25 * sin_d2 / cos_d2;
+            v2 = std::min({v2, sin_d2 / (1 - sin_d2) * jd_accel, delta[i] * quarter_tan,
+                           delta[i - 1] * quarter_tan});
+        }
+        max_start[i] = v2;
+        max_mcr_start[i] = std::min(v2, max_mcr_start[i - 1] + mcr_delta[i - 1]);
+    }
+    // Backward: start speeds reachable from the rest at the end; each run of moves that
+    // accelerate then decelerate cruises at most at the peak of the pseudo acceleration.
+    std::vector<double> start(n), cruise(n, -1), next_start(n);
+    double next_v2 = 0, next_mcr = 0, peak = 0;
+    int pending = 0;
+    for (size_t i = n; i-- > 0;) {
+        const double reachable = next_v2 + delta[i];
+        start[i] = std::min(max_start[i], reachable);
+        next_start[i] = next_v2;
+        ++pending;
+        const double reach_mcr = next_mcr + mcr_delta[i];
+        const double mcr_start = std::min(max_mcr_start[i], reach_mcr);
+        if (mcr_start < reach_mcr) {
+            if (mcr_start + mcr_delta[i] > next_mcr || pending > 1)
+                peak = (mcr_start + reach_mcr) * 0.5;
+            cruise[i] = std::min({(start[i] + reachable) * 0.5, cruise_max[i], peak});
+            pending = 0;
+        }
+        next_v2 = start[i];
+        next_mcr = mcr_start;
+    }
+    // Forward: a move that cannot accelerate keeps the cruise of the one before.
+    double t = 0, prev_cruise = 0;
+    for (size_t i = 0; i < n; ++i) {
+        const double c = cruise[i] < 0 ? std::min(prev_cruise, start[i]) : cruise[i];
+        t += trapezoid_time(b[i].length, std::sqrt(std::min(start[i], c)), std::sqrt(c),
+                            std::sqrt(std::min(next_start[i], c)), cap(i).accel);
+        prev_cruise = c;
     }
     return t;
 }

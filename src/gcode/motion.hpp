@@ -12,6 +12,13 @@
 // highest at which no axis changes speed by more than its jerk, and a move may start or end at
 // its axes' jerk ("safe speed"). The machine's axis limits (M201, M203) cap each move's
 // acceleration and speed by its direction, as the firmware does.
+// Klipper plans otherwise (its toolhead.py): a corner's speed is the smaller of its square corner
+// velocity rule and a centripetal limit that shrinks with the moves' lengths, and its
+// minimum_cruise_ratio caps each run of accelerating and decelerating moves at the peak that
+// a pseudo acceleration of (1 - ratio) times the real one would reach, so that short moves
+// (curves, infill) spend part of their length cruising, and a junction lets the extruder change
+// speed by at most its instantaneous_corner_velocity. With square_corner_velocity set, the
+// planner plans as Klipper does.
 #pragma once
 
 #include <limits>
@@ -21,6 +28,12 @@ namespace carve {
 
 // Marlin's default JUNCTION_DEVIATION_MM.
 constexpr double kJunctionDeviationMm = 0.013;
+// Klipper's defaults ([printer] square_corner_velocity, minimum_cruise_ratio), which its stock
+// configs keep.
+constexpr double kKlipperSquareCornerVelocity = 5.0;
+constexpr double kKlipperMinCruiseRatio = 0.5;
+// [extruder] instantaneous_corner_velocity: the extruder's speed change a junction allows.
+constexpr double kKlipperExtruderCornerVelocity = 1.0;
 
 // Time of a move of `length` that enters at v_entry, cruises at most at v_nominal and leaves at
 // v_exit, with constant acceleration; the entry and exit speeds must be mutually reachable.
@@ -33,6 +46,9 @@ struct MachineLimits {
     double feed_x = kNone, feed_y = kNone;             // mm/s
     double jerk_x = 8, jerk_y = 8;                     // mm/s, with junction_deviation 0 only
     double junction_deviation = kJunctionDeviationMm;  // mm; 0 = classic jerk
+    double square_corner_velocity = 0;                 // mm/s; > 0: Klipper's lookahead instead
+    double min_cruise_ratio = 0;                       // Klipper's minimum_cruise_ratio, with it
+    double extruder_corner_velocity = 0;               // mm/s of filament; with it too
     bool operator==(const MachineLimits&) const = default;
 };
 
@@ -48,8 +64,9 @@ class MotionPlanner {
     MotionPlanner(const MachineLimits& limits, const MachineLimits& stealth)
         : limits_(limits), stealth_(stealth), dual_(true) {}
 
-    // An XY move (mm) at nominal speed (mm/s) and acceleration (mm/s^2).
-    void move(double dx, double dy, double speed, double accel);
+    // An XY move (mm) at nominal speed (mm/s) and acceleration (mm/s^2), extruding e_per_mm
+    // of filament per mm (Klipper's junctions limit the extruder's change of speed).
+    void move(double dx, double dy, double speed, double accel, double e_per_mm = 0);
     // The machine comes to rest: plans and times the buffered moves.
     void stop();
     // Time spent at rest (retractions, Z moves), after an implicit stop.
@@ -61,10 +78,15 @@ class MotionPlanner {
     // end, so that a layer's times do not depend on how long the print before it took.
     double take_done() {
         const double d = done_;
-        done_ = 0;
+        done_ = done_cooling_ = 0;
         return d;
     }
     double time_stealth() const;
+    // Total time so far as the junction deviation (or jerk) rule plans it, whatever the
+    // firmware's model: the cooling times its layers by it, so that a Klipper model of the
+    // estimate changes no feed rate the cooling chose before. take_done() starts it from 0
+    // too, as time(): the same sums, to the last bit, as before that model.
+    double time_cooling() const;
     // Taken with take_done(), at the same places.
     double take_done_stealth() {
         const double d = done_stealth_;
@@ -80,17 +102,18 @@ class MotionPlanner {
         bool operator==(const Capped&) const = default;
     };
     struct Block {
-        double length, ux, uy;
+        double length, ux, uy, e_per_mm;
         Capped normal, stealth;
         bool operator==(const Block&) const = default;
     };
-    double plan(const std::vector<Block>& blocks, bool stealth) const;
+    double plan(const std::vector<Block>& blocks, bool stealth, bool firmware = true) const;
+    double plan_klipper(const std::vector<Block>& blocks, bool stealth) const;
     double junction_speed(const Block& p, const Block& q, bool stealth) const;
     double safe_speed(const Block& b, bool stealth) const;  // entry from, or exit to, rest
 
     MachineLimits limits_, stealth_;
     bool dual_ = false;
-    double done_ = 0, done_stealth_ = 0;
+    double done_ = 0, done_stealth_ = 0, done_cooling_ = 0;
     std::vector<Block> blocks_;
 };
 
