@@ -140,8 +140,8 @@ def cura_args(overrides):
 
 # ---------------------------------------------------------------------------------------------
 
-def stl_volume_mm3(path):
-    """Signed volume of a closed STL (binary or ASCII), by the divergence theorem."""
+def stl_triangles(path):
+    """The triangles of an STL (binary or ASCII) as an (n, 3, 3) float64 array."""
     with open(path, 'rb') as f:
         data = f.read()
     if len(data) >= 84:
@@ -149,27 +149,21 @@ def stl_volume_mm3(path):
         if 84 + 50 * count == len(data):
             rec = np.frombuffer(data, dtype=np.dtype([('n', '<f4', 3), ('v', '<f4', (3, 3)),
                                                        ('a', '<u2')]), count=count, offset=84)
-            v = rec['v'].astype(np.float64)
-            return float(np.einsum('ij,ij->i', v[:, 0], np.cross(v[:, 1], v[:, 2])).sum() / 6)
+            return rec['v'].astype(np.float64)
     verts = [list(map(float, m.groups())) for m in re.finditer(
         rb'vertex\s+(\S+)\s+(\S+)\s+(\S+)', data)]
-    v = np.array(verts, dtype=np.float64).reshape(-1, 3, 3)
+    return np.array(verts, dtype=np.float64).reshape(-1, 3, 3)
+
+
+def stl_volume_mm3(path):
+    """Signed volume of a closed STL, by the divergence theorem."""
+    v = stl_triangles(path)
     return float(np.einsum('ij,ij->i', v[:, 0], np.cross(v[:, 1], v[:, 2])).sum() / 6)
 
 
 def stl_bbox(path):
-    """(min xyz, max xyz) of an STL's vertices, binary or ASCII."""
-    with open(path, 'rb') as f:
-        data = f.read()
-    if len(data) >= 84:
-        count = struct.unpack_from('<I', data, 80)[0]
-        if 84 + 50 * count == len(data):
-            rec = np.frombuffer(data, dtype=np.dtype([('n', '<f4', 3), ('v', '<f4', (3, 3)),
-                                                       ('a', '<u2')]), count=count, offset=84)
-            v = rec['v'].astype(np.float64).reshape(-1, 3)
-            return v.min(axis=0), v.max(axis=0)
-    v = np.array([list(map(float, m.groups())) for m in re.finditer(
-        rb'vertex\s+(\S+)\s+(\S+)\s+(\S+)', data)], dtype=np.float64)
+    """(min xyz, max xyz) of an STL's vertices."""
+    v = stl_triangles(path).reshape(-1, 3)
     return v.min(axis=0), v.max(axis=0)
 
 
