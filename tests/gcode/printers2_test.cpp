@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "support/carve_run.hpp"
+#include "support/gcode_slices.hpp"
 #include "support/stl_boxes.hpp"
 
 namespace fs = std::filesystem;
@@ -28,21 +29,9 @@ namespace {
 
 std::string slice(const std::string& model, const std::string& args, const std::string& name,
                   int want_status = 0, std::string* err = nullptr) {
-    setenv("SOURCE_DATE_EPOCH", "1767225600", 1);
-    const fs::path out = scratch() / (name + ".gcode");
-    const carve::test::CarveRun r =
-        run_carve("slice " + model + " -o " + out.string() + " -q " + args);
-    EXPECT_EQ(r.status, want_status) << r.err;
-    if (err) *err = r.err;
-    return r.status == 0 ? read(out) : std::string();
+    return carve::test::slice_text(model, args, name, want_status, err);
 }
-
-std::vector<std::string> lines_of(const std::string& text) {
-    std::vector<std::string> out;
-    std::stringstream in(text);
-    for (std::string l; std::getline(in, l);) out.push_back(l);
-    return out;
-}
+using carve::test::lines_of;
 
 std::string command_of(const std::string& l) {
     return l.substr(0, l.find_first_of(" ;"));
