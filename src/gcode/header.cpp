@@ -153,7 +153,7 @@ std::vector<std::string> config_block(const Settings& s) {
     // Written when given, so that a file without it keeps the block it had.
     if (!s.pause_command.empty()) kv.emplace_back("pause_command", s.pause_command);
     if (s.cutting())
-        for (std::string_view key : {"cut", "cut_connectors"})
+        for (std::string_view key : {"cut", "cut_plane", "cut_connectors"})
             kv.emplace_back(key, word_value(key, s));
     for (const CustomGcodeKey& c : custom_gcode_keys())
         kv.emplace_back(c.ini_key, escape_profile_text(s.*(c.text)));

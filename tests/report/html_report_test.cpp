@@ -142,10 +142,10 @@ std::string write_report(const std::filesystem::path& path, size_t budget = 0,
 
 // A value off the default for each text setting that is not one of a few words.
 const std::map<std::string, std::string> kOffDefaultText = {
-    {"cavities", "auto"},    {"bed", "300x200"},        {"thumbnails", "16x16,220x124"},
+    {"cavities", "auto"},    {"bed", "300x200"},           {"thumbnails", "16x16,220x124"},
     {"pause_at", "12.4,30"}, {"pause_command", "M601"},
 
-    {"cut", "auto"}};
+    {"cut", "auto"},         {"cut_plane", "0,0,10,0,0,1"}};
 
 // Every table setting moved off its default (a number to an end of its range, a switch turned
 // over, a word to another word), so that a writer showing defaults, or a value of the wrong
