@@ -50,7 +50,7 @@ Crossing cross_at(const Mesh& mesh, double z) {
         const auto [it, added] = c.point_of_edge.emplace(key, uint32_t(c.points.size()));
         if (added) {
             c.points.push_back(edge_point(mesh, a, b, z));
-            c.next.push_back(kNone);
+            c.next.push_back(kNoVertex);
         }
         return it->second;
     };
@@ -63,7 +63,7 @@ Crossing cross_at(const Mesh& mesh, double z) {
         // The cap of the piece below runs against the sides' edge between the two points.
         const bool below = mesh.vertices[a].z < z;
         const uint32_t from = below ? q : p, to = below ? p : q;
-        if (c.next[from] != kNone)
+        if (c.next[from] != kNoVertex)
             throw InputError(
                 fmt::format("the section at z = {:.3f} mm is not a closed curve: "
                             "the mesh is not a closed surface there",
@@ -87,7 +87,7 @@ std::vector<std::vector<uint32_t>> chain(const Crossing& c, double z) {
         if (seen[s]) continue;
         std::vector<uint32_t> loop;
         for (uint32_t p = s; !seen[p]; p = c.next[p]) {
-            if (c.next[p] == kNone)
+            if (c.next[p] == kNoVertex)
                 throw InputError(fmt::format(
                     "the section at z = {:.3f} mm is not a closed curve: the mesh is open there",
                     z));
@@ -246,14 +246,14 @@ struct Side {
     Mesh mesh;
     std::vector<uint32_t> of_vertex, of_point, of_ring;
     uint32_t vertex(const Mesh& m, uint32_t v) {
-        if (of_vertex[v] == kNone) {
+        if (of_vertex[v] == kNoVertex) {
             of_vertex[v] = uint32_t(mesh.vertices.size());
             mesh.vertices.push_back(m.vertices[v]);
         }
         return of_vertex[v];
     }
     uint32_t point(const Crossing& c, uint32_t p) {
-        if (of_point[p] == kNone) {
+        if (of_point[p] == kNoVertex) {
             of_point[p] = uint32_t(mesh.vertices.size());
             mesh.vertices.push_back(c.points[p]);
         }
@@ -306,8 +306,8 @@ std::pair<Mesh, Mesh> split(const Mesh& mesh, double z, const std::vector<Featur
     const std::vector<std::vector<uint32_t>> loops = chain(c, z);
     Side sides[2];
     for (Side& s : sides) {
-        s.of_vertex.assign(mesh.vertices.size(), kNone);
-        s.of_point.assign(c.points.size(), kNone);
+        s.of_vertex.assign(mesh.vertices.size(), kNoVertex);
+        s.of_point.assign(c.points.size(), kNoVertex);
     }
     auto point = [&](uint32_t a, uint32_t b) {
         return c.point_of_edge.at((uint64_t(std::min(a, b)) << 32) | std::max(a, b));

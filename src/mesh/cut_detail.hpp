@@ -12,7 +12,7 @@
 
 namespace carve::cut_detail {
 
-constexpr uint32_t kNone = UINT32_MAX;
+constexpr uint32_t kNoVertex = UINT32_MAX;
 
 // The points where the plane crosses edges, and for each the next one along the cap of the
 // piece below (counter-clockwise around the solid seen from above).
