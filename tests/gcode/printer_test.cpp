@@ -41,20 +41,7 @@ std::string slice(const std::string& model, const std::string& args, const std::
 }
 using carve::test::lines_of;
 
-// The words of a G-code line before its comment: 'G' -> 1, 'X' -> 10.5 ...
-std::map<char, double> words(const std::string& line) {
-    std::map<char, double> w;
-    std::string code = line.substr(0, line.find(';'));
-    std::stringstream in(code);
-    for (std::string t; in >> t;)
-        if (t.size() >= 2 && std::isalpha(static_cast<unsigned char>(t[0]))) {
-            try {
-                w[char(std::toupper(t[0]))] = std::stod(t.substr(1));
-            } catch (...) {
-            }
-        }
-    return w;
-}
+using carve::test::words;
 
 // The extruder's E as the firmware follows it: absolute or relative (M82 / M83), reset by G92.
 struct EAxis {

@@ -37,19 +37,7 @@ std::string command_of(const std::string& l) {
     return l.substr(0, l.find_first_of(" ;"));
 }
 
-// The words of a G-code line before its comment: 'G' -> 1, 'X' -> 10.5 ...
-std::map<char, double> words(const std::string& line) {
-    std::map<char, double> w;
-    std::stringstream in(line.substr(0, line.find(';')));
-    for (std::string t; in >> t;)
-        if (t.size() >= 2 && std::isalpha(static_cast<unsigned char>(t[0]))) {
-            try {
-                w[char(std::toupper(t[0]))] = std::stod(t.substr(1));
-            } catch (...) {
-            }
-        }
-    return w;
-}
+using carve::test::words;
 
 // The value of `key` in the configuration block ("" if absent).
 std::string config_value(const std::string& g, const std::string& key) {

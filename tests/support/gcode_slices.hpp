@@ -1,10 +1,12 @@
 // What the printer tests share: carve's G-code of a model as text, dated by SOURCE_DATE_EPOCH
-// so that two runs compare byte for byte, and its lines.
+// so that two runs compare byte for byte, its lines, and the words of a line.
 #pragma once
 
 #include <gtest/gtest.h>
 #include <stdlib.h>
 
+#include <cctype>
+#include <map>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -31,6 +33,20 @@ inline std::vector<std::string> lines_of(const std::string& text) {
     std::stringstream in(text);
     for (std::string l; std::getline(in, l);) out.push_back(l);
     return out;
+}
+
+// The words of a G-code line before its comment: 'G' -> 1, 'X' -> 10.5 ...
+inline std::map<char, double> words(const std::string& line) {
+    std::map<char, double> w;
+    std::stringstream in(line.substr(0, line.find(';')));
+    for (std::string t; in >> t;)
+        if (t.size() >= 2 && std::isalpha(static_cast<unsigned char>(t[0]))) {
+            try {
+                w[char(std::toupper(t[0]))] = std::stod(t.substr(1));
+            } catch (...) {
+            }
+        }
+    return w;
 }
 
 }  // namespace carve::test
