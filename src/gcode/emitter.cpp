@@ -180,6 +180,7 @@ void Emitter::layer(const LayerToolpaths& layer) {
     // plan on the same regions.
     comber_.reset();
     thin_.reset();
+    last_entries_.clear();
     bool reverse = enter_reversed(layer);
     if (std::exchange(flip_, false) && layer.island_starts.size() >= 3 &&
         layer.island_starts.back() <= layer.extrusions.size())

@@ -207,6 +207,7 @@ class Emitter {
     void travel_to(const Point& p, const Path& via, TravelKind kind);
     void travel_move(const Point& p);
     TravelPlan plan_layer_entry(const Point& target_model);
+    TravelPlan find_layer_entry(const Point& from, const Point& target_model);
     // Whether the layer's islands should be printed last to first: its last island is where
     // the nozzle can enter without leaving the part, or nearer.
     bool enter_reversed(const LayerToolpaths& layer);
@@ -291,8 +292,15 @@ class Emitter {
     std::unique_ptr<Comber> comber_;     // built from it on first use
     const Paths* layer_thin_ = nullptr;  // and its region inside the outer wall's centreline
     std::unique_ptr<Comber> thin_;       // built from that if the comb region fails
-    Path wipe_path_;                     // output coordinates, from the nozzle backwards
-    double wipe_length_ = 0;             // mm
+    // plan_layer_entry's last two answers on this layer: the entry's order is chosen by
+    // planning both candidates, and the one chosen is then planned again to be travelled.
+    struct LayerEntry {
+        Point from, to;
+        TravelPlan plan;
+    };
+    std::vector<LayerEntry> last_entries_;
+    Path wipe_path_;          // output coordinates, from the nozzle backwards
+    double wipe_length_ = 0;  // mm
 };
 
 }  // namespace carve

@@ -184,10 +184,18 @@ void Emitter::travel_move(const Point& p) {
 // 2.5 mm, which holds every such entry on the shared models (the widest, 2.45 mm, on skull's
 // top); before, each of them retracted (fandisk 5 retractions in all, 3 of them these).
 TravelPlan Emitter::plan_layer_entry(const Point& target_model) {
-    TravelPlan plan;
-    if (first_travel_ || !layer_comb_ || layer_comb_->empty()) return plan;
-    if (!comber_) comber_ = std::make_unique<Comber>(*layer_comb_);
+    if (first_travel_ || !layer_comb_ || layer_comb_->empty()) return {};
     const Point from(pos_.X - off_x_, pos_.Y - off_y_);
+    for (const LayerEntry& e : last_entries_)
+        if (e.from == from && e.to == target_model) return e.plan;
+    if (last_entries_.size() == 2) last_entries_.erase(last_entries_.begin());
+    last_entries_.push_back({from, target_model, find_layer_entry(from, target_model)});
+    return last_entries_.back().plan;
+}
+
+TravelPlan Emitter::find_layer_entry(const Point& from, const Point& target_model) {
+    TravelPlan plan;
+    if (!comber_) comber_ = std::make_unique<Comber>(*layer_comb_);
     const TravelOptions options = travel_options(st_);
     // Where the comb region splits (a wall thinner than it), inside the outer wall's centreline,
     // as plan_layer does within a layer: on skull the travel into a layer crossed the cranium.

@@ -195,8 +195,7 @@ RunResult slice_run_mesh(const Settings& settings, const RunOptions& options, Ru
     add_run_figures(result, layers, note);
     refuse_empty_print(result, settings, options);
     // After the refusal: a model of nothing but such parts gets the one message that says so.
-    if (const std::string w = layers.unprinted().warning(settings.min_feature_mm()); !w.empty())
-        note(w);
+    if (const std::string w = layers.unprinted().warning(settings); !w.empty()) note(w);
     const int64_t finish_start_ns = thread_cpu_ns();
     result.print = finish_gcode(outputs.writer, options, result, settings, threads);
     clock.phase_ends("G-code");

@@ -13,7 +13,8 @@ namespace carve {
 Paths external_overhang(const Paths& outline, const Paths* below, Coord support) {
     if (!below || outline.empty()) return {};
     if (below->empty()) return outline;
-    return subtract(outline, dilate(*below, support));
+    // The dilation is read unresolved: its union would be a second Clipper pass on every layer.
+    return subtract_positive(outline, dilation(*below, support));
 }
 
 LayerOverhang measure_overhang(const Paths& outline, const Paths* below, Coord support, Coord far) {
@@ -22,7 +23,8 @@ LayerOverhang measure_overhang(const Paths& outline, const Paths* below, Coord s
     if (beyond.empty()) return out;  // most layers: one dilation and nothing more
     out.area_mm2 = area_mm2(beyond);
     const Paths far_beyond =
-        far > support ? (below->empty() ? beyond : subtract(beyond, dilate(*below, far))) : beyond;
+        far > support ? (below->empty() ? beyond : subtract_positive(beyond, dilation(*below, far)))
+                      : beyond;
     out.far_area_mm2 = area_mm2(far_beyond);
     return out;
 }

@@ -484,8 +484,16 @@ std::optional<Point> Comber::nearest_in(const Point& p, int island) const {
 }
 
 Comber::Gap Comber::closest(int a, int b) const {
+    if (a < 0 || b < 0 || a >= islands_ || b >= islands_ || a == b) return {};
+    const size_t n = size_t(islands_);
+    if (closest_.empty()) closest_.resize(n * n);
+    std::optional<Gap>& known = closest_[size_t(a) * n + size_t(b)];
+    if (!known) known = find_closest(a, b);
+    return *known;
+}
+
+Comber::Gap Comber::find_closest(int a, int b) const {
     Gap g;
-    if (a < 0 || b < 0 || a >= islands_ || b >= islands_ || a == b) return g;
     const BBox2& p = island_box_[a];
     const BBox2& q = island_box_[b];
     const double dx = double(std::max({Coord(0), p.min_x - q.max_x, q.min_x - p.max_x}));

@@ -70,6 +70,7 @@ class Comber {
         Point at;  // the crossing, moved just inside the region
     };
     std::vector<Hit> crossings(const Point& a, const Point& b) const;
+    Gap find_closest(int a, int b) const;
     // Visits every edge whose cell the segment passes; stops when f returns true. Returns
     // whether it was stopped.
     template <class F>
@@ -95,6 +96,9 @@ class Comber {
     std::vector<std::vector<int>> island_contours_;
     std::vector<BBox2> island_box_;
     mutable std::vector<double> gaps_;  // islands_ x islands_, on first use
+    // closest() of each pair, found once: a layer's entry and its travels ask for the same
+    // pairs again and again (a Comber is one thread's, per layer).
+    mutable std::vector<std::optional<Gap>> closest_;
 };
 
 // One planned travel: the points to pass through after the start, up to the target (which is

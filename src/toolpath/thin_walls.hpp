@@ -26,7 +26,8 @@ struct ThinWalls {
     // than 2 s has no wall region to comb through, and a travel off a bead's tip would
     // otherwise retract.
     Paths corridors;
-    // What of the slice is narrower than --min-feature-size: printed by nothing, reported.
+    // What of the slice is narrower than --min-feature-size (with --no-thin-walls: what no
+    // wall loop reaches, the parts narrower than 2 s): printed by nothing, reported.
     double unprinted_mm2 = 0;
 };
 
@@ -40,8 +41,8 @@ class UnprintedTally {
     double area_mm2() const { return area_mm2_; }
     int layers() const { return layers_; }
     // Empty when nothing worth naming is left out; otherwise one sentence with the area, the
-    // layers and the option that decides it.
-    std::string warning(double min_feature_mm) const;
+    // layers and the option that decides it (--min-feature-size, or --no-thin-walls when set).
+    std::string warning(const Settings& settings) const;
 
   private:
     double area_mm2_ = 0;

@@ -123,17 +123,39 @@ TEST(ThinWalls, PartsNarrowerThanTheSmallestFeatureAreReportedNotPrinted) {
 }
 
 TEST(UnprintedTally, WarnsWithTheAreaAndTheLayers) {
+    Settings settings;
+    settings.min_feature_size = 0.1;
     UnprintedTally tally;
     tally.add(10, 2.2, 0);
-    EXPECT_EQ(tally.warning(0.1), "");
+    EXPECT_EQ(tally.warning(settings), "");
     tally.add(11, 2.4, 1.5);
     tally.add(20, 4.2, 1.5);
     EXPECT_DOUBLE_EQ(tally.area_mm2(), 3.0);
     EXPECT_EQ(tally.layers(), 2);
-    const std::string w = tally.warning(0.1);
+    const std::string w = tally.warning(settings);
     EXPECT_NE(w.find("3.00 mm2"), std::string::npos) << w;
+    EXPECT_NE(w.find("narrower than 0.1 mm"), std::string::npos) << w;
     EXPECT_NE(w.find("layer 12 and 21"), std::string::npos) << w;
     EXPECT_NE(w.find("--min-feature-size"), std::string::npos) << w;
+    // Without thin walls the wall loop decides: what is narrower than the nozzle is lost.
+    settings.thin_walls = 0;
+    const std::string off = tally.warning(settings);
+    EXPECT_NE(off.find("narrower than 0.4 mm"), std::string::npos) << off;
+    EXPECT_NE(off.find("--no-thin-walls"), std::string::npos) << off;
+}
+
+TEST(ThinWalls, WithoutThemWhatNoWallLoopReachesIsReported) {
+    // A 0.3 mm fin 20 mm long on a block: no wall loop fits in it, so all of it is lost.
+    Settings settings;
+    settings.thin_walls = 0;
+    const Paths outline = body_with_fin(0.3);
+    const ThinWalls thin = thin_walls(outline, erode(outline, settings.nozzle_radius()), settings);
+    EXPECT_TRUE(thin.beads.empty());
+    EXPECT_NEAR(thin.unprinted_mm2, 0.3 * 20, 0.6);
+    // With them the fin is printed and nothing is lost.
+    settings.thin_walls = 1;
+    EXPECT_DOUBLE_EQ(
+        thin_walls(outline, erode(outline, settings.nozzle_radius()), settings).unprinted_mm2, 0);
 }
 
 // Whole runs: the G-code read back by `carve check --mesh`, as any slicer's is.
