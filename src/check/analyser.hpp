@@ -63,6 +63,12 @@ class Analyser {
     // Measuring a layer once it is read (layer_analysis.cpp).
     void start_layer(double z);
     void finish_layer();
+    // finish_layer()'s phases, in order.
+    const Paths& below_layer(double reach_z, Paths& merged);
+    void measure_hanging(const Paths& footprint, const Paths& support_footprint, const Paths& below,
+                         double reach_z);
+    void add_layer_sums();
+    void keep_as_below(Paths footprint, Paths support_footprint, double h);
     void check_model(const Paths& footprint, const Paths& support_footprint, double h);
     double disk_width_mm() const;
     void model_above_print();

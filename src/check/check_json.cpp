@@ -3,6 +3,42 @@
 
 namespace carve {
 
+namespace {
+
+// The "per_layer" array: each layer's figures, the model's with --mesh.
+nlohmann::json layers_json(const GcodeAnalysis& a) {
+    nlohmann::json layers = nlohmann::json::array();
+    for (const LayerFigures& l : a.per_layer) {
+        nlohmann::json lj = {{"z_mm", l.z_mm},
+                             {"height_mm", l.height_mm},
+                             {"extruded_volume_mm3", l.extruded_volume_mm3},
+                             {"path_length_mm", l.path_length_mm},
+                             {"footprint_area_mm2", l.footprint_area_mm2},
+                             {"unsupported_area_mm2", l.unsupported_area_mm2},
+                             {"far_unsupported_area_mm2", l.far_unsupported_area_mm2},
+                             {"retractions", l.retractions},
+                             {"travel_length_mm", l.travel_length_mm},
+                             {"stick_time_s", l.stick_time_s},
+                             {"longest_bridge_mm", l.longest_bridge_mm}};
+        if (a.model_checked) {
+            lj["outside_area_mm2"] = l.outside_area_mm2;
+            lj["max_outside_model_mm"] = l.max_outside_model_mm;
+            lj["hanging_inside_mm2"] = l.hanging_inside_mm2;
+            lj["hanging_overhang_mm2"] = l.hanging_overhang_mm2;
+            lj["hanging_support_mm2"] = l.hanging_support_mm2;
+            lj["outside_support_mm2"] = l.outside_support_mm2;
+            lj["travel_inside_mm"] = l.travel_inside_mm;
+            lj["travel_outside_mm"] = l.travel_outside_mm;
+            lj["wall_crossings"] = l.wall_crossings;
+            lj["uncovered_mm2"] = l.uncovered_mm2;
+        }
+        layers.push_back(std::move(lj));
+    }
+    return layers;
+}
+
+}  // namespace
+
 nlohmann::json to_json(const GcodeAnalysis& a, bool with_layers) {
     nlohmann::json j = {
         {"generator", a.generator},
@@ -122,36 +158,7 @@ nlohmann::json to_json(const GcodeAnalysis& a, bool with_layers) {
                 j["mesh_extent_mismatch_mm"] = a.mesh_extent_mismatch_mm;
         }
     }
-    if (with_layers) {
-        nlohmann::json layers = nlohmann::json::array();
-        for (const LayerFigures& l : a.per_layer) {
-            nlohmann::json lj = {{"z_mm", l.z_mm},
-                                 {"height_mm", l.height_mm},
-                                 {"extruded_volume_mm3", l.extruded_volume_mm3},
-                                 {"path_length_mm", l.path_length_mm},
-                                 {"footprint_area_mm2", l.footprint_area_mm2},
-                                 {"unsupported_area_mm2", l.unsupported_area_mm2},
-                                 {"far_unsupported_area_mm2", l.far_unsupported_area_mm2},
-                                 {"retractions", l.retractions},
-                                 {"travel_length_mm", l.travel_length_mm},
-                                 {"stick_time_s", l.stick_time_s},
-                                 {"longest_bridge_mm", l.longest_bridge_mm}};
-            if (a.model_checked) {
-                lj["outside_area_mm2"] = l.outside_area_mm2;
-                lj["max_outside_model_mm"] = l.max_outside_model_mm;
-                lj["hanging_inside_mm2"] = l.hanging_inside_mm2;
-                lj["hanging_overhang_mm2"] = l.hanging_overhang_mm2;
-                lj["hanging_support_mm2"] = l.hanging_support_mm2;
-                lj["outside_support_mm2"] = l.outside_support_mm2;
-                lj["travel_inside_mm"] = l.travel_inside_mm;
-                lj["travel_outside_mm"] = l.travel_outside_mm;
-                lj["wall_crossings"] = l.wall_crossings;
-                lj["uncovered_mm2"] = l.uncovered_mm2;
-            }
-            layers.push_back(std::move(lj));
-        }
-        j["per_layer"] = std::move(layers);
-    }
+    if (with_layers) j["per_layer"] = layers_json(a);
     return j;
 }
 

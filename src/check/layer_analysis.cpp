@@ -62,6 +62,122 @@ void Analyser::start_layer(double z) {
     layer_.height_mm = height;
 }
 
+// What lies below: the layers within the thickness of this one (one layer, unless a slicer
+// interleaves thinner layers, as PrusaSlicer does between its support's layers and the
+// object's), and the supports' tops within the gap below that (a support holds its overhang
+// across a gap of a layer or so). Most layers: the previous layer alone, read in place;
+// otherwise the footprints gathered into `merged`.
+const Paths& Analyser::below_layer(double reach_z, Paths& merged) {
+    while (!recent_.empty() && (recent_.front().z < reach_z - opt_.support_gap_mm - kMaxLayerMm ||
+                                recent_.size() > kMaxRecent))
+        recent_.pop_front();
+    // The layer read last lies below this one only if it is lower and within its reach: not
+    // when this one is in mid-air, or lower (a sequential print's next object).
+    const bool prev_below = have_prev_ && prev_z_ < layer_.z_mm - kZTolerance &&
+                            prev_z_ >= reach_z - opt_.support_gap_mm;
+    size_t parts = 0;
+    for (const Recent& r : recent_) {
+        if (r.z > layer_.z_mm - kZTolerance) continue;  // a sequential print's next object
+        const Paths* add = r.z >= reach_z                         ? &r.footprint
+                           : r.z >= reach_z - opt_.support_gap_mm ? &r.support
+                                                                  : nullptr;
+        if (!add || add->empty()) continue;
+        if (add != &recent_.back().footprint) ++parts;
+        merged.insert(merged.end(), add->begin(), add->end());
+    }
+    if (parts > 0 && prev_below)
+        merged.insert(merged.end(), prev_footprint_.begin(), prev_footprint_.end());
+    return parts == 0 && prev_below ? prev_footprint_ : merged;
+}
+
+// What of the layer nothing below holds, its longest bridge, what of it hangs far (support
+// held by the model's top across the gap), and where: over the model's slice or beyond it.
+void Analyser::measure_hanging(const Paths& footprint, const Paths& support_footprint,
+                               const Paths& below, double reach_z) {
+    Paths unsupported = difference(footprint, dilate_round(below, r_units_));
+    layer_.unsupported_area_mm2 = region_area_mm2(unsupported);
+    if (unsupported.empty()) return;
+    std::vector<Path> moves;
+    moves.reserve(lines_.size());
+    for (const Polyline& l : lines_) moves.push_back(l.points);
+    const Bridge bridge = longest_bridge(moves, unsupported);
+    layer_.longest_bridge_mm = bridge.length_mm;
+    if (bridge.length_mm > result_.longest_bridge_mm) {
+        result_.longest_bridge_mm = bridge.length_mm;
+        result_.longest_bridge_z_mm = layer_.z_mm;
+        result_.longest_bridge_x_mm = bridge.x_mm;
+        result_.longest_bridge_y_mm = bridge.y_mm;
+    }
+    Paths far = far_region(unsupported, below, far_units_);
+    if (!support_footprint.empty() && !far.empty()) {
+        // A support standing on the model's top leaves the same gap: support extrusion is held
+        // by anything printed within the gap below it.
+        Paths on_model;
+        for (const Recent& r : recent_)
+            if (r.z < reach_z && r.z >= reach_z - opt_.support_gap_mm && !r.footprint.empty())
+                on_model.insert(on_model.end(), r.footprint.begin(), r.footprint.end());
+        Paths far_support = intersection(far, support_footprint);
+        if (!on_model.empty() && !far_support.empty()) {
+            on_model.insert(on_model.end(), below.begin(), below.end());
+            Paths rest = difference(far, support_footprint);
+            far_support = far_region(far_support, on_model, far_units_);
+            far = std::move(rest);
+            far.insert(far.end(), far_support.begin(), far_support.end());
+        }
+        layer_.hanging_support_mm2 = region_area_mm2(far_support);
+    }
+    layer_.far_unsupported_area_mm2 = region_area_mm2(far);
+    if (opt_.model_slice && have_prev_model_ && !far.empty()) {
+        // Over the model's slice one layer down: something inside the object could have held
+        // it. The rest hangs beyond the model itself.
+        layer_.hanging_inside_mm2 = region_area_mm2(intersection(far, prev_model_));
+        layer_.hanging_overhang_mm2 =
+            std::max(0.0, layer_.far_unsupported_area_mm2 - layer_.hanging_inside_mm2);
+    } else {
+        layer_.hanging_overhang_mm2 = layer_.far_unsupported_area_mm2;
+    }
+}
+
+// The layer's figures added to the file's.
+void Analyser::add_layer_sums() {
+    GcodeAnalysis& r = result_;
+    if (r.layers == 0) r.first_z_mm = layer_.z_mm;
+    r.last_z_mm = std::max(r.last_z_mm, layer_.z_mm);
+    ++r.layers;
+    r.path_length_mm += layer_.path_length_mm;
+    r.footprint_area_mm2 += layer_.footprint_area_mm2;
+    r.unsupported_area_mm2 += layer_.unsupported_area_mm2;
+    r.far_unsupported_area_mm2 += layer_.far_unsupported_area_mm2;
+    r.outside_area_mm2 += layer_.outside_area_mm2;
+    r.max_outside_model_mm = std::max(r.max_outside_model_mm, layer_.max_outside_model_mm);
+    r.hanging_inside_mm2 += layer_.hanging_inside_mm2;
+    r.hanging_overhang_mm2 += layer_.hanging_overhang_mm2;
+    r.hanging_support_mm2 += layer_.hanging_support_mm2;
+    r.outside_support_mm2 += layer_.outside_support_mm2;
+    r.travel_inside_mm += layer_.travel_inside_mm;
+    r.travel_outside_mm += layer_.travel_outside_mm;
+    r.wall_crossings += layer_.wall_crossings;
+    if (opt_.keep_layers) r.per_layer.push_back(layer_);
+}
+
+// The layer kept as what lies below the next ones.
+void Analyser::keep_as_below(Paths footprint, Paths support_footprint, double h) {
+    // The last layer is read from prev_footprint_, the ones before from recent_. Its entry may
+    // be gone already, dropped above as out of this layer's reach (a layer in mid-air): then
+    // nothing of it is kept (back() of the empty deque wrote through a dangling reference, which
+    // AddressSanitizer found as a leak in HostileCheck.LayersInMidAirHang).
+    if (have_prev_ && !recent_.empty()) recent_.back().footprint = std::move(prev_footprint_);
+    // Layers at or above this one lie below none of the next ones that this one does not
+    // cover: a file going up and down (200,000 Z reversals) kept them all and merged dozens of
+    // footprints for every layer.
+    while (!recent_.empty() && recent_.back().z > layer_.z_mm - kZTolerance) recent_.pop_back();
+    recent_.push_back({layer_.z_mm, {}, std::move(support_footprint)});
+    prev_footprint_ = std::move(footprint);
+    have_prev_ = true;
+    prev_z_ = layer_.z_mm;
+    prev_height_ = h;
+}
+
 void Analyser::finish_layer() {
     have_layer_ = false;
     double h = layer_.height_mm;
@@ -99,79 +215,10 @@ void Analyser::finish_layer() {
         support_footprint = widen(support_lines, model_h, filament_area_, opt_.bead);
     }
     layer_.footprint_area_mm2 = region_area_mm2(footprint);
-    // What lies below: the layers within the thickness of this one (one layer, unless a
-    // slicer interleaves thinner layers, as PrusaSlicer does between its support's layers
-    // and the object's), and the supports' tops within the gap below that (a support holds
-    // its overhang across a gap of a layer or so).
     const double reach_z = layer_.z_mm - thickest - kZTolerance;
-    while (!recent_.empty() && (recent_.front().z < reach_z - opt_.support_gap_mm - kMaxLayerMm ||
-                                recent_.size() > kMaxRecent))
-        recent_.pop_front();
-    // The layer read last lies below this one only if it is lower and within its reach: not
-    // when this one is in mid-air, or lower (a sequential print's next object).
-    const bool prev_below = have_prev_ && prev_z_ < layer_.z_mm - kZTolerance &&
-                            prev_z_ >= reach_z - opt_.support_gap_mm;
     Paths merged;
-    size_t parts = 0;
-    for (const Recent& r : recent_) {
-        if (r.z > layer_.z_mm - kZTolerance) continue;  // a sequential print's next object
-        const Paths* add = r.z >= reach_z                         ? &r.footprint
-                           : r.z >= reach_z - opt_.support_gap_mm ? &r.support
-                                                                  : nullptr;
-        if (!add || add->empty()) continue;
-        if (add != &recent_.back().footprint) ++parts;
-        merged.insert(merged.end(), add->begin(), add->end());
-    }
-    if (parts > 0 && prev_below)
-        merged.insert(merged.end(), prev_footprint_.begin(), prev_footprint_.end());
-    // Most layers: the previous layer alone, read in place.
-    const Paths& below = parts == 0 && prev_below ? prev_footprint_ : merged;
-    if (!on_bed_) {
-        Paths unsupported = difference(footprint, dilate_round(below, r_units_));
-        layer_.unsupported_area_mm2 = region_area_mm2(unsupported);
-        if (!unsupported.empty()) {
-            std::vector<Path> moves;
-            moves.reserve(lines_.size());
-            for (const Polyline& l : lines_) moves.push_back(l.points);
-            const Bridge bridge = longest_bridge(moves, unsupported);
-            layer_.longest_bridge_mm = bridge.length_mm;
-            if (bridge.length_mm > result_.longest_bridge_mm) {
-                result_.longest_bridge_mm = bridge.length_mm;
-                result_.longest_bridge_z_mm = layer_.z_mm;
-                result_.longest_bridge_x_mm = bridge.x_mm;
-                result_.longest_bridge_y_mm = bridge.y_mm;
-            }
-            Paths far = far_region(unsupported, below, far_units_);
-            if (!support_footprint.empty() && !far.empty()) {
-                // A support standing on the model's top leaves the same gap: support
-                // extrusion is held by anything printed within the gap below it.
-                Paths on_model;
-                for (const Recent& r : recent_)
-                    if (r.z < reach_z && r.z >= reach_z - opt_.support_gap_mm &&
-                        !r.footprint.empty())
-                        on_model.insert(on_model.end(), r.footprint.begin(), r.footprint.end());
-                Paths far_support = intersection(far, support_footprint);
-                if (!on_model.empty() && !far_support.empty()) {
-                    on_model.insert(on_model.end(), below.begin(), below.end());
-                    Paths rest = difference(far, support_footprint);
-                    far_support = far_region(far_support, on_model, far_units_);
-                    far = std::move(rest);
-                    far.insert(far.end(), far_support.begin(), far_support.end());
-                }
-                layer_.hanging_support_mm2 = region_area_mm2(far_support);
-            }
-            layer_.far_unsupported_area_mm2 = region_area_mm2(far);
-            if (opt_.model_slice && have_prev_model_ && !far.empty()) {
-                // Over the model's slice one layer down: something inside the object could
-                // have held it. The rest hangs beyond the model itself.
-                layer_.hanging_inside_mm2 = region_area_mm2(intersection(far, prev_model_));
-                layer_.hanging_overhang_mm2 =
-                    std::max(0.0, layer_.far_unsupported_area_mm2 - layer_.hanging_inside_mm2);
-            } else {
-                layer_.hanging_overhang_mm2 = layer_.far_unsupported_area_mm2;
-            }
-        }
-    }
+    const Paths& below = below_layer(reach_z, merged);
+    if (!on_bed_) measure_hanging(footprint, support_footprint, below, reach_z);
     if (layer_.path_length_mm > 0) {
         double width = line_width(layer_.extruded_volume_mm3 / layer_.path_length_mm, h, opt_.bead);
         width_sum_ += width * layer_.path_length_mm;
@@ -188,40 +235,8 @@ void Analyser::finish_layer() {
     }
     lines_.clear();
     layer_travel_.clear();
-
-    GcodeAnalysis& r = result_;
-    if (r.layers == 0) r.first_z_mm = layer_.z_mm;
-    r.last_z_mm = std::max(r.last_z_mm, layer_.z_mm);
-    ++r.layers;
-    r.path_length_mm += layer_.path_length_mm;
-    r.footprint_area_mm2 += layer_.footprint_area_mm2;
-    r.unsupported_area_mm2 += layer_.unsupported_area_mm2;
-    r.far_unsupported_area_mm2 += layer_.far_unsupported_area_mm2;
-    r.outside_area_mm2 += layer_.outside_area_mm2;
-    r.max_outside_model_mm = std::max(r.max_outside_model_mm, layer_.max_outside_model_mm);
-    r.hanging_inside_mm2 += layer_.hanging_inside_mm2;
-    r.hanging_overhang_mm2 += layer_.hanging_overhang_mm2;
-    r.hanging_support_mm2 += layer_.hanging_support_mm2;
-    r.outside_support_mm2 += layer_.outside_support_mm2;
-    r.travel_inside_mm += layer_.travel_inside_mm;
-    r.travel_outside_mm += layer_.travel_outside_mm;
-    r.wall_crossings += layer_.wall_crossings;
-    if (opt_.keep_layers) r.per_layer.push_back(layer_);
-
-    // The last layer is read from prev_footprint_, the ones before from recent_. Its entry may
-    // be gone already, dropped above as out of this layer's reach (a layer in mid-air): then
-    // nothing of it is kept (back() of the empty deque wrote through a dangling reference, which
-    // AddressSanitizer found as a leak in HostileCheck.LayersInMidAirHang).
-    if (have_prev_ && !recent_.empty()) recent_.back().footprint = std::move(prev_footprint_);
-    // Layers at or above this one lie below none of the next ones that this one does not
-    // cover: a file going up and down (200,000 Z reversals) kept them all and merged dozens of
-    // footprints for every layer.
-    while (!recent_.empty() && recent_.back().z > layer_.z_mm - kZTolerance) recent_.pop_back();
-    recent_.push_back({layer_.z_mm, {}, std::move(support_footprint)});
-    prev_footprint_ = std::move(footprint);
-    have_prev_ = true;
-    prev_z_ = layer_.z_mm;
-    prev_height_ = h;
+    add_layer_sums();
+    keep_as_below(std::move(footprint), std::move(support_footprint), h);
 }
 
 // The uncovered check's disk: a line's width, 1.125 x the nozzle when the header names it

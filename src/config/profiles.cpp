@@ -328,205 +328,254 @@ std::vector<std::string> load_prusa_profile(const std::string& path, Settings& s
     return read_prusa_profile(whole, path, s, options);
 }
 
-std::vector<std::string> read_prusa_profile(std::istream& in, const std::string& path, Settings& s,
-                                            const ProfileOptions& options) {
-    ResolvedProfile profile = read_ini_profile(in, path, options.choice);
-    std::map<std::string, IniValue>& values = profile.values;
+namespace {
+
+// The keys of the line widths, read once the nozzle is known.
+const std::set<std::string>& width_keys() {
+    static const std::set<std::string> keys = {"extrusion_width",
+                                               "perimeter_extrusion_width",
+                                               "external_perimeter_extrusion_width",
+                                               "first_layer_extrusion_width",
+                                               "min_bead_width",
+                                               "min_feature_size"};
+    return keys;
+}
+
+// One profile read into settings, in read_prusa_profile()'s phases: what is read before it is
+// applied, and where each key came from for the messages.
+class ProfileReading {
+  public:
+    ProfileReading(ResolvedProfile& profile, const std::string& path, Settings& s)
+        : profile_(profile), values_(profile.values), path_(path), s_(s) {}
+
     // A filament may override the printer's retraction (filament_retract_length, ...; "nil" =
     // the printer's own).
-    for (const char* k : {"retract_length", "retract_lift", "retract_speed",
-                          "retract_before_travel", "wipe", "retract_layer_change",
-                          "retract_restart_extra", "retract_before_wipe", "deretract_speed"}) {
-        auto f = values.find(std::string("filament_") + k);
-        if (f != values.end() &&
-            trim_whitespace(f->second.value.substr(0, f->second.value.find(','))) != "nil")
-            values[k] = f->second;
+    void take_filament_overrides() {
+        for (const char* k : {"retract_length", "retract_lift", "retract_speed",
+                              "retract_before_travel", "wipe", "retract_layer_change",
+                              "retract_restart_extra", "retract_before_wipe", "deretract_speed"}) {
+            auto f = values_.find(std::string("filament_") + k);
+            if (f != values_.end() &&
+                trim_whitespace(f->second.value.substr(0, f->second.value.find(','))) != "nil")
+                values_[k] = f->second;
+        }
     }
-    if (profile.bundle) {
-        // What PrusaSlicer's own export says of the presets it was made from: the placeholders
-        // of the vendors' G-code test them ({if print_settings_id=~/.*QUALITY @MK3.*/}).
+
+    // What PrusaSlicer's own export says of the presets it was made from: the placeholders of
+    // the vendors' G-code test them ({if print_settings_id=~/.*QUALITY @MK3.*/}).
+    void add_bundle_ids() {
+        if (!profile_.bundle) return;
         auto id = [&](const char* key, const std::string& name, bool quoted) {
             if (!name.empty())
-                values[key] = IniValue{quoted ? "\"" + name + "\"" : name, 0, "", ""};
+                values_[key] = IniValue{quoted ? "\"" + name + "\"" : name, 0, "", ""};
         };
-        id("printer_settings_id", profile.printer, false);
-        id("filament_settings_id", profile.filament, true);
-        id("print_settings_id", profile.print, false);
+        id("printer_settings_id", profile_.printer, false);
+        id("filament_settings_id", profile_.filament, true);
+        id("print_settings_id", profile_.print, false);
     }
+
+    // Every key but the widths: the table's, the custom G-code, and the few read here.
+    void read_keys() {
+        Settings& s = s_;
+        const std::set<std::string>& widths = width_keys();
+        using Setter = std::function<void(const std::string&, const std::string&)>;
+        const std::map<std::string, Setter> keys = {
+            // Solid layers and perimeters would be carve's covers and shells; read (and checked)
+            // here, applied below only with --profile-shells.
+            {"top_solid_layers", [&](auto& k, auto& v) { solid_[0] = count(k, v); }},
+            // What the configuration block tells hosts: the first extruder's, as the profile spells
+            // it (a bundle's filament_settings_id is quoted, as PrusaSlicer's export has it).
+            {"filament_type", [&](auto&, auto& v) { s.filament_type = first_item(v); }},
+            {"filament_colour", [&](auto&, auto& v) { s.filament_colour = first_item(v); }},
+            {"filament_settings_id", [&](auto&, auto& v) { s.filament_settings_id = one_line(v); }},
+            {"printer_model", [&](auto&, auto& v) { s.printer_model = one_line(v); }},
+            {"bottom_solid_layers", [&](auto& k, auto& v) { solid_[1] = count(k, v); }},
+            // The filament's cap on the flow, beside the print's max_volumetric_speed: the lower
+            // of the two that are set holds, as in PrusaSlicer.
+            {"filament_max_volumetric_speed",
+             [&](auto& k, auto& v) {
+                 filament_cap_ = number(k, v);
+                 if (!(filament_cap_ >= 0 && filament_cap_ <= 1000))
+                     throw InputError(fmt::format(
+                         "profile key '{}': '{}' is out of range; expected from 0 to 1000 mm^3/s",
+                         k, v));
+             }},
+            {"perimeters",
+             [&](auto& k, auto& v) {
+                 // The outer wall and up to 20 shells (the range of --shells).
+                 perimeters_ = count(k, v);
+                 if (perimeters_ > 21)
+                     throw InputError(fmt::format(
+                         "profile key '{}': '{}' is out of range; expected from 0 to 21", k, v));
+             }},
+        };
+        for (const auto& [key, v] : values_) {
+            const std::string& value = v.value;
+            // Kept raw for the placeholders of the profile's custom G-code ([printer_model], ...).
+            s.profile_values[key] = value;
+            try {
+                // The table's keys, with its ranges and PrusaSlicer's spellings. PrusaSlicer stores
+                // per-extruder values as comma lists; the first extruder is ours.
+                if (const SettingSpec* spec = find_setting_by_ini_key(key)) {
+                    // A word or a list (bed_shape, thumbnails) is the whole value.
+                    const bool whole = spec->text() || spec->prusa;
+                    const std::string first =
+                        trim_whitespace(whole ? value : value.substr(0, value.find(',')));
+                    if (spec->profile_skips_percent && first.find('%') != std::string::npos) {
+                        ignored_.push_back(fmt::format("{} ({})", key, first));
+                        continue;
+                    }
+                    spec->set_prusa(s, first, where(key, v));
+                    continue;
+                }
+                if (const auto it = std::find_if(
+                        custom_gcode_keys().begin(), custom_gcode_keys().end(),
+                        [&k = key](const CustomGcodeKey& c) { return k == c.ini_key; });
+                    it != custom_gcode_keys().end()) {
+                    s.*(it->text) =
+                        unescape_profile_text(it->string_list ? first_quoted(value) : value);
+                    continue;
+                }
+                if (auto it = keys.find(key); it != keys.end()) {
+                    it->second(key, value);
+                    continue;
+                }
+            } catch (const InputError& e) {
+                throw relabel(key, v, e);
+            }
+            if (widths.count(key)) continue;  // below, once the nozzle is known
+            if (std::find(std::begin(kPrintKeys), std::end(kPrintKeys), key) !=
+                    std::end(kPrintKeys) &&
+                set_to_something(value))
+                ignored_.push_back(key);
+        }
+    }
+
+    // One line width for every wall, the first layer's and the thin walls' widths, the flow
+    // cap, and the corners.
+    void apply_widths() {
+        Settings& s = s_;
+        const std::set<std::string>& widths = width_keys();
+        // One line width for every wall: carve's geometry (the cavity walls' spacing, the covers'
+        // lines) is built on it. The inner perimeters' width is the bulk of a carved print.
+        std::map<std::string, double> width;
+        for (const std::string& key : widths)
+            if (auto it = values_.find(key); it != values_.end()) {
+                try {
+                    width[key] = width_value(
+                        key, it->second.value,
+                        key == "first_layer_extrusion_width" ? s.first_layer_mm() : s.nozzle);
+                } catch (const InputError& e) {
+                    throw relabel(key, it->second, e);
+                }
+            }
+        for (const char* key :
+             {"perimeter_extrusion_width", "extrusion_width", "external_perimeter_extrusion_width"})
+            if (width.count(key) && width[key] > 0) {
+                s.extrusion_width = width[key];
+                break;
+            }
+        // The first layer's own width (0: the line width, as PrusaSlicer's automatic one).
+        if (const auto first = width.find("first_layer_extrusion_width"); first != width.end())
+            s.first_layer_extrusion_width = first->second;
+        // Arachne's thin-wall widths, which PrusaSlicer gives as a share of the nozzle.
+        if (const auto it = width.find("min_bead_width"); it != width.end())
+            s.min_bead_width = it->second;
+        if (const auto it = width.find("min_feature_size"); it != width.end())
+            s.min_feature_size = it->second;
+        if (filament_cap_ > 0)
+            s.max_volumetric_speed = s.max_volumetric_speed > 0
+                                         ? std::min(s.max_volumetric_speed, filament_cap_)
+                                         : filament_cap_;
+        if (const auto ext = width.find("external_perimeter_extrusion_width");
+            ext != width.end() && ext->second > 0 && std::abs(ext->second - s.width_mm()) > 1e-9)
+            ignored_.push_back(
+                fmt::format("external_perimeter_extrusion_width ({} mm; carve prints "
+                            "every wall {} mm wide)",
+                            ext->second, s.width_mm()));
+
+        // PrusaSlicer 2.5 writes classic jerk (M205 X Y Z E) for every Marlin flavour: a printer
+        // profile without a junction deviation of its own corners by its jerk, not by carve's
+        // default M205 J (which the MK3S firmware ignores).
+        if (!values_.count("machine_max_junction_deviation") &&
+            (values_.count("machine_max_jerk_x") || values_.count("gcode_flavor")))
+            s.junction_deviation = 0;
+    }
+
+    // What the run is told: the structure carve keeps, and the keys it ignores.
+    std::vector<std::string> notes(const ProfileOptions& options) {
+        Settings& s = s_;
+        std::vector<std::string> notes;
+        std::string structure;
+        for (auto [key, n] :
+             {std::pair{"top_solid_layers", solid_[0]}, std::pair{"bottom_solid_layers", solid_[1]},
+              std::pair{"perimeters", perimeters_}})
+            if (n >= 0)
+                structure += fmt::format("{}{} = {}", structure.empty() ? "" : ", ", key, n);
+        if (options.profile_shells) {
+            if (solid_[0] >= 0 || solid_[1] >= 0) s.covers = std::max(solid_[0], solid_[1]);
+            if (perimeters_ >= 0) s.shells = std::max(0, perimeters_ - 1);
+        } else if (!structure.empty()) {
+            notes.push_back(
+                fmt::format("{}: carve keeps its own covers and shells (--covers {}, --shells {}); "
+                            "the profile's {} apply with --profile-shells",
+                            path_, s.covers, s.shells, structure));
+        }
+        if (!ignored_.empty()) {
+            std::sort(ignored_.begin(), ignored_.end());
+            std::string list;
+            for (const std::string& k : ignored_) list += (list.empty() ? "" : ", ") + k;
+            notes.push_back(fmt::format(
+                "{}{}: keys that change the print and carve ignores: {}", path_,
+                profile_.bundle ? fmt::format(" ([printer:{}], [filament:{}], [print:{}])",
+                                              profile_.printer, profile_.filament, profile_.print)
+                                : "",
+                list));
+        }
+        return notes;
+    }
+
+  private:
     // "path:line: profile key 'k'", and where a bundle's key came from.
-    auto where = [&](const std::string& key, const IniValue& v) {
-        std::string at = v.line > 0 ? fmt::format("{}:{}", path, v.line) : path;
+    std::string where(const std::string& key, const IniValue& v) const {
+        std::string at = v.line > 0 ? fmt::format("{}:{}", path_, v.line) : path_;
         if (v.section.empty()) return fmt::format("{}: profile key '{}'", at, key);
         if (v.section == v.owner)
             return fmt::format("{}: [{}] profile key '{}'", at, v.section, key);
         return fmt::format("{}: [{}] (inherited by [{}]) profile key '{}'", at, v.section, v.owner,
                            key);
-    };
-
+    }
     // The setters name the key; the message gains the file, line and section.
-    auto relabel = [&](const std::string& key, const IniValue& v, const InputError& e) {
+    InputError relabel(const std::string& key, const IniValue& v, const InputError& e) const {
         const std::string what = e.what();
         const std::string here = where(key, v);
         if (what.rfind(here, 0) == 0) return InputError(what);  // the setter named it already
         const std::string prefix = fmt::format("profile key '{}': ", key);
         return InputError(here + ": " +
                           (what.rfind(prefix, 0) == 0 ? what.substr(prefix.size()) : what));
-    };
-
-    using Setter = std::function<void(const std::string&, const std::string&)>;
-    int solid[2] = {-1, -1}, perimeters = -1;
-    double filament_cap = 0;  // filament_max_volumetric_speed, mm^3/s; 0 = none
-    const std::map<std::string, Setter> keys = {
-        // Solid layers and perimeters would be carve's covers and shells; read (and checked)
-        // here, applied below only with --profile-shells.
-        {"top_solid_layers", [&](auto& k, auto& v) { solid[0] = count(k, v); }},
-        // What the configuration block tells hosts: the first extruder's, as the profile spells
-        // it (a bundle's filament_settings_id is quoted, as PrusaSlicer's export has it).
-        {"filament_type", [&](auto&, auto& v) { s.filament_type = first_item(v); }},
-        {"filament_colour", [&](auto&, auto& v) { s.filament_colour = first_item(v); }},
-        {"filament_settings_id", [&](auto&, auto& v) { s.filament_settings_id = one_line(v); }},
-        {"printer_model", [&](auto&, auto& v) { s.printer_model = one_line(v); }},
-        {"bottom_solid_layers", [&](auto& k, auto& v) { solid[1] = count(k, v); }},
-        // The filament's cap on the flow, beside the print's max_volumetric_speed: the lower
-        // of the two that are set holds, as in PrusaSlicer.
-        {"filament_max_volumetric_speed",
-         [&](auto& k, auto& v) {
-             filament_cap = number(k, v);
-             if (!(filament_cap >= 0 && filament_cap <= 1000))
-                 throw InputError(fmt::format(
-                     "profile key '{}': '{}' is out of range; expected from 0 to 1000 mm^3/s", k,
-                     v));
-         }},
-        {"perimeters",
-         [&](auto& k, auto& v) {
-             // The outer wall and up to 20 shells (the range of --shells).
-             perimeters = count(k, v);
-             if (perimeters > 21)
-                 throw InputError(fmt::format(
-                     "profile key '{}': '{}' is out of range; expected from 0 to 21", k, v));
-         }},
-    };
-    const std::set<std::string> widths = {"extrusion_width",
-                                          "perimeter_extrusion_width",
-                                          "external_perimeter_extrusion_width",
-                                          "first_layer_extrusion_width",
-                                          "min_bead_width",
-                                          "min_feature_size"};
-
-    std::vector<std::string> ignored;  // keys that change the print, not applied
-    for (const auto& [key, v] : values) {
-        const std::string& value = v.value;
-        // Kept raw for the placeholders of the profile's custom G-code ([printer_model], ...).
-        s.profile_values[key] = value;
-        try {
-            // The table's keys, with its ranges and PrusaSlicer's spellings. PrusaSlicer stores
-            // per-extruder values as comma lists; the first extruder is ours.
-            if (const SettingSpec* spec = find_setting_by_ini_key(key)) {
-                // A word or a list (bed_shape, thumbnails) is the whole value.
-                const bool whole = spec->text() || spec->prusa;
-                const std::string first =
-                    trim_whitespace(whole ? value : value.substr(0, value.find(',')));
-                if (spec->profile_skips_percent && first.find('%') != std::string::npos) {
-                    ignored.push_back(fmt::format("{} ({})", key, first));
-                    continue;
-                }
-                spec->set_prusa(s, first, where(key, v));
-                continue;
-            }
-            if (const auto it =
-                    std::find_if(custom_gcode_keys().begin(), custom_gcode_keys().end(),
-                                 [&k = key](const CustomGcodeKey& c) { return k == c.ini_key; });
-                it != custom_gcode_keys().end()) {
-                s.*(it->text) =
-                    unescape_profile_text(it->string_list ? first_quoted(value) : value);
-                continue;
-            }
-            if (auto it = keys.find(key); it != keys.end()) {
-                it->second(key, value);
-                continue;
-            }
-        } catch (const InputError& e) {
-            throw relabel(key, v, e);
-        }
-        if (widths.count(key)) continue;  // below, once the nozzle is known
-        if (std::find(std::begin(kPrintKeys), std::end(kPrintKeys), key) != std::end(kPrintKeys) &&
-            set_to_something(value))
-            ignored.push_back(key);
     }
-    apply_stealth_limits(values, s);
 
-    // One line width for every wall: carve's geometry (the cavity walls' spacing, the covers'
-    // lines) is built on it. The inner perimeters' width is the bulk of a carved print.
-    std::map<std::string, double> width;
-    for (const std::string& key : widths)
-        if (auto it = values.find(key); it != values.end()) {
-            try {
-                width[key] = width_value(
-                    key, it->second.value,
-                    key == "first_layer_extrusion_width" ? s.first_layer_mm() : s.nozzle);
-            } catch (const InputError& e) {
-                throw relabel(key, it->second, e);
-            }
-        }
-    for (const char* key :
-         {"perimeter_extrusion_width", "extrusion_width", "external_perimeter_extrusion_width"})
-        if (width.count(key) && width[key] > 0) {
-            s.extrusion_width = width[key];
-            break;
-        }
-    // The first layer's own width (0: the line width, as PrusaSlicer's automatic one).
-    if (const auto first = width.find("first_layer_extrusion_width"); first != width.end())
-        s.first_layer_extrusion_width = first->second;
-    // Arachne's thin-wall widths, which PrusaSlicer gives as a share of the nozzle.
-    if (const auto it = width.find("min_bead_width"); it != width.end())
-        s.min_bead_width = it->second;
-    if (const auto it = width.find("min_feature_size"); it != width.end())
-        s.min_feature_size = it->second;
-    if (filament_cap > 0)
-        s.max_volumetric_speed = s.max_volumetric_speed > 0
-                                     ? std::min(s.max_volumetric_speed, filament_cap)
-                                     : filament_cap;
-    if (const auto ext = width.find("external_perimeter_extrusion_width");
-        ext != width.end() && ext->second > 0 && std::abs(ext->second - s.width_mm()) > 1e-9)
-        ignored.push_back(
-            fmt::format("external_perimeter_extrusion_width ({} mm; carve prints "
-                        "every wall {} mm wide)",
-                        ext->second, s.width_mm()));
+    ResolvedProfile& profile_;
+    std::map<std::string, IniValue>& values_;
+    const std::string& path_;
+    Settings& s_;
+    int solid_[2] = {-1, -1}, perimeters_ = -1;
+    double filament_cap_ = 0;           // filament_max_volumetric_speed, mm^3/s; 0 = none
+    std::vector<std::string> ignored_;  // keys that change the print, not applied
+};
 
-    // PrusaSlicer 2.5 writes classic jerk (M205 X Y Z E) for every Marlin flavour: a printer
-    // profile without a junction deviation of its own corners by its jerk, not by carve's
-    // default M205 J (which the MK3S firmware ignores).
-    if (!values.count("machine_max_junction_deviation") &&
-        (values.count("machine_max_jerk_x") || values.count("gcode_flavor")))
-        s.junction_deviation = 0;
+}  // namespace
 
-    std::vector<std::string> notes;
-    std::string structure;
-    for (auto [key, n] :
-         {std::pair{"top_solid_layers", solid[0]}, std::pair{"bottom_solid_layers", solid[1]},
-          std::pair{"perimeters", perimeters}})
-        if (n >= 0) structure += fmt::format("{}{} = {}", structure.empty() ? "" : ", ", key, n);
-    if (options.profile_shells) {
-        if (solid[0] >= 0 || solid[1] >= 0) s.covers = std::max(solid[0], solid[1]);
-        if (perimeters >= 0) s.shells = std::max(0, perimeters - 1);
-    } else if (!structure.empty()) {
-        notes.push_back(fmt::format(
-            "{}: carve keeps its own covers and shells (--covers {}, --shells {}); the profile's "
-            "{} apply with --profile-shells",
-            path, s.covers, s.shells, structure));
-    }
-    if (!ignored.empty()) {
-        std::sort(ignored.begin(), ignored.end());
-        std::string list;
-        for (const std::string& k : ignored) list += (list.empty() ? "" : ", ") + k;
-        notes.push_back(fmt::format(
-            "{}{}: keys that change the print and carve ignores: {}", path,
-            profile.bundle ? fmt::format(" ([printer:{}], [filament:{}], [print:{}])",
-                                         profile.printer, profile.filament, profile.print)
-                           : "",
-            list));
-    }
-    return notes;
+std::vector<std::string> read_prusa_profile(std::istream& in, const std::string& path, Settings& s,
+                                            const ProfileOptions& options) {
+    ResolvedProfile profile = read_ini_profile(in, path, options.choice);
+    ProfileReading reading(profile, path, s);
+    reading.take_filament_overrides();
+    reading.add_bundle_ids();
+    reading.read_keys();
+    apply_stealth_limits(profile.values, s);
+    reading.apply_widths();
+    return reading.notes(options);
 }
 
 }  // namespace carve

@@ -93,6 +93,10 @@ void refuse_beyond_machine(const Settings& s, const Bounds& b) {
             b.min_x, b.min_y, b.max_x, b.max_y, plain_number(s.bed_x), plain_number(s.bed_y)));
 }
 
+// finish()'s pieces, defined with its phases below.
+struct Chunk;
+struct ChunkSums;
+
 }  // namespace
 
 struct GcodeWriter::Impl {
@@ -116,6 +120,16 @@ struct GcodeWriter::Impl {
     int threads = 1;
     ChunkCount chunk_count;
     std::mutex mutex;
+
+    // finish()'s phases, in order (below, after Chunk).
+    std::vector<int> chunk_starts(int count) const;
+    std::vector<Chunk*> open_chunks(std::vector<Chunk>& chunks) const;
+    void write_chunk(Chunk& c) const;
+    int64_t write_chunks(const std::vector<Chunk*>& tasks) const;
+    void reconcile(std::vector<Chunk>& chunks, size_t k);
+    ChunkSums sum_chunks(std::vector<Chunk>& chunks);
+    void assemble(std::vector<Chunk>& chunks, const std::vector<std::string>& header_comments,
+                  const ChunkSums& sums);
 
     // The layer in the print's `slot` (from 0 at the bottom). Thread-safe: pread, no shared
     // file position.
@@ -352,7 +366,227 @@ void merge(Bounds& to, const Bounds& b) {
     to.moved_to(b.max_move_z, b.max_move_what);
 }
 
+// What the chunks add up to, taken in order: the totals, the extent, and the M73 marks moved from
+// each chunk's own start to the file's.
+struct ChunkSums {
+    PrintStats totals;
+    double time = 0, stealth = 0;  // the normal and the stealth mode's (M73 Q/S)
+    size_t custom_bytes = 0;
+    long long offset = 0;        // of the next chunk's body in the file's
+    size_t sections_before = 0;  // of the chunks before the next one
+    // The time before each section, all chunks through, in either mode.
+    std::vector<double> section_start, stealth_start;
+    Bounds bounds;
+    std::vector<Bounds> object_bounds;
+    std::vector<ProgressMark> marks;
+
+    void add_sections(const Chunk& c, size_t first) {
+        for (size_t i = first; i < c.sections.size(); ++i) {
+            section_start.push_back(time);
+            stealth_start.push_back(stealth);
+            Emitter::add_stats(totals, c.sections[i].stats);
+            time += c.sections[i].time_s;
+            stealth += c.sections[i].stealth_time_s;
+        }
+    }
+    void add_extent(const Chunk& c) {
+        custom_bytes += c.custom_bytes;
+        Emitter::check_custom_bytes(custom_bytes);
+        merge(bounds, c.bounds);
+        object_bounds.resize(std::max(object_bounds.size(), c.object_bounds.size()));
+        for (size_t i = 0; i < c.object_bounds.size(); ++i)
+            merge(object_bounds[i], c.object_bounds[i]);
+    }
+    // The chunk's marks on the file's offsets, sections and elapsed times; its body, `bytes`
+    // long, then ends where the next one starts.
+    void rebase_marks(const Chunk& c, long long bytes) {
+        for (ProgressMark mark : c.marks) {
+            mark.offset += offset;
+            mark.section += sections_before;
+            mark.elapsed_s = mark.local_s < 0 ? time : section_start[mark.section] + mark.local_s;
+            mark.stealth_elapsed_s = mark.stealth_local_s < 0
+                                         ? stealth
+                                         : stealth_start[mark.section] + mark.stealth_local_s;
+            marks.push_back(mark);
+        }
+        sections_before += c.sections.size();
+        offset += bytes;
+    }
+};
+
 }  // namespace
+
+// Even chunks, each moved to start after the nearest settled layer within a quarter chunk.
+std::vector<int> GcodeWriter::Impl::chunk_starts(int count) const {
+    std::vector<int> starts{0};
+    for (int k = 1; k < count; ++k) {
+        const int even = int(int64_t(layer_count) * k / count);
+        const int reach = layer_count / count / 4;
+        int at = even;
+        for (int d = 0; d <= reach; ++d) {
+            if (even - d - kWarmUpLayers > starts.back() &&
+                settled[size_t(even - d - kWarmUpLayers)]) {
+                at = even - d;
+                break;
+            }
+            if (even + d < layer_count && even + d - kWarmUpLayers > starts.back() &&
+                settled[size_t(even + d - kWarmUpLayers)]) {
+                at = even + d;
+                break;
+            }
+        }
+        starts.push_back(std::max(at, starts.back() + 1));
+    }
+    return starts;
+}
+
+// The chunks, each with its body file open, and the ones to write from the other guess too:
+// the tasks to write side by side, in order.
+std::vector<Chunk*> GcodeWriter::Impl::open_chunks(std::vector<Chunk>& chunks) const {
+    const int count = int(chunks.size());
+    const std::vector<int> starts = chunk_starts(count);
+    std::vector<Chunk*> tasks;
+    auto open_chunk = [&](Chunk& c, int from, int to) {
+        c.first = from;
+        c.end = to;
+        c.body.file = unlinked_file(output_path, ".body-XXXXXX");
+        std::setvbuf(c.body.file, nullptr, _IOFBF, 1 << 16);
+        tasks.push_back(&c);
+    };
+    for (int k = 0; k < count; ++k) {
+        Chunk& c = chunks[size_t(k)];
+        open_chunk(c, starts[size_t(k)], k + 1 < count ? starts[size_t(k) + 1] : layer_count);
+        if (threads >= kTwoGuessThreads && c.first >= kWarmUpLayers &&
+            !settled[size_t(c.first - kWarmUpLayers)]) {
+            c.other = std::make_unique<Chunk>();
+            c.other->flipped = true;
+            open_chunk(*c.other, c.first, c.end);
+        }
+    }
+    return tasks;
+}
+
+// One chunk from the state its warm-up guesses (the very state for the first).
+void GcodeWriter::Impl::write_chunk(Chunk& c) const {
+    if (c.first == 0) {
+        c.emitter = emitter(c.body.file);
+        c.emitter->start();
+    } else {
+        c.emitter = emitter(nullptr);
+        const int from = std::max(0, c.first - kWarmUpLayers);
+        if (from == 0)
+            c.emitter->start();  // the whole print before it: the very state
+        else
+            c.emitter->warm_up();
+        if (c.flipped) c.emitter->flip_next_order();
+        for (int i = from; i < c.first; ++i) c.emitter->layer(load(i));
+        c.emitter->begin_chunk(c.body.file);
+    }
+    c.entry = c.emitter->carry();
+    for (int i = c.first; i < c.end; ++i) c.emitter->layer(load(i));
+    c.keep_figures();
+}
+
+// Every task on up to `threads` threads; the CPU time they took, summed.
+int64_t GcodeWriter::Impl::write_chunks(const std::vector<Chunk*>& tasks) const {
+    std::atomic<int64_t> parallel_ns = 0;
+    auto timed = [&](Chunk& c) {
+        const int64_t chunk_start_ns = thread_cpu_ns();
+        write_chunk(c);
+        parallel_ns += thread_cpu_ns() - chunk_start_ns;
+    };
+    if (tasks.size() == 1) {
+        timed(*tasks[0]);
+    } else {
+        tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(threads));
+        tbb::task_arena arena(threads);
+        arena.execute([&] {
+            tbb::parallel_for(size_t(0), tasks.size(), [&](size_t t) { timed(*tasks[t]); });
+        });
+    }
+    return parallel_ns.load();
+}
+
+// Chunk k after the one before it: its other guess if that one started from where the chunk
+// before ended, or else, if its own guess did not either, written again by the emitter of the
+// one before, which goes on from the very state.
+void GcodeWriter::Impl::reconcile(std::vector<Chunk>& chunks, size_t k) {
+    Chunk& c = chunks[k];
+    const std::optional<Emitter::Carry> before =
+        k > 0 ? std::optional(chunks[k - 1].emitter->carry()) : std::nullopt;
+    if (before && c.other && !(*before == c.entry) && *before == c.other->entry) {
+        c.take(*c.other);
+        ++chunk_count.second_guesses;
+    }
+    c.other.reset();
+    if (before && !(*before == c.entry)) {
+        ++chunk_count.written_again;
+        c.emitter = std::move(chunks[k - 1].emitter);
+        if (std::fflush(c.body.file) != 0 || ftruncate(fileno(c.body.file), 0) != 0 ||
+            std::fseek(c.body.file, 0, SEEK_SET) != 0)
+            io_error(std::strerror(errno), output_path);
+        c.emitter->begin_chunk(c.body.file);
+        for (int i = c.first; i < c.end; ++i) c.emitter->layer(load(i));
+        c.keep_figures();
+    }
+}
+
+// The chunks in order, each reconciled with the one before; the last one writes the end, on
+// the totals of every layer.
+ChunkSums GcodeWriter::Impl::sum_chunks(std::vector<Chunk>& chunks) {
+    ChunkSums sums;
+    for (size_t k = 0; k < chunks.size(); ++k) {
+        reconcile(chunks, k);
+        Chunk& c = chunks[k];
+        sums.add_sections(c, 0);
+        if (k + 1 == chunks.size()) {
+            // The end's time and figures close the totals (the emitter adds the end's section
+            // as the loop above does, and derives the filament and the estimate from the sum).
+            c.emitter->adopt_totals(sums.time, sums.stealth, sums.totals);
+            c.emitter->end();
+            const size_t own = c.sections.size();
+            c.keep_figures();
+            sums.add_sections(c, own);
+            sums.totals = c.emitter->stats();
+        }
+        sums.add_extent(c);
+        if (std::fflush(c.body.file) != 0 || std::ferror(c.body.file))
+            io_error(std::strerror(errno), output_path);
+        sums.rebase_marks(c, static_cast<long long>(ftello(c.body.file)));
+    }
+    return sums;
+}
+
+// The file: the header stating the figures, the bodies with their M73 lines, the trailer;
+// committed now or held for the run's other outputs.
+void GcodeWriter::Impl::assemble(std::vector<Chunk>& chunks,
+                                 const std::vector<std::string>& header_comments,
+                                 const ChunkSums& sums) {
+    const PrintStats& s = sums.totals;
+    auto file = std::make_unique<AtomicFile>(output_path);
+    std::FILE* out = file->stream();
+    Emitter text(settings, off_x, off_y, out, output_path);
+    text.comment_block(head(header_comments, s, sums.bounds, sums.object_bounds));
+    text.flush_all();
+    std::vector<std::FILE*> bodies;
+    for (Chunk& c : chunks) {
+        if (std::fseek(c.body.file, 0, SEEK_SET) != 0) io_error(std::strerror(errno), output_path);
+        bodies.push_back(c.body.file);
+    }
+    copy_with_progress(bodies, out, sums.marks, s.estimated_print_time_s, output_path,
+                       settings.silent_mode != 0 ? s.estimated_stealth_time_s : -1);
+    chunks.clear();
+    text.comment_block(tail(s));
+    text.flush_all();
+    file->close();
+    if (group) {
+        written = file->temporary();
+        group->hold(std::move(file));
+    } else {
+        file->commit();
+        written = output_path;
+    }
+}
 
 PrintStats GcodeWriter::finish(const std::vector<std::string>& header_comments) {
     std::lock_guard lock(impl_->mutex);
@@ -366,186 +600,21 @@ PrintStats GcodeWriter::finish(const std::vector<std::string>& header_comments) 
         m.threads <= 1 ? 1 : std::clamp(m.layer_count / kMinChunkLayers, 1, 4 * m.threads);
     std::vector<Chunk> chunks(static_cast<size_t>(count));
     m.chunk_count.chunks = count;
-    // Even chunks, each moved to start after the nearest settled layer within a quarter chunk.
-    std::vector<int> starts{0};
-    for (int k = 1; k < count; ++k) {
-        const int even = int(int64_t(m.layer_count) * k / count);
-        const int reach = m.layer_count / count / 4;
-        int at = even;
-        for (int d = 0; d <= reach; ++d) {
-            if (even - d - kWarmUpLayers > starts.back() &&
-                m.settled[size_t(even - d - kWarmUpLayers)]) {
-                at = even - d;
-                break;
-            }
-            if (even + d < m.layer_count && even + d - kWarmUpLayers > starts.back() &&
-                m.settled[size_t(even + d - kWarmUpLayers)]) {
-                at = even + d;
-                break;
-            }
-        }
-        starts.push_back(std::max(at, starts.back() + 1));
-    }
-    std::vector<Chunk*> tasks;
-    auto open_chunk = [&](Chunk& c, int first, int end) {
-        c.first = first;
-        c.end = end;
-        c.body.file = unlinked_file(m.output_path, ".body-XXXXXX");
-        std::setvbuf(c.body.file, nullptr, _IOFBF, 1 << 16);
-        tasks.push_back(&c);
-    };
-    for (int k = 0; k < count; ++k) {
-        Chunk& c = chunks[size_t(k)];
-        open_chunk(c, starts[size_t(k)], k + 1 < count ? starts[size_t(k) + 1] : m.layer_count);
-        if (m.threads >= kTwoGuessThreads && c.first >= kWarmUpLayers &&
-            !m.settled[size_t(c.first - kWarmUpLayers)]) {
-            c.other = std::make_unique<Chunk>();
-            c.other->flipped = true;
-            open_chunk(*c.other, c.first, c.end);
-        }
-    }
-    std::atomic<int64_t> parallel_ns = 0;
-    auto write_chunk = [&](Chunk& c) {
-        const int64_t chunk_start_ns = thread_cpu_ns();
-        if (c.first == 0) {
-            c.emitter = m.emitter(c.body.file);
-            c.emitter->start();
-        } else {
-            c.emitter = m.emitter(nullptr);
-            const int from = std::max(0, c.first - kWarmUpLayers);
-            if (from == 0)
-                c.emitter->start();  // the whole print before it: the very state
-            else
-                c.emitter->warm_up();
-            if (c.flipped) c.emitter->flip_next_order();
-            for (int i = from; i < c.first; ++i) c.emitter->layer(m.load(i));
-            c.emitter->begin_chunk(c.body.file);
-        }
-        c.entry = c.emitter->carry();
-        for (int i = c.first; i < c.end; ++i) c.emitter->layer(m.load(i));
-        c.keep_figures();
-        parallel_ns += thread_cpu_ns() - chunk_start_ns;
-    };
+    const std::vector<Chunk*> tasks = m.open_chunks(chunks);
     const int64_t parallel_start_ns = thread_cpu_ns();
-    if (tasks.size() == 1) {
-        write_chunk(chunks[0]);
-    } else {
-        tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(m.threads));
-        tbb::task_arena arena(m.threads);
-        arena.execute([&] {
-            tbb::parallel_for(size_t(0), tasks.size(), [&](size_t t) { write_chunk(*tasks[t]); });
-        });
-    }
+    const int64_t parallel_ns = m.write_chunks(tasks);
     const int64_t parallel_end_ns = thread_cpu_ns();
-    // In order: a chunk that did not start where the one before ended is written again by the
-    // emitter of the one before, which goes on from the very state.
-    PrintStats totals;
-    double time = 0, stealth = 0;  // the normal and the stealth mode's (M73 Q/S)
-    size_t custom_bytes = 0;
-    long long offset = 0;
-    // The time before each section, all chunks through, in either mode.
-    std::vector<double> section_start, stealth_start;
-    Bounds bounds;
-    std::vector<Bounds> object_bounds;
-    std::vector<ProgressMark> marks;
-    auto add_sections = [&](const Chunk& c, size_t first) {
-        for (size_t i = first; i < c.sections.size(); ++i) {
-            section_start.push_back(time);
-            stealth_start.push_back(stealth);
-            Emitter::add_stats(totals, c.sections[i].stats);
-            time += c.sections[i].time_s;
-            stealth += c.sections[i].stealth_time_s;
-        }
-    };
-    auto add_extent = [&](const Chunk& c) {
-        custom_bytes += c.custom_bytes;
-        Emitter::check_custom_bytes(custom_bytes);
-        merge(bounds, c.bounds);
-        object_bounds.resize(std::max(object_bounds.size(), c.object_bounds.size()));
-        for (size_t i = 0; i < c.object_bounds.size(); ++i)
-            merge(object_bounds[i], c.object_bounds[i]);
-    };
-    size_t sections_before = 0;  // of the chunks before this one
-    for (int k = 0; k < count; ++k) {
-        Chunk& c = chunks[size_t(k)];
-        const std::optional<Emitter::Carry> before =
-            k > 0 ? std::optional(chunks[size_t(k) - 1].emitter->carry()) : std::nullopt;
-        if (before && c.other && !(*before == c.entry) && *before == c.other->entry) {
-            c.take(*c.other);
-            ++m.chunk_count.second_guesses;
-        }
-        c.other.reset();
-        if (before && !(*before == c.entry)) {
-            ++m.chunk_count.written_again;
-            c.emitter = std::move(chunks[size_t(k) - 1].emitter);
-            if (std::fflush(c.body.file) != 0 || ftruncate(fileno(c.body.file), 0) != 0 ||
-                std::fseek(c.body.file, 0, SEEK_SET) != 0)
-                io_error(std::strerror(errno), m.output_path);
-            c.emitter->begin_chunk(c.body.file);
-            for (int i = c.first; i < c.end; ++i) c.emitter->layer(m.load(i));
-            c.keep_figures();
-        }
-        add_sections(c, 0);
-        if (k + 1 == count) {
-            // The end, on the totals of every layer: its time and figures close them (the
-            // emitter adds the end's section as the loop above does, and derives the filament
-            // and the estimate from the sum).
-            c.emitter->adopt_totals(time, stealth, totals);
-            c.emitter->end();
-            const size_t own = c.sections.size();
-            c.keep_figures();
-            add_sections(c, own);
-            totals = c.emitter->stats();
-        }
-        add_extent(c);
-        for (ProgressMark mark : c.marks) {
-            mark.offset += offset;
-            mark.section += sections_before;
-            mark.elapsed_s = mark.local_s < 0 ? time : section_start[mark.section] + mark.local_s;
-            mark.stealth_elapsed_s = mark.stealth_local_s < 0
-                                         ? stealth
-                                         : stealth_start[mark.section] + mark.stealth_local_s;
-            marks.push_back(mark);
-        }
-        sections_before += c.sections.size();
-        if (std::fflush(c.body.file) != 0 || std::ferror(c.body.file))
-            io_error(std::strerror(errno), m.output_path);
-        offset += static_cast<long long>(ftello(c.body.file));
-    }
-    const PrintStats s = totals;
-    refuse_beyond_machine(m.settings, bounds);
+    const ChunkSums sums = m.sum_chunks(chunks);
+    refuse_beyond_machine(m.settings, sums.bounds);
+    m.assemble(chunks, header_comments, sums);
 
-    auto file = std::make_unique<AtomicFile>(m.output_path);
-    std::FILE* out = file->stream();
-    Emitter text(m.settings, m.off_x, m.off_y, out, m.output_path);
-    text.comment_block(m.head(header_comments, s, bounds, object_bounds));
-    text.flush_all();
-    std::vector<std::FILE*> bodies;
-    for (Chunk& c : chunks) {
-        if (std::fseek(c.body.file, 0, SEEK_SET) != 0)
-            io_error(std::strerror(errno), m.output_path);
-        bodies.push_back(c.body.file);
-    }
-    copy_with_progress(bodies, out, marks, s.estimated_print_time_s, m.output_path,
-                       m.settings.silent_mode != 0 ? s.estimated_stealth_time_s : -1);
-    chunks.clear();
-    text.comment_block(m.tail(s));
-    text.flush_all();
-    file->close();
-    if (m.group) {
-        m.written = file->temporary();
-        m.group->hold(std::move(file));
-    } else {
-        file->commit();
-        m.written = m.output_path;
-    }
     m.finished = true;
     std::fclose(m.spill);
     m.spill = nullptr;
-    m.chunk_count.parallel_cpu_s = double(parallel_ns.load()) * 1e-9;
+    m.chunk_count.parallel_cpu_s = double(parallel_ns) * 1e-9;
     m.chunk_count.serial_cpu_s =
         double(parallel_start_ns - start_ns + thread_cpu_ns() - parallel_end_ns) * 1e-9;
-    return s;
+    return sums.totals;
 }
 
 }  // namespace carve

@@ -270,6 +270,186 @@ std::string plural(size_t n, const std::string& word) {
     return std::to_string(n) + " " + word + (n == 1 ? "" : "s");
 }
 
+// Shells: triangles connected through manifold edges, each oriented like its seed.
+struct ShellWalk {
+    std::vector<uint32_t> shell_of;  // each triangle's shell
+    std::vector<uint8_t> flip;       // whether it is turned against its shell's seed
+    std::vector<Shell> shells;
+};
+
+ShellWalk walk_shells(const std::vector<Tri>& tris, const EdgeInfo& edges) {
+    const uint32_t n = static_cast<uint32_t>(tris.size());
+    ShellWalk w;
+    w.shell_of.assign(n, kNone);
+    w.flip.assign(n, 0);
+    std::vector<uint32_t> queue;
+    for (uint32_t seed = 0; seed < n; ++seed) {
+        if (w.shell_of[seed] != kNone) continue;
+        const uint32_t id = static_cast<uint32_t>(w.shells.size());
+        w.shells.emplace_back();
+        Shell& sh = w.shells.back();
+        w.shell_of[seed] = id;
+        queue.assign(1, seed);
+        while (!queue.empty()) {
+            const uint32_t t = queue.back();
+            queue.pop_back();
+            ++sh.size;
+            sh.flips += w.flip[t];
+            for (int i = 0; i < 3; ++i) {
+                const uint32_t across = edges.across[3 * t + i];
+                if (across & kOddEdge) sh.closed = false;
+                const uint32_t m = across & kNoNeighbour;
+                if (m == kNoNeighbour) continue;
+                const uint8_t want = w.flip[t] ^ ((across & kSameDirection) ? 1 : 0);
+                if (w.shell_of[m] == kNone) {
+                    w.shell_of[m] = id;
+                    w.flip[m] = want;
+                    queue.push_back(m);
+                } else if (w.flip[m] != want) {
+                    sh.conflict = true;
+                }
+            }
+        }
+    }
+    return w;
+}
+
+// Box, extreme vertices and volume (as walked) of each shell, in triangle order, which is cache
+// friendly. Volumes are taken about the mesh's box centre; an open shell's volume depends on
+// that point, so it is measured again about its own box centre. Returns which vertices a
+// triangle uses.
+std::vector<uint8_t> measure_shells(const Mesh& mesh, ShellWalk& w) {
+    const auto& tris = mesh.triangles;
+    const uint32_t n = static_cast<uint32_t>(tris.size());
+    const BBox3 box = bounding_box(mesh);
+    const Vec3 centre{(box.min.x + box.max.x) / 2, (box.min.y + box.max.y) / 2,
+                      (box.min.z + box.max.z) / 2};
+    auto six_volume = [&](const Tri& t, const Vec3& o) {
+        const Vec3 a = sub(mesh.vertices[t[0]], o), b = sub(mesh.vertices[t[1]], o),
+                   c = sub(mesh.vertices[t[2]], o);
+        return dot(a, cross(b, c));
+    };
+    std::vector<uint8_t> seen(w.shells.size(), 0), used(mesh.vertices.size(), 0);
+    bool any_open = false;
+    for (uint32_t t = 0; t < n; ++t) {
+        Shell& sh = w.shells[w.shell_of[t]];
+        if (!seen[w.shell_of[t]]) {
+            seen[w.shell_of[t]] = 1;
+            sh.lo = sh.hi = mesh.vertices[tris[t][0]];
+            sh.extreme.fill(tris[t][0]);
+            any_open |= !sh.closed;
+        }
+        for (uint32_t vi : tris[t]) {
+            used[vi] = 1;
+            const Vec3& p = mesh.vertices[vi];
+            if (p.x < sh.lo.x) sh.lo.x = p.x, sh.extreme[0] = vi;
+            if (p.x > sh.hi.x) sh.hi.x = p.x, sh.extreme[1] = vi;
+            if (p.y < sh.lo.y) sh.lo.y = p.y, sh.extreme[2] = vi;
+            if (p.y > sh.hi.y) sh.hi.y = p.y, sh.extreme[3] = vi;
+            if (p.z < sh.lo.z) sh.lo.z = p.z, sh.extreme[4] = vi;
+            if (p.z > sh.hi.z) sh.hi.z = p.z, sh.extreme[5] = vi;
+        }
+        const double six = six_volume(tris[t], centre);
+        sh.volume += w.flip[t] ? -six : six;
+    }
+    for (Shell& sh : w.shells) sh.volume_about_centre = sh.volume;
+    if (any_open) {
+        for (Shell& sh : w.shells)
+            if (!sh.closed) sh.volume = 0;
+        for (uint32_t t = 0; t < n; ++t) {
+            Shell& sh = w.shells[w.shell_of[t]];
+            if (sh.closed) continue;
+            const Vec3 o{(sh.lo.x + sh.hi.x) / 2, (sh.lo.y + sh.hi.y) / 2, (sh.lo.z + sh.hi.z) / 2};
+            const double six = six_volume(tris[t], o);
+            sh.volume += w.flip[t] ? -six : six;
+        }
+    }
+    return used;
+}
+
+// What turning the shells the right way round did.
+struct ShellTurns {
+    std::vector<uint8_t> turn;  // each shell's
+    size_t flipped = 0, inverted = 0, voids = 0, conflicts = 0;
+};
+
+// Each shell's side: closed shells by nesting parity, open ones by their (approximate) volume,
+// or by majority when they enclose next to nothing (a flat sheet). The triangles are turned.
+ShellTurns orient_shells(std::vector<Tri>& tris, const ShellWalk& w) {
+    ShellTurns out;
+    out.turn.assign(w.shells.size(), 0);
+    for (size_t s = 0; s < w.shells.size(); ++s) {
+        const Shell& sh = w.shells[s];
+        const bool want_negative = sh.closed && sh.depth % 2 == 1;
+        const Vec3 diag = sub(sh.hi, sh.lo);
+        const double tiny = 1e-9 * std::pow(std::sqrt(dot(diag, diag)), 3);
+        if (std::abs(sh.volume) > tiny)
+            out.turn[s] = (sh.volume < 0) != want_negative;
+        else
+            out.turn[s] = 2 * sh.flips > sh.size;
+        const size_t changed = out.turn[s] ? sh.size - sh.flips : sh.flips;
+        if (changed == sh.size)
+            ++out.inverted;
+        else
+            out.flipped += changed;
+        out.voids += want_negative;
+        out.conflicts += sh.conflict;
+    }
+    for (uint32_t t = 0; t < static_cast<uint32_t>(tris.size()); ++t)
+        if (w.flip[t] ^ out.turn[w.shell_of[t]]) std::swap(tris[t][1], tris[t][2]);
+    return out;
+}
+
+// Vertices no triangle uses (any more) are dropped, keeping the order of the others.
+void drop_unused_vertices(Mesh& mesh, const std::vector<uint8_t>& used) {
+    if (std::find(used.begin(), used.end(), 0) == used.end()) return;
+    std::vector<uint32_t> remap(mesh.vertices.size(), kNone);
+    size_t kept = 0;
+    for (size_t v = 0; v < mesh.vertices.size(); ++v) {
+        if (!used[v]) continue;
+        remap[v] = static_cast<uint32_t>(kept);
+        mesh.vertices[kept++] = mesh.vertices[v];
+    }
+    mesh.vertices.resize(kept);
+    for (Tri& t : mesh.triangles)
+        for (uint32_t& v : t) v = remap[v];
+}
+
+// One warning for each kind of repair, in the report's words.
+void add_warnings(MeshReport& report, size_t splits, const ShellTurns& turns) {
+    auto& w = report.warnings;
+    if (report.degenerate_dropped > 0) {
+        std::string line = "dropped " + plural(report.degenerate_dropped, "degenerate triangle") +
+                           " (zero area or a repeated vertex)";
+        if (splits > 0)
+            line += "; split " + plural(splits, "neighbouring triangle") +
+                    " at the slivers' middle vertices so that the surface stays closed";
+        w.push_back(line);
+    }
+    if (report.duplicate_dropped > 0)
+        w.push_back("dropped " + plural(report.duplicate_dropped, "duplicate triangle"));
+    if (turns.flipped > 0)
+        w.push_back("flipped " + plural(turns.flipped, "facet") +
+                    " to agree with their neighbours");
+    if (turns.inverted > 0) {
+        if (report.shells == 1)
+            w.push_back(
+                "the mesh was inside out (every facet faced inwards); turned it outside out");
+        else
+            w.push_back(plural(turns.inverted, "shell") + " of " + std::to_string(report.shells) +
+                        " faced the wrong way (inside out); turned them around");
+    }
+    if (turns.conflicts > 0)
+        w.push_back(plural(turns.conflicts, "shell") +
+                    " cannot be oriented consistently (one-sided, like a Moebius strip)");
+    if (report.open_edges > 0)
+        w.push_back("mesh is not closed: " + plural(report.open_edges, "open edge") +
+                    "; slicing it anyway with non-zero fill");
+    if (report.nonmanifold_edges > 0)
+        w.push_back(plural(report.nonmanifold_edges, "non-manifold edge") +
+                    " (shared by more than two triangles); slicing it anyway with non-zero fill");
+}
+
 }  // namespace
 
 void analyse_and_repair(Mesh& mesh, MeshReport& report,
@@ -292,112 +472,11 @@ void analyse_and_repair(Mesh& mesh, MeshReport& report,
     report.duplicate_dropped = drop_duplicates(tris, edges.duplicates);
     if (!edges.duplicates.empty()) edges = analyse_edges(tris, mesh.vertices.size(), true, counted);
 
-    // Shells: triangles connected through manifold edges, each oriented like its seed.
-    const uint32_t n = static_cast<uint32_t>(tris.size());
-    std::vector<uint32_t> shell_of(n, kNone);
-    std::vector<uint8_t> flip(n, 0);
-    std::vector<Shell> shells;
-    std::vector<uint32_t> queue;
-    for (uint32_t seed = 0; seed < n; ++seed) {
-        if (shell_of[seed] != kNone) continue;
-        const uint32_t id = static_cast<uint32_t>(shells.size());
-        shells.emplace_back();
-        Shell& sh = shells.back();
-        shell_of[seed] = id;
-        queue.assign(1, seed);
-        while (!queue.empty()) {
-            const uint32_t t = queue.back();
-            queue.pop_back();
-            ++sh.size;
-            sh.flips += flip[t];
-            for (int i = 0; i < 3; ++i) {
-                const uint32_t across = edges.across[3 * t + i];
-                if (across & kOddEdge) sh.closed = false;
-                const uint32_t m = across & kNoNeighbour;
-                if (m == kNoNeighbour) continue;
-                const uint8_t want = flip[t] ^ ((across & kSameDirection) ? 1 : 0);
-                if (shell_of[m] == kNone) {
-                    shell_of[m] = id;
-                    flip[m] = want;
-                    queue.push_back(m);
-                } else if (flip[m] != want) {
-                    sh.conflict = true;
-                }
-            }
-        }
-    }
-
-    // Box, extreme vertices and volume (as walked) of each shell, in triangle order, which is
-    // cache friendly. Volumes are taken about the mesh's box centre; an open shell's volume
-    // depends on that point, so it is measured again about its own box centre.
-    const BBox3 box = bounding_box(mesh);
-    const Vec3 centre{(box.min.x + box.max.x) / 2, (box.min.y + box.max.y) / 2,
-                      (box.min.z + box.max.z) / 2};
-    auto six_volume = [&](const Tri& t, const Vec3& o) {
-        const Vec3 a = sub(mesh.vertices[t[0]], o), b = sub(mesh.vertices[t[1]], o),
-                   c = sub(mesh.vertices[t[2]], o);
-        return dot(a, cross(b, c));
-    };
-    std::vector<uint8_t> seen(shells.size(), 0), used(mesh.vertices.size(), 0);
-    bool any_open = false;
-    for (uint32_t t = 0; t < n; ++t) {
-        Shell& sh = shells[shell_of[t]];
-        if (!seen[shell_of[t]]) {
-            seen[shell_of[t]] = 1;
-            sh.lo = sh.hi = mesh.vertices[tris[t][0]];
-            sh.extreme.fill(tris[t][0]);
-            any_open |= !sh.closed;
-        }
-        for (uint32_t vi : tris[t]) {
-            used[vi] = 1;
-            const Vec3& p = mesh.vertices[vi];
-            if (p.x < sh.lo.x) sh.lo.x = p.x, sh.extreme[0] = vi;
-            if (p.x > sh.hi.x) sh.hi.x = p.x, sh.extreme[1] = vi;
-            if (p.y < sh.lo.y) sh.lo.y = p.y, sh.extreme[2] = vi;
-            if (p.y > sh.hi.y) sh.hi.y = p.y, sh.extreme[3] = vi;
-            if (p.z < sh.lo.z) sh.lo.z = p.z, sh.extreme[4] = vi;
-            if (p.z > sh.hi.z) sh.hi.z = p.z, sh.extreme[5] = vi;
-        }
-        const double six = six_volume(tris[t], centre);
-        sh.volume += flip[t] ? -six : six;
-    }
-    for (Shell& sh : shells) sh.volume_about_centre = sh.volume;
-    if (any_open) {
-        for (Shell& sh : shells)
-            if (!sh.closed) sh.volume = 0;
-        for (uint32_t t = 0; t < n; ++t) {
-            Shell& sh = shells[shell_of[t]];
-            if (sh.closed) continue;
-            const Vec3 o{(sh.lo.x + sh.hi.x) / 2, (sh.lo.y + sh.hi.y) / 2, (sh.lo.z + sh.hi.z) / 2};
-            const double six = six_volume(tris[t], o);
-            sh.volume += flip[t] ? -six : six;
-        }
-    }
-    nesting_depths(mesh, shell_of, shells);
-
-    // Each shell's side: closed shells by nesting parity, open ones by their (approximate)
-    // volume, or by majority when they enclose next to nothing (a flat sheet).
-    std::vector<uint8_t> turn(shells.size(), 0);
-    size_t flipped = 0, inverted = 0, voids = 0, conflicts = 0;
-    for (size_t s = 0; s < shells.size(); ++s) {
-        Shell& sh = shells[s];
-        const bool want_negative = sh.closed && sh.depth % 2 == 1;
-        const Vec3 diag = sub(sh.hi, sh.lo);
-        const double tiny = 1e-9 * std::pow(std::sqrt(dot(diag, diag)), 3);
-        if (std::abs(sh.volume) > tiny)
-            turn[s] = (sh.volume < 0) != want_negative;
-        else
-            turn[s] = 2 * sh.flips > sh.size;
-        const size_t changed = turn[s] ? sh.size - sh.flips : sh.flips;
-        if (changed == sh.size)
-            ++inverted;
-        else
-            flipped += changed;
-        voids += want_negative;
-        conflicts += sh.conflict;
-    }
-    for (uint32_t t = 0; t < n; ++t)
-        if (flip[t] ^ turn[shell_of[t]]) std::swap(tris[t][1], tris[t][2]);
+    ShellWalk walk = walk_shells(tris, edges);
+    const std::vector<uint8_t> used = measure_shells(mesh, walk);
+    nesting_depths(mesh, walk.shell_of, walk.shells);
+    const ShellTurns turns = orient_shells(tris, walk);
+    const std::vector<Shell>& shells = walk.shells;
 
     // The total is summed from the shells rather than measured again: one pass less over a large
     // mesh, and the same figure as signed_volume() as long as every vertex is used.
@@ -405,68 +484,25 @@ void analyse_and_repair(Mesh& mesh, MeshReport& report,
     BBox3 bbox;
     for (size_t s = 0; s < shells.size(); ++s) {
         const Shell& sh = shells[s];
-        volume += turn[s] ? -sh.volume_about_centre : sh.volume_about_centre;
+        volume += turns.turn[s] ? -sh.volume_about_centre : sh.volume_about_centre;
         if (s == 0) bbox.min = sh.lo, bbox.max = sh.hi;
         bbox.min = {std::min(bbox.min.x, sh.lo.x), std::min(bbox.min.y, sh.lo.y),
                     std::min(bbox.min.z, sh.lo.z)};
         bbox.max = {std::max(bbox.max.x, sh.hi.x), std::max(bbox.max.y, sh.hi.y),
                     std::max(bbox.max.z, sh.hi.z)};
     }
-
-    // Vertices no triangle uses (any more) are dropped, keeping the order of the others.
-    if (std::find(used.begin(), used.end(), 0) != used.end()) {
-        std::vector<uint32_t> remap(mesh.vertices.size(), kNone);
-        size_t kept = 0;
-        for (size_t v = 0; v < mesh.vertices.size(); ++v) {
-            if (!used[v]) continue;
-            remap[v] = static_cast<uint32_t>(kept);
-            mesh.vertices[kept++] = mesh.vertices[v];
-        }
-        mesh.vertices.resize(kept);
-        for (Tri& t : tris)
-            for (uint32_t& v : t) v = remap[v];
-    }
+    drop_unused_vertices(mesh, used);
 
     report.triangles = tris.size();
     report.vertices = mesh.vertices.size();
-    report.flipped_triangles = flipped;
-    report.inverted_shells = inverted;
-    report.inverted = inverted > 0;
+    report.flipped_triangles = turns.flipped;
+    report.inverted_shells = turns.inverted;
+    report.inverted = turns.inverted > 0;
     report.shells = shells.size();
-    report.internal_voids = voids;
+    report.internal_voids = turns.voids;
     report.bbox = bbox;
     report.volume_mm3 = volume / 6.0;
-
-    auto& w = report.warnings;
-    if (report.degenerate_dropped > 0) {
-        std::string line = "dropped " + plural(report.degenerate_dropped, "degenerate triangle") +
-                           " (zero area or a repeated vertex)";
-        if (splits > 0)
-            line += "; split " + plural(splits, "neighbouring triangle") +
-                    " at the slivers' middle vertices so that the surface stays closed";
-        w.push_back(line);
-    }
-    if (report.duplicate_dropped > 0)
-        w.push_back("dropped " + plural(report.duplicate_dropped, "duplicate triangle"));
-    if (flipped > 0)
-        w.push_back("flipped " + plural(flipped, "facet") + " to agree with their neighbours");
-    if (inverted > 0) {
-        if (shells.size() == 1)
-            w.push_back(
-                "the mesh was inside out (every facet faced inwards); turned it outside out");
-        else
-            w.push_back(plural(inverted, "shell") + " of " + std::to_string(shells.size()) +
-                        " faced the wrong way (inside out); turned them around");
-    }
-    if (conflicts > 0)
-        w.push_back(plural(conflicts, "shell") +
-                    " cannot be oriented consistently (one-sided, like a Moebius strip)");
-    if (report.open_edges > 0)
-        w.push_back("mesh is not closed: " + plural(report.open_edges, "open edge") +
-                    "; slicing it anyway with non-zero fill");
-    if (report.nonmanifold_edges > 0)
-        w.push_back(plural(report.nonmanifold_edges, "non-manifold edge") +
-                    " (shared by more than two triangles); slicing it anyway with non-zero fill");
+    add_warnings(report, splits, turns);
 }
 
 }  // namespace carve

@@ -26,29 +26,24 @@ Box box_of(const Path& p, Coord grow) {
     return b;
 }
 
-}  // namespace
+// Each piece stands on the piece of the layer below whose box meets its own and that stands
+// highest already (the nearest of those): one column per top piece, one piece a layer, as a rib
+// is printed. `order`: the pieces by layer.
+struct PieceStacks {
+    std::vector<int> depth;    // pieces in the column down from each, itself included
+    std::vector<size_t> prev;  // the piece each stands on, or ribs.size()
+};
 
-std::string tallest_support_svg(const std::vector<RibPiece>& ribs,
-                                const std::vector<SideLayer>& layers, double layer_height,
-                                double line_width, TallestSupport& found) {
-    found = {};
-    std::vector<size_t> order;
-    for (size_t i = 0; i < ribs.size(); ++i)
-        if (!ribs[i].points.empty()) order.push_back(i);
-    if (order.empty()) return {};
-    std::stable_sort(order.begin(), order.end(),
-                     [&](size_t a, size_t b) { return ribs[a].layer < ribs[b].layer; });
-    const Coord grow = to_units(line_width / 2);
-    std::vector<Box> boxes(ribs.size());
-    for (size_t i : order) boxes[i] = box_of(ribs[i].points, grow);
-    // Each piece stands on the piece of the layer below whose box meets its own and that
-    // stands highest already (the nearest of those): one column per top piece, one piece a
-    // layer, as a rib is printed.
+PieceStacks stack_pieces(const std::vector<RibPiece>& ribs, const std::vector<size_t>& order,
+                         const std::vector<Box>& boxes) {
     auto centre_units = [&](size_t i) {
         return std::pair{(boxes[i].x0 + boxes[i].x1) / 2, (boxes[i].y0 + boxes[i].y1) / 2};
     };
-    std::vector<int> depth(ribs.size(), 0);
-    std::vector<size_t> prev(ribs.size(), ribs.size());
+    PieceStacks out;
+    std::vector<int>& depth = out.depth;
+    std::vector<size_t>& prev = out.prev;
+    depth.assign(ribs.size(), 0);
+    prev.assign(ribs.size(), ribs.size());
     size_t below_begin = 0, below_end = 0;  // the previous layer's run of `order`
     for (size_t k = 0; k < order.size();) {
         size_t end = k;
@@ -76,6 +71,27 @@ std::string tallest_support_svg(const std::vector<RibPiece>& ribs,
         below_begin = k, below_end = end;
         k = end;
     }
+    return out;
+}
+
+}  // namespace
+
+std::string tallest_support_svg(const std::vector<RibPiece>& ribs,
+                                const std::vector<SideLayer>& layers, double layer_height,
+                                double line_width, TallestSupport& found) {
+    found = {};
+    std::vector<size_t> order;
+    for (size_t i = 0; i < ribs.size(); ++i)
+        if (!ribs[i].points.empty()) order.push_back(i);
+    if (order.empty()) return {};
+    std::stable_sort(order.begin(), order.end(),
+                     [&](size_t a, size_t b) { return ribs[a].layer < ribs[b].layer; });
+    const Coord grow = to_units(line_width / 2);
+    std::vector<Box> boxes(ribs.size());
+    for (size_t i : order) boxes[i] = box_of(ribs[i].points, grow);
+    const PieceStacks stacks = stack_pieces(ribs, order, boxes);
+    const std::vector<int>& depth = stacks.depth;
+    const std::vector<size_t>& prev = stacks.prev;
     size_t best = order.front();
     for (size_t i : order)
         if (depth[i] > depth[best]) best = i;

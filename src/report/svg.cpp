@@ -116,6 +116,126 @@ std::string line_swatch(const std::string& colour, double width) {
         kCoverFill, colour, width);
 }
 
+// The legend's entries: the partition's regions with their areas, and each kind of line with
+// its length.
+std::vector<LegendEntry> layer_legend(const LayerRecord& record, const LayerToolpaths* paths,
+                                      double line_px) {
+    const LayerPartition& layer = record.partition();
+    const BridgedPartition& bridged = record.bridged;
+    std::vector<LegendEntry> legend;
+    auto mm2 = [](const Paths& r) {
+        const double a = area_mm2(r);
+        return a < 1 ? fmt::format("{:.3f} mm²", a) : fmt::format("{:.1f} mm²", a);
+    };
+    const int k = int(bridged.cavities.size());
+    legend.push_back(
+        {fill_swatch(kOutlineFill, kOutlineStroke), "model slice O " + mm2(layer.outline)});
+    if (!layer.covers.empty())
+        legend.push_back({fill_swatch(kCoverFill), "covers " + mm2(layer.covers)});
+    for (int j = 1; j <= k; ++j)
+        if (!bridged.cavities[size_t(j - 1)].empty())
+            legend.push_back(
+                {fill_swatch(cavity_colour(j)),
+                 "cavity C" + superscript(j) + " " + mm2(bridged.cavities[size_t(j - 1)])});
+    if (!bridged.remainder.empty())
+        legend.push_back({fill_swatch(kRemainderFill),
+                          "remainder V" + superscript(k) + " " + mm2(bridged.remainder)});
+    if (!bridged.bridges.empty())
+        legend.push_back(
+            {fill_swatch(kBridge), fmt::format("bridges ({})", bridged.bridges.size())});
+    if (!record.support.region.empty())
+        legend.push_back({fill_swatch(kSupport), "support " + mm2(record.support.region)});
+
+    if (paths) {
+        std::array<double, kFeatureCount> length_mm{};
+        for (const Extrusion& e : paths->extrusions)
+            length_mm[size_t(e.feature)] += length(Paths{e.points}, e.closed) / 1000.0;
+        auto add_line = [&](Feature feat, const std::string& colour, const char* name) {
+            if (length_mm[size_t(feat)] > 0)
+                legend.push_back({line_swatch(colour, std::max(line_px, 1.2)),
+                                  fmt::format("{} {:.0f} mm", name, length_mm[size_t(feat)])});
+        };
+        add_line(Feature::OuterWall, kOuterWall, "outer wall");
+        add_line(Feature::Shell, kShell, "shells");
+        add_line(Feature::CavityWall, dark(cavity_colour(1)), "cavity walls");
+        add_line(Feature::Cover, kCoverLine, "cover lines");
+        add_line(Feature::Bridge, kBridge, "bridge lines");
+        add_line(Feature::Rib, kRibColour, "ribs");
+        add_line(Feature::Support, kSupport, "support lines");
+        add_line(Feature::SupportInterface, kSupportInterface, "support interface");
+        add_line(Feature::Skirt, kSkirtColour, "skirt");
+        add_line(Feature::Brim, kBrimColour, "brim");
+    }
+    return legend;
+}
+
+// The toolpaths, one path per kind (and per cavity), drawn over the partition.
+void toolpath_strokes(std::string& svg, const LayerToolpaths& layer_paths, const Frame& f,
+                      double line_px) {
+    const LayerToolpaths* paths = &layer_paths;
+    svg += fmt::format(
+        R"~(<g id="toolpaths" fill="none" stroke-linejoin="round" stroke-linecap="round" stroke-width="{:.2f}">)~",
+        line_px);
+    svg += "\n";
+    auto stroke = [&](Feature feat, int cavity, const char* cls, const std::string& colour,
+                      double width_factor) {
+        std::string d;
+        for (const Extrusion& e : paths->extrusions)
+            if (e.feature == feat && (feat != Feature::CavityWall || e.cavity == cavity))
+                append_contour(d, e.points, e.closed, f);
+        if (d.empty()) return;
+        svg += fmt::format(R"~(<path class="{}" stroke="{}")~", cls, colour);
+        if (width_factor != 1)
+            svg += fmt::format(R"~( stroke-width="{:.2f}")~", line_px * width_factor);
+        if (feat == Feature::CavityWall) svg += fmt::format(R"~( data-cavity="{}")~", cavity);
+        svg += fmt::format(R"~( d="{}"/>)~", d);
+        svg += "\n";
+    };
+    // Printed order inside a layer does not matter for the picture; the light cover lines
+    // go first so that walls crossing them stay visible.
+    stroke(Feature::Cover, 0, "cover-lines", kCoverLine, 1);
+    int max_cavity = 0;
+    for (const Extrusion& e : paths->extrusions)
+        if (e.feature == Feature::CavityWall) max_cavity = std::max(max_cavity, e.cavity);
+    for (int j = 0; j <= max_cavity; ++j)
+        stroke(Feature::CavityWall, j, "cavity-wall", dark(cavity_colour(j)), 1);
+    stroke(Feature::Shell, 0, "shell", kShell, 1);
+    stroke(Feature::OuterWall, 0, "outer-wall", kOuterWall, 1.2);
+    stroke(Feature::Bridge, 0, "bridge-lines", kBridge, 1.5);
+    stroke(Feature::Rib, 0, "ribs", kRibColour, 1.2);
+    stroke(Feature::Support, 0, "support-lines", kSupport, 1);
+    stroke(Feature::SupportInterface, 0, "support-interface", kSupportInterface, 1);
+    stroke(Feature::Skirt, 0, "skirt", kSkirtColour, 1);
+    stroke(Feature::Brim, 0, "brim", kBrimColour, 1);
+    svg += "</g>\n";
+}
+
+// The legend beside the picture, and the scale bar under it.
+void legend_group(std::string& svg, const std::vector<LegendEntry>& legend, const Frame& f,
+                  double draw_w, double w_mm) {
+    const double lx = f.left + draw_w + 16;
+    svg += fmt::format(
+        R"~(<g id="legend" font-size="13" fill="#222" transform="translate({:.1f} {:.1f})">)~", lx,
+        f.top);
+    svg += "\n";
+    double y = 4;
+    for (const LegendEntry& e : legend) {
+        svg += fmt::format(
+            R"~(<g transform="translate(0 {:.1f})">{}<text x="22" y="11">{}</text></g>)~", y,
+            e.swatch, xml_escape(e.label));
+        svg += "\n";
+        y += 22;
+    }
+    // Scale bar.
+    const double bar_mm = scale_bar_mm(w_mm);
+    const double bar_px = bar_mm * f.scale;
+    y += 12;
+    svg += fmt::format(
+        R"~(<g id="scale" transform="translate(0 {:.1f})"><rect width="{:.2f}" height="4" fill="#222"/><text x="0" y="20">{} mm</text></g>)~",
+        y, bar_px, fmt::format("{:g}", bar_mm));
+    svg += "\n</g>\n";
+}
+
 }  // namespace
 
 std::string layer_svg(const LayerRecord& record, const LayerToolpaths* paths,
@@ -145,51 +265,9 @@ std::string layer_svg(const LayerRecord& record, const LayerToolpaths* paths,
     f.top = 42;
 
     // Legend first: its height decides the picture's.
-    std::vector<LegendEntry> legend;
-    auto mm2 = [](const Paths& r) {
-        const double a = area_mm2(r);
-        return a < 1 ? fmt::format("{:.3f} mm²", a) : fmt::format("{:.1f} mm²", a);
-    };
-    const int k = int(bridged.cavities.size());
-    legend.push_back(
-        {fill_swatch(kOutlineFill, kOutlineStroke), "model slice O " + mm2(layer.outline)});
-    if (!layer.covers.empty())
-        legend.push_back({fill_swatch(kCoverFill), "covers " + mm2(layer.covers)});
-    for (int j = 1; j <= k; ++j)
-        if (!bridged.cavities[size_t(j - 1)].empty())
-            legend.push_back(
-                {fill_swatch(cavity_colour(j)),
-                 "cavity C" + superscript(j) + " " + mm2(bridged.cavities[size_t(j - 1)])});
-    if (!bridged.remainder.empty())
-        legend.push_back({fill_swatch(kRemainderFill),
-                          "remainder V" + superscript(k) + " " + mm2(bridged.remainder)});
-    if (!bridged.bridges.empty())
-        legend.push_back(
-            {fill_swatch(kBridge), fmt::format("bridges ({})", bridged.bridges.size())});
-    if (!record.support.region.empty())
-        legend.push_back({fill_swatch(kSupport), "support " + mm2(record.support.region)});
-
     const double line_px = std::clamp(options.path_width_mm * f.scale, 0.4, 3.0);
-    if (paths) {
-        std::array<double, kFeatureCount> length_mm{};
-        for (const Extrusion& e : paths->extrusions)
-            length_mm[size_t(e.feature)] += length(Paths{e.points}, e.closed) / 1000.0;
-        auto add_line = [&](Feature feat, const std::string& colour, const char* name) {
-            if (length_mm[size_t(feat)] > 0)
-                legend.push_back({line_swatch(colour, std::max(line_px, 1.2)),
-                                  fmt::format("{} {:.0f} mm", name, length_mm[size_t(feat)])});
-        };
-        add_line(Feature::OuterWall, kOuterWall, "outer wall");
-        add_line(Feature::Shell, kShell, "shells");
-        add_line(Feature::CavityWall, dark(cavity_colour(1)), "cavity walls");
-        add_line(Feature::Cover, kCoverLine, "cover lines");
-        add_line(Feature::Bridge, kBridge, "bridge lines");
-        add_line(Feature::Rib, kRibColour, "ribs");
-        add_line(Feature::Support, kSupport, "support lines");
-        add_line(Feature::SupportInterface, kSupportInterface, "support interface");
-        add_line(Feature::Skirt, kSkirtColour, "skirt");
-        add_line(Feature::Brim, kBrimColour, "brim");
-    }
+    const std::vector<LegendEntry> legend = layer_legend(record, paths, line_px);
+    const int k = int(bridged.cavities.size());
     const double legend_w = options.legend ? 230 : 0;
     const double legend_h = options.legend ? 22.0 * double(legend.size()) + 50 : 0;
     const double width = f.left + draw_w + 10 + legend_w;
@@ -231,67 +309,8 @@ std::string layer_svg(const LayerRecord& record, const LayerToolpaths* paths,
     fill(svg, "support", record.support.region, kSupport, f, R"~( fill-opacity="0.25")~");
     svg += "</g>\n";
 
-    if (paths) {
-        svg += fmt::format(
-            R"~(<g id="toolpaths" fill="none" stroke-linejoin="round" stroke-linecap="round" stroke-width="{:.2f}">)~",
-            line_px);
-        svg += "\n";
-        auto stroke = [&](Feature feat, int cavity, const char* cls, const std::string& colour,
-                          double width_factor) {
-            std::string d;
-            for (const Extrusion& e : paths->extrusions)
-                if (e.feature == feat && (feat != Feature::CavityWall || e.cavity == cavity))
-                    append_contour(d, e.points, e.closed, f);
-            if (d.empty()) return;
-            svg += fmt::format(R"~(<path class="{}" stroke="{}")~", cls, colour);
-            if (width_factor != 1)
-                svg += fmt::format(R"~( stroke-width="{:.2f}")~", line_px * width_factor);
-            if (feat == Feature::CavityWall) svg += fmt::format(R"~( data-cavity="{}")~", cavity);
-            svg += fmt::format(R"~( d="{}"/>)~", d);
-            svg += "\n";
-        };
-        // Printed order inside a layer does not matter for the picture; the light cover lines
-        // go first so that walls crossing them stay visible.
-        stroke(Feature::Cover, 0, "cover-lines", kCoverLine, 1);
-        int max_cavity = 0;
-        for (const Extrusion& e : paths->extrusions)
-            if (e.feature == Feature::CavityWall) max_cavity = std::max(max_cavity, e.cavity);
-        for (int j = 0; j <= max_cavity; ++j)
-            stroke(Feature::CavityWall, j, "cavity-wall", dark(cavity_colour(j)), 1);
-        stroke(Feature::Shell, 0, "shell", kShell, 1);
-        stroke(Feature::OuterWall, 0, "outer-wall", kOuterWall, 1.2);
-        stroke(Feature::Bridge, 0, "bridge-lines", kBridge, 1.5);
-        stroke(Feature::Rib, 0, "ribs", kRibColour, 1.2);
-        stroke(Feature::Support, 0, "support-lines", kSupport, 1);
-        stroke(Feature::SupportInterface, 0, "support-interface", kSupportInterface, 1);
-        stroke(Feature::Skirt, 0, "skirt", kSkirtColour, 1);
-        stroke(Feature::Brim, 0, "brim", kBrimColour, 1);
-        svg += "</g>\n";
-    }
-
-    if (options.legend) {
-        const double lx = f.left + draw_w + 16;
-        svg += fmt::format(
-            R"~(<g id="legend" font-size="13" fill="#222" transform="translate({:.1f} {:.1f})">)~",
-            lx, f.top);
-        svg += "\n";
-        double y = 4;
-        for (const LegendEntry& e : legend) {
-            svg += fmt::format(
-                R"~(<g transform="translate(0 {:.1f})">{}<text x="22" y="11">{}</text></g>)~", y,
-                e.swatch, xml_escape(e.label));
-            svg += "\n";
-            y += 22;
-        }
-        // Scale bar.
-        const double bar_mm = scale_bar_mm(w_mm);
-        const double bar_px = bar_mm * f.scale;
-        y += 12;
-        svg += fmt::format(
-            R"~(<g id="scale" transform="translate(0 {:.1f})"><rect width="{:.2f}" height="4" fill="#222"/><text x="0" y="20">{} mm</text></g>)~",
-            y, bar_px, fmt::format("{:g}", bar_mm));
-        svg += "\n</g>\n";
-    }
+    if (paths) toolpath_strokes(svg, *paths, f, line_px);
+    if (options.legend) legend_group(svg, legend, f, draw_w, w_mm);
     svg += "</svg>\n";
     return svg;
 }

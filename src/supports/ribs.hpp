@@ -112,6 +112,8 @@ class RibPlanner {
     void follow_wall(Node& n, const class WallBoundary& walls) const;
     void tie(std::vector<Node>& nodes, const class WallBoundary& boundary,
              std::vector<Node>& fading) const;
+    // add()'s phases and what they share (ribs.cpp).
+    struct Descent;
     RibOptions options_;
     VaultPlanner vaults_;
     std::vector<Node> nodes_;  // where each rib is on the slice last added

@@ -138,122 +138,119 @@ Paths without_specks(const Paths& region, double min_area) {
 
 }  // namespace
 
-SupportLayer SupportPlanner::plan(int j) {
+// What of the layer g + 1 above has nothing under it within `reach`: the overhang whose support
+// starts here, g empty layers below it. Slivers along a slope a little steeper than the support
+// angle are left to the walls (opened away at a quarter width).
+Paths SupportPlanner::fresh_overhang(int j) const {
     const SupportOptions& o = options_;
     const int g = o.gap_layers;
     const Coord w = o.line_width;
     const double min_area = 4.0 * double(w) * double(w);
-    SupportLayer out;
-
-    // What of the layer g + 1 above has nothing under it within `reach`: the overhang whose
-    // support starts here, g empty layers below it. Slivers along a slope a little steeper than
-    // the support angle are left to the walls (opened away at a quarter width).
     Paths fresh;
     const Paths& over = outline(j + g + 1);
-    if (!over.empty()) {
-        const Paths& under = outline(j + g);
-        fresh = under.empty() ? over : subtract(over, dilate(under, o.reach));
-        if (!fresh.empty()) fresh = without_specks(open(fresh, w / 4), min_area);
-        if (!fresh.empty() && o.mode == SupportMode::Buildplate && shadow_) {
-            // Only where the model has nothing below this layer's middle: a column from here
-            // down stays clear of it, since the support only narrows going down.
-            // (As the slicer cuts it: (j + 0.5) h when the first layer is h.)
-            const double z =
-                o.z0 + (j == 0 ? o.first_layer / 2
-                               : (o.first_layer - o.layer_height) + (j + 0.5) * o.layer_height);
-            fresh = subtract(fresh, shadow_->below(z, o.xy_gap));
+    if (over.empty()) return fresh;
+    const Paths& under = outline(j + g);
+    fresh = under.empty() ? over : subtract(over, dilate(under, o.reach));
+    if (!fresh.empty()) fresh = without_specks(open(fresh, w / 4), min_area);
+    if (!fresh.empty() && o.mode == SupportMode::Buildplate && shadow_) {
+        // Only where the model has nothing below this layer's middle: a column from here down
+        // stays clear of it, since the support only narrows going down.
+        // (As the slicer cuts it: (j + 0.5) h when the first layer is h.)
+        const double z =
+            o.z0 + (j == 0 ? o.first_layer / 2
+                           : (o.first_layer - o.layer_height) + (j + 0.5) * o.layer_height);
+        fresh = subtract(fresh, shadow_->below(z, o.xy_gap));
+    }
+    return fresh;
+}
+
+// Clear of the model by xy_gap beside it, and by g layers above and below: the support never
+// touches the model, and where it meets the model's top (auto) it stops there. Returns where
+// beside the model the support does not narrow.
+Paths SupportPlanner::clear_of_model(int j, Paths& region, Paths& walls) const {
+    const SupportOptions& o = options_;
+    const int g = o.gap_layers;
+    const Coord w = o.line_width;
+    Paths hug;
+    Paths model;
+    Paths reach = region;
+    reach.insert(reach.end(), walls.begin(), walls.end());
+    const Paths near = box_around(reach, o.xy_gap + o.lean + 2 * w);
+    for (int k = j - g; k <= j + g; ++k) {
+        const Paths& m = outline(k);
+        if (m.empty()) continue;
+        const Paths clipped = intersect(m, near);
+        model.insert(model.end(), clipped.begin(), clipped.end());
+    }
+    if (!model.empty()) {
+        const Paths keep_off = dilate(unite(model), o.xy_gap);
+        if (!region.empty()) region = subtract(region, keep_off);
+        hug = dilate(keep_off, o.lean + w);
+        if (!walls.empty()) {
+            // A wall is a line: it keeps half a width more off the model.
+            const Paths wall_off = dilate(keep_off, w / 2);
+            walls = clip_lines(walls, subtract(near, wall_off));
         }
     }
-    // Overhangs of neighbouring layers (the rings under a dome) and the support carried from
-    // above meet within a lean or two: closed, they are one region printed sparse, not a stack
-    // of thin columns side by side.
-    Paths region = fresh.empty() ? carried_ : close(unite(carried_, fresh), 2 * o.lean);
-    Paths walls = walls_;
-    Paths hug;  // beside the model: where the support does not narrow
-    if (!region.empty() || !walls.empty()) {
-        // Clear of the model by xy_gap beside it, and by g layers above and below: the support
-        // never touches the model, and where it meets the model's top (auto) it stops there.
-        Paths model;
-        Paths reach = region;
-        reach.insert(reach.end(), walls.begin(), walls.end());
-        const Paths near = box_around(reach, o.xy_gap + o.lean + 2 * w);
-        for (int k = j - g; k <= j + g; ++k) {
-            const Paths& m = outline(k);
-            if (m.empty()) continue;
-            const Paths clipped = intersect(m, near);
-            model.insert(model.end(), clipped.begin(), clipped.end());
-        }
-        if (!model.empty()) {
-            const Paths keep_off = dilate(unite(model), o.xy_gap);
-            if (!region.empty()) region = subtract(region, keep_off);
-            hug = dilate(keep_off, o.lean + w);
-            if (!walls.empty()) {
-                // A wall is a line: it keeps half a width more off the model.
-                const Paths wall_off = dilate(keep_off, w / 2);
-                walls = clip_lines(walls, subtract(near, wall_off));
-            }
-        }
-        region = without_specks(region, min_area / 4);
+    region = without_specks(region, double(w) * double(w));  // a quarter of fresh_overhang's
+    return hug;
+}
+
+// On the bottom layer, also the overhangs of layers 1 .. g, whose support would have to start
+// below the bed to keep the z gap: they are held from the bed, touching the model, as
+// PrusaSlicer does on its first layer. Left alone, such an overhang is a line laid in the air a
+// layer or two above the bed (on cat, nearly all of what hangs with supports); a support
+// touching it costs only a rougher underside over one layer. It keeps the xy gap from the
+// model's first layer, the one beside it. No shadow for --support buildplate: nothing of the
+// model lies under these overhangs, only the bed.
+Paths SupportPlanner::grounded_overhangs() const {
+    const SupportOptions& o = options_;
+    const Coord w = o.line_width;
+    const double min_area = 4.0 * double(w) * double(w);
+    Paths grounded, lower;
+    for (int k = 1; k <= o.gap_layers; ++k) {
+        const Paths& below = outline(k - 1);
+        lower.insert(lower.end(), below.begin(), below.end());
+        const Paths& above = outline(k);
+        if (above.empty()) continue;
+        // What of layer k has nothing of the model under it, down to the bed.
+        Paths f = lower.empty() ? above : subtract(above, dilate(unite(lower), o.reach));
+        if (!f.empty()) f = without_specks(open(f, w / 4), min_area);
+        grounded.insert(grounded.end(), f.begin(), f.end());
     }
-    // On the bottom layer, also the overhangs of layers 1 .. g, whose support would have to
-    // start below the bed to keep the z gap: they are held from the bed, touching the model, as
-    // PrusaSlicer does on its first layer. Left alone, such an overhang is a line laid in the air
-    // a layer or two above the bed (on cat, nearly all of what hangs with supports); a support
-    // touching it costs only a rougher underside over one layer. It keeps the xy gap from the
-    // model's first layer, the one beside it. No shadow for --support buildplate: nothing of the
-    // model lies under these overhangs, only the bed.
-    if (j == 0 && g > 0) {
-        Paths grounded, lower;
-        for (int k = 1; k <= g; ++k) {
-            const Paths& below = outline(k - 1);
-            lower.insert(lower.end(), below.begin(), below.end());
-            const Paths& above = outline(k);
-            if (above.empty()) continue;
-            // What of layer k has nothing of the model under it, down to the bed.
-            Paths f = lower.empty() ? above : subtract(above, dilate(unite(lower), o.reach));
-            if (!f.empty()) f = without_specks(open(f, w / 4), min_area);
-            grounded.insert(grounded.end(), f.begin(), f.end());
-        }
-        if (!grounded.empty() && !outline(0).empty())
-            grounded = subtract(grounded, dilate(outline(0), o.xy_gap));
-        if (!grounded.empty()) grounded = without_specks(unite(grounded), min_area / 4);
-        if (!grounded.empty()) {
-            region = region.empty() ? grounded : unite(region, grounded);
-            fresh = fresh.empty() ? grounded : unite(fresh, grounded);
-        }
-    }
-    out.region = region;
-    if (o.interface_layers > 0) {
+    if (!grounded.empty() && !outline(0).empty())
+        grounded = subtract(grounded, dilate(outline(0), o.xy_gap));
+    if (!grounded.empty()) grounded = without_specks(unite(grounded), min_area / 4);
+    return grounded;
+}
+
+// The dense top of the support: the new overhangs of the last interface layers.
+void SupportPlanner::add_interface(SupportLayer& out, const Paths& fresh, const Paths& region) {
+    const int layers = options_.interface_layers;
+    if (layers > 0) {
         Paths top = fresh.empty() || region.empty() ? Paths{} : intersect(fresh, region);
         out.new_mm2 = area_mm2(top);
         fresh_.push_front(std::move(top));
-        while (int(fresh_.size()) > o.interface_layers) fresh_.pop_back();
+        while (int(fresh_.size()) > layers) fresh_.pop_back();
         Paths recent;
         for (const Paths& f : fresh_) recent.insert(recent.end(), f.begin(), f.end());
         if (!recent.empty() && !region.empty()) out.interface = intersect(unite(recent), region);
     } else if (!fresh.empty() && !region.empty()) {
         out.new_mm2 = area_mm2(intersect(fresh, region));
     }
+}
 
-    // Walls standing under nothing of the region: printed as lines (inside the region its own
-    // walls hold the same place).
-    if (!walls.empty()) {
-        out.walls =
-            region.empty() ? walls : clip_lines(walls, subtract(box_around(walls, w), region));
-        // Drop stubs shorter than a line width: nothing stands on them.
-        Paths kept;
-        for (Path& l : out.walls)
-            if (l.size() >= 2 && length(Paths{l}, false) >= double(w)) kept.push_back(std::move(l));
-        out.walls = std::move(kept);
-    }
-
-    // Going down, each part narrows by `lean` (its edge then leans at the cavities' angle and
-    // holds itself). What of a part is too thin for its outline (under a line width: a
-    // peninsula narrowing away, a sliver) is printed as its medial axis instead, and that axis
-    // goes on down as a single wall, so that nothing of it is left hanging when the part
-    // narrows past it. A compact part no wider than a trunk goes straight down as a column; a
-    // long thin one narrows on until it would vanish, and its axis goes on down as a wall (a
-    // ring under a dome's rim becomes one cylinder).
+// Going down, each part narrows by `lean` (its edge then leans at the cavities' angle and holds
+// itself). What of a part is too thin for its outline (under a line width: a peninsula
+// narrowing away, a sliver) is printed as its medial axis instead, and that axis goes on down as
+// a single wall, so that nothing of it is left hanging when the part narrows past it. A compact
+// part no wider than a trunk goes straight down as a column; a long thin one narrows on until it
+// would vanish, and its axis goes on down as a wall (a ring under a dome's rim becomes one
+// cylinder). Returns the region carried to the layer below; adds the axes to `walls`.
+Paths SupportPlanner::narrow(const Paths& region, const Paths& hug, SupportLayer& out,
+                             Paths& walls) const {
+    const SupportOptions& o = options_;
+    const Coord w = o.line_width;
     Paths carried;
     const SkeletonOptions axis{w, w / 2, 5};
     auto add_axis = [&](const Paths& piece, bool print_here) {
@@ -294,7 +291,44 @@ SupportLayer SupportPlanner::plan(int j) {
         }
         carried.insert(carried.end(), next.begin(), next.end());
     }
-    carried_ = std::move(carried);
+    return carried;
+}
+
+SupportLayer SupportPlanner::plan(int j) {
+    const SupportOptions& o = options_;
+    const int g = o.gap_layers;
+    const Coord w = o.line_width;
+    SupportLayer out;
+
+    Paths fresh = fresh_overhang(j);
+    // Overhangs of neighbouring layers (the rings under a dome) and the support carried from
+    // above meet within a lean or two: closed, they are one region printed sparse, not a stack
+    // of thin columns side by side.
+    Paths region = fresh.empty() ? carried_ : close(unite(carried_, fresh), 2 * o.lean);
+    Paths walls = walls_;
+    Paths hug;  // beside the model: where the support does not narrow
+    if (!region.empty() || !walls.empty()) hug = clear_of_model(j, region, walls);
+    if (j == 0 && g > 0) {
+        if (const Paths grounded = grounded_overhangs(); !grounded.empty()) {
+            region = region.empty() ? grounded : unite(region, grounded);
+            fresh = fresh.empty() ? grounded : unite(fresh, grounded);
+        }
+    }
+    out.region = region;
+    add_interface(out, fresh, region);
+
+    // Walls standing under nothing of the region: printed as lines (inside the region its own
+    // walls hold the same place).
+    if (!walls.empty()) {
+        out.walls =
+            region.empty() ? walls : clip_lines(walls, subtract(box_around(walls, w), region));
+        // Drop stubs shorter than a line width: nothing stands on them.
+        Paths kept;
+        for (Path& l : out.walls)
+            if (l.size() >= 2 && length(Paths{l}, false) >= double(w)) kept.push_back(std::move(l));
+        out.walls = std::move(kept);
+    }
+    carried_ = narrow(region, hug, out, walls);
     walls_ = std::move(walls);
 
     next_ = j - 1;

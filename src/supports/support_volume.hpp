@@ -81,6 +81,12 @@ class SupportPlanner {
 
   private:
     const Paths& outline(int index) const;
+    // plan()'s phases, in order.
+    Paths fresh_overhang(int j) const;
+    Paths clear_of_model(int j, Paths& region, Paths& walls) const;
+    Paths grounded_overhangs() const;
+    void add_interface(SupportLayer& out, const Paths& fresh, const Paths& region);
+    Paths narrow(const Paths& region, const Paths& hug, SupportLayer& out, Paths& walls) const;
     SupportOptions options_;
     const ModelShadow* shadow_;
     std::deque<std::pair<int, Paths>> outlines_;  // top down, layers next_ + 2g + 1 .. lowest

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <optional>
 #include <utility>
 
 #include "geometry/polygon.hpp"
@@ -46,79 +47,98 @@ void push_unique(Path& path, const Point& p) {
     if (path.empty() || path.back() != p) path.push_back(p);
 }
 
-void fill_component(const Paths& comp, double angle, Coord w, Feature feature,
-                    std::vector<Extrusion>& out) {
-    const double cs = std::cos(angle), sn = std::sin(angle);
-    auto u_of = [&](const Point& p) { return cs * double(p.X) + sn * double(p.Y); };
-    auto v_of = [&](const Point& p) { return -sn * double(p.X) + cs * double(p.Y); };
+// The scanlines across a component at an angle: n lines at v = v0 + k dv in the frame turned
+// by it (u along the lines), each flow times the line width wide.
+struct ScanFrame {
+    double cs = 1, sn = 0;
+    int n = 1;
+    double v0 = 0, dv = 0, flow = 1.0;
+    double u_of(const Point& p) const { return cs * double(p.X) + sn * double(p.Y); }
+    double v_of(const Point& p) const { return -sn * double(p.X) + cs * double(p.Y); }
+};
 
+// Lines just inside the component's extremes (a line exactly through an extreme vertex has no
+// length); none when it has no extent across them.
+std::optional<ScanFrame> scan_frame(const Paths& comp, double angle, Coord w) {
+    ScanFrame f;
+    f.cs = std::cos(angle), f.sn = std::sin(angle);
     double vmin = std::numeric_limits<double>::max(), vmax = std::numeric_limits<double>::lowest();
     for (const Point& p : comp.front()) {
-        vmin = std::min(vmin, v_of(p));
-        vmax = std::max(vmax, v_of(p));
+        vmin = std::min(vmin, f.v_of(p));
+        vmax = std::max(vmax, f.v_of(p));
     }
-    if (!(vmax > vmin)) return;
-
-    // Lines just inside the extremes (a line exactly through an extreme vertex has no length).
+    if (!(vmax > vmin)) return std::nullopt;
     const double eps = 2.0;
     const double lo = vmin + eps, hi = vmax - eps, width = double(w);
-    int n = 1;
-    double v0 = 0.5 * (vmin + vmax), dv = 0, flow = 1.0;
+    f.v0 = 0.5 * (vmin + vmax);
     if (hi - lo > 0.5 * width) {
-        n = static_cast<int>(std::ceil((hi - lo) / width - 1e-9)) + 1;
-        v0 = lo;
-        dv = (hi - lo) / (n - 1);
+        f.n = static_cast<int>(std::ceil((hi - lo) / width - 1e-9)) + 1;
+        f.v0 = lo;
+        f.dv = (hi - lo) / (f.n - 1);
         // n lines of width flow * w cover the component's extent plus half a line each side.
-        flow = std::min(1.0, (vmax - vmin + width) / (n * width));
+        f.flow = std::min(1.0, (vmax - vmin + width) / (f.n * width));
     }
+    return f;
+}
 
-    // Scanline hits, bucketed per line.
-    std::vector<std::vector<Hit>> hits(n);
-    std::vector<std::vector<double>> cum(comp.size());
+// Scanline hits, bucketed per line, and each contour's arc length at its vertices.
+struct ScanHits {
+    std::vector<std::vector<Hit>> hits;
+    std::vector<std::vector<double>> cum;
+};
+
+ScanHits scan_hits(const Paths& comp, const ScanFrame& f) {
+    ScanHits out;
+    out.hits.resize(size_t(f.n));
+    out.cum.resize(comp.size());
     for (size_t ci = 0; ci < comp.size(); ++ci) {
         const Path& c = comp[ci];
         const size_t m = c.size();
-        cum[ci].resize(m + 1, 0.0);
+        std::vector<double>& cum = out.cum[ci];
+        cum.resize(m + 1, 0.0);
         for (size_t e = 0; e < m; ++e) {
             const Point& a = c[e];
             const Point& b = c[(e + 1) % m];
-            cum[ci][e + 1] = cum[ci][e] + edge_length(a, b);
-            const double va = v_of(a), vb = v_of(b);
+            cum[e + 1] = cum[e] + edge_length(a, b);
+            const double va = f.v_of(a), vb = f.v_of(b);
             if (va == vb) continue;
             const double elo = std::min(va, vb), ehi = std::max(va, vb);
             int k0 = 0;
-            if (dv > 0) k0 = std::max(0, static_cast<int>(std::floor((elo - v0) / dv)));
+            if (f.dv > 0) k0 = std::max(0, static_cast<int>(std::floor((elo - f.v0) / f.dv)));
             // Half-open [elo, ehi): a vertex is counted once, a local extreme twice or not at all.
-            for (int k = k0; k < n; ++k) {
-                const double vk = v0 + k * dv;
+            for (int k = k0; k < f.n; ++k) {
+                const double vk = f.v0 + k * f.dv;
                 if (vk >= ehi) break;
                 if (vk < elo) continue;
                 const double t = (vk - va) / (vb - va);
-                const double ua = u_of(a), ub = u_of(b);
-                hits[k].push_back({ua + t * (ub - ua), int(ci), int(e), t});
-                if (dv == 0) break;
+                const double ua = f.u_of(a), ub = f.u_of(b);
+                out.hits[size_t(k)].push_back({ua + t * (ub - ua), int(ci), int(e), t});
+                if (f.dv == 0) break;
             }
         }
     }
+    return out;
+}
 
-    // Segments: ends 2i and 2i + 1.
+// The scanlines' segments inside the component: ends 2i and 2i + 1.
+std::vector<End> segment_ends(const Paths& comp, ScanHits& scan) {
     std::vector<End> ends;
     auto make_end = [&](int line, const Hit& h) {
         const Path& c = comp[h.contour];
         const Point& a = c[h.edge];
         const Point& b = c[(h.edge + 1) % c.size()];
+        const std::vector<double>& cum = scan.cum[h.contour];
         End e;
         e.line = line;
         e.contour = h.contour;
         e.edge = h.edge;
-        e.param =
-            cum[h.contour][h.edge] + h.t * (cum[h.contour][h.edge + 1] - cum[h.contour][h.edge]);
+        e.param = cum[h.edge] + h.t * (cum[h.edge + 1] - cum[h.edge]);
         e.xy = Point(static_cast<Coord>(std::llround(double(a.X) + h.t * double(b.X - a.X))),
                      static_cast<Coord>(std::llround(double(a.Y) + h.t * double(b.Y - a.Y))));
         return e;
     };
-    for (int k = 0; k < n; ++k) {
-        auto& hk = hits[k];
+    for (int k = 0; k < int(scan.hits.size()); ++k) {
+        auto& hk = scan.hits[size_t(k)];
         std::sort(hk.begin(), hk.end(), [](const Hit& a, const Hit& b) { return a.u < b.u; });
         for (size_t i = 0; i + 1 < hk.size(); i += 2) {
             if (hk[i + 1].u - hk[i].u < 1.0) continue;  // touching a local minimum vertex
@@ -126,59 +146,95 @@ void fill_component(const Paths& comp, double angle, Coord w, Feature feature,
             ends.push_back(make_end(k, hk[i + 1]));
         }
     }
-    const int segs = static_cast<int>(ends.size() / 2);
-    if (segs == 0) return;
+    return ends;
+}
 
-    // Connectors join consecutive ends along a contour that lie on adjacent lines. Nothing
-    // crosses the contour between them, so that arc stays inside the strip between the two
-    // lines; it may be long where the boundary runs almost along the lines, and then it deposits
-    // exactly the part of the strip that neither line reaches (thin bands would be lost
-    // otherwise).
-    std::vector<std::vector<int>> per_contour(comp.size());
-    for (int i = 0; i < int(ends.size()); ++i) per_contour[ends[i].contour].push_back(i);
-    std::vector<int> slot(ends.size(), 0);  // position of each end in its contour's list
-    for (size_t ci = 0; ci < comp.size(); ++ci) {
-        auto& list = per_contour[ci];
-        std::sort(list.begin(), list.end(),
-                  [&](int a, int b) { return ends[a].param < ends[b].param; });
-        for (size_t i = 0; i < list.size(); ++i) slot[list[i]] = static_cast<int>(i);
+// Connectors join consecutive ends along a contour that lie on adjacent lines. Nothing crosses
+// the contour between them, so that arc stays inside the strip between the two lines; it may be
+// long where the boundary runs almost along the lines, and then it deposits exactly the part of
+// the strip that neither line reaches (thin bands would be lost otherwise).
+class FillChains {
+  public:
+    FillChains(const Paths& comp, const std::vector<End>& ends,
+               const std::vector<std::vector<double>>& cum)
+        : comp_(comp),
+          ends_(ends),
+          cum_(cum),
+          per_contour_(comp.size()),
+          slot_(ends.size(), 0),
+          used_(ends.size() / 2, 0) {
+        for (int i = 0; i < int(ends.size()); ++i) per_contour_[ends[i].contour].push_back(i);
+        for (size_t ci = 0; ci < comp.size(); ++ci) {
+            auto& list = per_contour_[ci];
+            std::sort(list.begin(), list.end(),
+                      [&](int a, int b) { return ends[a].param < ends[b].param; });
+            for (size_t i = 0; i < list.size(); ++i) slot_[list[i]] = static_cast<int>(i);
+        }
     }
-    std::vector<char> used(segs, 0);
 
+    // Segments in line order (they were made line by line); a chain starts preferably at an
+    // end with nowhere to go, and grows from both ends. Chains shorter than `width` are left
+    // out.
+    void chain(double width, Feature feature, double flow, std::vector<Extrusion>& out) {
+        const int segs = static_cast<int>(ends_.size() / 2);
+        for (int sgm = 0; sgm < segs; ++sgm) {
+            if (used_[sgm]) continue;
+            used_[sgm] = 1;
+            const int entry = has_next(2 * sgm) && !has_next(2 * sgm + 1) ? 2 * sgm + 1 : 2 * sgm;
+            Path forward_part{ends_[entry].xy};
+            push_unique(forward_part, ends_[entry ^ 1].xy);
+            walk(entry ^ 1, forward_part);
+            Path backward_part;
+            walk(entry, backward_part);
+            Path path;
+            for (auto it = backward_part.rbegin(); it != backward_part.rend(); ++it)
+                push_unique(path, *it);
+            for (const Point& p : forward_part) push_unique(path, p);
+            if (path.size() >= 2 && length(Paths{path}, false) >= width) {
+                Extrusion ex;
+                ex.feature = feature;
+                ex.points = std::move(path);
+                ex.flow = flow;
+                out.push_back(std::move(ex));
+            }
+        }
+    }
+
+  private:
     // Forward arc length along the contour from end p to end q.
-    auto arc_length = [&](int p, int q) {
-        double arc = ends[q].param - ends[p].param;
-        if (arc <= 0) arc += cum[ends[p].contour].back();
+    double arc_length(int p, int q) const {
+        double arc = ends_[q].param - ends_[p].param;
+        if (arc <= 0) arc += cum_[ends_[p].contour].back();
         return arc;
-    };
+    }
     // Contour vertices strictly between ends p and q, walking forward from p to q.
-    auto arc_points = [&](int p, int q, Path& into) {
-        const End& a = ends[p];
-        const End& b = ends[q];
-        const Path& c = comp[a.contour];
+    void arc_points(int p, int q, Path& into) const {
+        const End& a = ends_[p];
+        const End& b = ends_[q];
+        const Path& c = comp_[a.contour];
         const int m = static_cast<int>(c.size());
         int count = ((b.edge - a.edge) % m + m) % m;
         if (count == 0 && b.param <= a.param) count = m;
         for (int i = 1; i <= count; ++i) push_unique(into, c[(a.edge + i) % m]);
-    };
+    }
     // The nearest unused end reachable from end x by a connector, or -1.
-    auto next_end = [&](int x, bool& forward) {
-        const auto& list = per_contour[ends[x].contour];
+    int next_end(int x, bool& forward) const {
+        const auto& list = per_contour_[ends_[x].contour];
         const int n = static_cast<int>(list.size());
         int best = -1;
         double best_arc = 0;
         if (n < 2) return best;
         for (int dir : {1, -1}) {
-            const int y = list[((slot[x] + dir) % n + n) % n];
-            if (used[y / 2] || std::abs(ends[y].line - ends[x].line) != 1) continue;
+            const int y = list[((slot_[x] + dir) % n + n) % n];
+            if (used_[y / 2] || std::abs(ends_[y].line - ends_[x].line) != 1) continue;
             const double arc = dir > 0 ? arc_length(x, y) : arc_length(y, x);
             if (best < 0 || arc < best_arc) best = y, best_arc = arc, forward = dir > 0;
         }
         return best;
-    };
+    }
     // Leaves through end x: connector, next line across, and so on. Because every line is left
     // by its other end, the chain zig-zags.
-    auto walk = [&](int x, Path& path) {
+    void walk(int x, Path& path) {
         bool forward = true;
         for (int y = next_end(x, forward); y >= 0; y = next_end(x, forward)) {
             if (forward) {
@@ -188,40 +244,33 @@ void fill_component(const Paths& comp, double angle, Coord w, Feature feature,
                 arc_points(y, x, back);
                 for (auto it = back.rbegin(); it != back.rend(); ++it) push_unique(path, *it);
             }
-            used[y / 2] = 1;
-            push_unique(path, ends[y].xy);
-            push_unique(path, ends[y ^ 1].xy);
+            used_[y / 2] = 1;
+            push_unique(path, ends_[y].xy);
+            push_unique(path, ends_[y ^ 1].xy);
             x = y ^ 1;
         }
-    };
-    auto has_next = [&](int x) {
+    }
+    bool has_next(int x) const {
         bool forward = true;
         return next_end(x, forward) >= 0;
-    };
-
-    // Segments in line order (they were made line by line); a chain starts preferably at an
-    // end with nowhere to go, and grows from both ends.
-    for (int sgm = 0; sgm < segs; ++sgm) {
-        if (used[sgm]) continue;
-        used[sgm] = 1;
-        const int entry = has_next(2 * sgm) && !has_next(2 * sgm + 1) ? 2 * sgm + 1 : 2 * sgm;
-        Path forward_part{ends[entry].xy};
-        push_unique(forward_part, ends[entry ^ 1].xy);
-        walk(entry ^ 1, forward_part);
-        Path backward_part;
-        walk(entry, backward_part);
-        Path path;
-        for (auto it = backward_part.rbegin(); it != backward_part.rend(); ++it)
-            push_unique(path, *it);
-        for (const Point& p : forward_part) push_unique(path, p);
-        if (path.size() >= 2 && length(Paths{path}, false) >= width) {
-            Extrusion ex;
-            ex.feature = feature;
-            ex.points = std::move(path);
-            ex.flow = flow;
-            out.push_back(std::move(ex));
-        }
     }
+
+    const Paths& comp_;
+    const std::vector<End>& ends_;
+    const std::vector<std::vector<double>>& cum_;
+    std::vector<std::vector<int>> per_contour_;
+    std::vector<int> slot_;  // position of each end in its contour's list
+    std::vector<char> used_;
+};
+
+void fill_component(const Paths& comp, double angle, Coord w, Feature feature,
+                    std::vector<Extrusion>& out) {
+    const std::optional<ScanFrame> frame = scan_frame(comp, angle, w);
+    if (!frame) return;
+    ScanHits scan = scan_hits(comp, *frame);
+    const std::vector<End> ends = segment_ends(comp, scan);
+    if (ends.size() / 2 == 0) return;
+    FillChains(comp, ends, scan.cum).chain(double(w), feature, frame->flow, out);
 }
 
 }  // namespace
