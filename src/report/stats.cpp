@@ -61,7 +61,7 @@ static nlohmann::json rotation_json(const OrientationCandidate& c) {
     return j;
 }
 
-static nlohmann::json orientation_json(const OrientationChoice& o) {
+nlohmann::json orientation_json(const OrientationChoice& o) {
     nlohmann::json j;
     j["chosen"] = rotation_json(o.trials[o.chosen].candidate);
     j["choice_time_s"] = o.choice_time_s;
