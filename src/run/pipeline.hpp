@@ -4,6 +4,7 @@
 
 #include <functional>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -40,9 +41,19 @@ struct RunOptions {
     // Make every output under its temporary name and remove it at the end (the candidates of
     // --orient auto: their figures are wanted, not their G-code).
     bool discard_outputs = false;
+    // A candidate of --orient auto stops (throws RunGivenUp) as soon as the layers done so far,
+    // with the least the layers below them can extrude (below_at_least_mm3[i]: layers 0 .. i-1,
+    // when given), extrude more than this, mm^3: a lighter candidate is known already. 0 = never.
+    double give_up_above_mm3 = 0;
+    std::vector<double> below_at_least_mm3;
     // When set, the run's finished outputs are handed to this group instead of renamed into
     // place: the plates of a --cut are all renamed once the last is done.
     OutputGroup* outputs_to = nullptr;
+};
+
+// What a run stopped by RunOptions::give_up_above_mm3 throws.
+struct RunGivenUp : std::runtime_error {
+    using std::runtime_error::runtime_error;
 };
 
 RunResult run_slice(const Settings& settings, const RunOptions& options);
