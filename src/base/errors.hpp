@@ -4,8 +4,9 @@
 //   0 success, 1 bad input or bad option value (also a refused input: over a resource guard or
 //   the --timeout), 2 usage (unknown option, missing argument), 3 an output could not be
 //   written or was refused (the input itself, another output of the run, a device), 4 internal
-//   failure (a bug, or out of memory), 5 `carve check --strict`: the G-code fails a
-//   printability rule (it was read and measured; the rules failed are on stderr).
+//   failure (a bug, or out of memory), 5 `carve check --strict` (or `carve slice --strict`):
+//   the G-code fails a printability rule (it was read and measured; the rules failed are on
+//   stderr, and slice writes nothing).
 #pragma once
 
 #include <stdexcept>
@@ -67,6 +68,13 @@ struct UsageError : CarveError {
 struct OutputError : CarveError {
     using CarveError::CarveError;
     int exit_code() const override { return kExitOutput; }
+};
+
+// The G-code made fails a printability rule of `carve check --strict` (carve slice --strict):
+// nothing is written.
+struct RuleError : CarveError {
+    using CarveError::CarveError;
+    int exit_code() const override { return kExitRuleFailed; }
 };
 
 }  // namespace carve

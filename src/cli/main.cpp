@@ -129,6 +129,10 @@ int run(int argc, char** argv) {
                     "and overhang, material per type, retractions, travel, thin columns, skins "
                     "left open, the --strict verdict) into the stats' \"check\" and the "
                     "summary [off: it doubles the run time]");
+    slice->add_flag("--strict", run.strict,
+                    "Measure the G-code as --stats-check does and write nothing (exit status 5, "
+                    "the rules failed on stderr) when it fails a rule of carve check --strict; "
+                    "with --cut, every plate [off]");
     slice->add_option("--load", profile_path,
                       "PrusaSlicer .ini profile with printer and filament settings (options given "
                       "on the command line win) [none]");
@@ -471,6 +475,7 @@ int run(int argc, char** argv) {
                     std::cout << "plate " << p + 1 << ":\n"
                               << carve::summary_text(cut.plates[p], settings) << "G-code     "
                               << cut.gcode_paths[p] << "\n";
+                std::cout << "pieces     " << cut.picture_path << "\n";
                 if (!run.stats_path.empty()) std::cout << "stats      " << run.stats_path << "\n";
             }
             return 0;

@@ -43,6 +43,7 @@ struct CutFace {
     Vec3 outward;
     double area_mm2 = 0;
     bool pins = false;  // a pin stands out of it: the piece cannot lie on it
+    Vec3 point;         // a point of its plane
 };
 
 struct MeshPiece {

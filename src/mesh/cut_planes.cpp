@@ -52,7 +52,7 @@ std::vector<MeshPiece> cut_pieces(std::vector<MeshPiece> pieces, const CutPlane&
             if (q.mesh.triangles.empty() || std::abs(signed_volume(q.mesh)) < 1e-3) continue;
             const Vec3 outward = k == 0 ? plane.normal : negated(plane.normal);
             q.faces = piece.faces;
-            CutFace face{outward, area, false};
+            CutFace face{outward, area, false, plane.point};
             // The piece's earlier connectors go with the side of the plane they are on.
             for (const Connector& c : piece.connectors)
                 if ((to_z.apply({c.x, c.y, c.face_z}).z < d) == (k == 0)) q.connectors.push_back(c);

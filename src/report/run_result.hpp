@@ -26,6 +26,9 @@ struct OrientationTrial {
     double print_time_s = 0;
     double overhang_mm2 = 0;     // the model's own, summed over the layers
     double layer_height_mm = 0;  // the coarse layers it was carved at
+    // Stopped once its layers so far had extruded more than a lighter candidate's whole run
+    // (material_mm3 is then what they had: a lower bound of its own), so it cannot be chosen.
+    bool given_up = false;
 };
 struct OrientationChoice {
     std::vector<OrientationTrial> trials;

@@ -61,7 +61,7 @@ static nlohmann::json rotation_json(const OrientationCandidate& c) {
     return j;
 }
 
-static nlohmann::json orientation_json(const OrientationChoice& o) {
+nlohmann::json orientation_json(const OrientationChoice& o) {
     nlohmann::json j;
     j["chosen"] = rotation_json(o.trials[o.chosen].candidate);
     j["choice_time_s"] = o.choice_time_s;
@@ -75,10 +75,16 @@ static nlohmann::json orientation_json(const OrientationChoice& o) {
             // At the coarse layers the choice carves at, with supports: figures to compare
             // with one another, not with the run's own.
             c["layer_height_mm"] = t.layer_height_mm;
-            c["extruded_volume_mm3"] = t.material_mm3;
-            c["support_volume_mm3"] = t.support_mm3;
-            c["estimated_print_time_s"] = t.print_time_s;
-            c["external_overhang_mm2"] = t.overhang_mm2;
+            // Given up: heavier than one carved before it, its layers stopped part way.
+            c["given_up"] = t.given_up;
+            if (t.given_up) {
+                c["extruded_at_least_mm3"] = t.material_mm3;
+            } else {
+                c["extruded_volume_mm3"] = t.material_mm3;
+                c["support_volume_mm3"] = t.support_mm3;
+                c["estimated_print_time_s"] = t.print_time_s;
+                c["external_overhang_mm2"] = t.overhang_mm2;
+            }
         } else {
             c["refused"] = t.refused;
         }
@@ -194,6 +200,11 @@ static std::string orientation_text(const OrientationChoice& o) {
         if (!t.fits) {
             out += fmt::format("  {} {:<44} does not fit the printer\n", k == o.chosen ? '*' : ' ',
                                name);
+            continue;
+        }
+        if (t.given_up) {
+            out += fmt::format("  {} {:<44} >{:7.2f} cm3: heavier than a lighter one, given up\n",
+                               k == o.chosen ? '*' : ' ', name, t.material_mm3 / 1000);
             continue;
         }
         out +=

@@ -17,6 +17,8 @@ namespace carve {
 std::string stats_key(const SettingSpec& spec);
 nlohmann::json stats_json(const RunResult& run, const Settings& settings);
 std::string summary_text(const RunResult& run, const Settings& settings);
+// The stats' "orientation" block (--orient auto): the rotation chosen and every candidate.
+nlohmann::json orientation_json(const OrientationChoice& o);
 // The figures of `carve check` for people.
 std::string describe(const GcodeAnalysis& analysis);
 // `carve check --layers` without --json: one line per layer.

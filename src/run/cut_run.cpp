@@ -1,7 +1,8 @@
 // run_cut (run/pipeline.hpp, issue #48): the model cut across z (mesh/cut.hpp), each piece laid
-// on the bed (the bottom one as the model stood, the others on their lower cut face, turned a
-// quarter about z when that is what fits), the pieces packed in shelves onto as few plates as
-// hold them, and each plate sliced as one run whose objects are its pieces.
+// on the bed (the bottom one as the model stood, the others on their lower cut face, or with
+// --orient auto each in its own lightest orientation; turned a quarter about z when that is what
+// fits), the pieces packed in shelves onto as few plates as hold them, each plate sliced as one
+// run whose objects are its pieces, and a picture of the plates written beside the G-code.
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -9,11 +10,14 @@
 #include <filesystem>
 #include <limits>
 #include <nlohmann/json.hpp>
+#include <optional>
 
 #include "base/error.hpp"
 #include "base/stage_timer.hpp"
 #include "mesh/cut.hpp"
 #include "report/stats.hpp"
+#include "run/cut_picture.hpp"
+#include "run/orient.hpp"
 #include "run/pipeline.hpp"
 #include "run/run_setup.hpp"
 
@@ -34,11 +38,20 @@ struct Laid {
     double w = 0, d = 0, h = 0;
     size_t plate = 0;
     double x = 0, y = 0;  // where its corner goes on its plate
+    BedFrame frame;       // the piece's model frame to its plate's (for the picture)
 };
 
-Laid lay(const MeshPiece& piece, bool turn) {
+// A quarter turn about z, exactly: the one lay() makes.
+Rotation quarter_turn() {
+    Rotation r;
+    r.m = {{{0, -1, 0}, {1, 0, 0}, {0, 0, 1}}};
+    return r;
+}
+
+// `turned` is the piece's mesh after `turn_so_far` (from the model's frame).
+Laid lay(const Mesh& turned, const Rotation& turn_so_far, bool turn) {
     Laid l;
-    l.mesh = piece.mesh;
+    l.mesh = turned;
     if (turn)
         for (Vec3& v : l.mesh.vertices) v = {-v.y, v.x, v.z};
     const BBox3 b = bounding_box(l.mesh);
@@ -46,6 +59,8 @@ Laid lay(const MeshPiece& piece, bool turn) {
     l.w = b.max.x - b.min.x;
     l.d = b.max.y - b.min.y;
     l.h = b.max.z - b.min.z;
+    l.frame.turn = turn ? compose(quarter_turn(), turn_so_far) : turn_so_far;
+    l.frame.shift = {-b.min.x, -b.min.y, -b.min.z};
     return l;
 }
 
@@ -277,6 +292,64 @@ nlohmann::json cut_stats(const RunResult& loaded, const std::vector<RunResult>& 
     return j;
 }
 
+// "out.gcode" -> "out-pieces.svg": the picture of the plates, beside the G-code.
+std::string picture_path(const std::string& gcode_path) {
+    const std::filesystem::path p(gcode_path);
+    return (p.parent_path() / (p.stem().string() + "-pieces.svg")).string();
+}
+
+// Each piece on the bed, on its cut face (or, with --orient auto, in the orientation that prints
+// it lightest), turned a quarter when only that fits; one that fits neither way (or is too tall)
+// is refused by its number before anything is sliced.
+std::vector<Laid> lay_pieces(const std::vector<MeshPiece>& pieces, bool any_plane,
+                             const Settings& settings, const RunOptions& options,
+                             const RunResult& loaded, const BBox3& box,
+                             std::vector<std::optional<OrientationChoice>>& orientations) {
+    const double margin = 2 * plate_margin(settings);
+    const double bed_w = settings.bed_x - margin, bed_d = settings.bed_y - margin;
+    const double max_h = settings.max_print_height - settings.model_base_mm() - settings.z_offset;
+    // The orientations are tried on the bed a plate leaves a piece, not the whole bed.
+    Settings choosing = settings;
+    choosing.bed_x = bed_w;
+    choosing.bed_y = bed_d;
+    std::vector<Laid> laid;
+    for (size_t k = 0; k < pieces.size(); ++k) {
+        // A piece of planes in any direction lies on its largest cut face.
+        Mesh down = pieces[k].mesh;
+        Rotation turn;
+        if (any_plane) {
+            turn = lay_on_cut_face(pieces[k]);
+            rotate_mesh(down, turn);
+        }
+        std::optional<OrientationChoice> choice;
+        if (settings.orient == OrientMode::Auto) {
+            // The candidates start from the piece as it would lie: "as given" is its cut face.
+            RunResult r;
+            r.mesh = loaded.mesh;
+            r.mesh.items.clear();
+            r.mesh.bbox = bounding_box(down);
+            RunOptions o = options;
+            o.model_path =
+                fmt::format("{} (piece {} of {})", options.model_path, k + 1, pieces.size());
+            choose_orientation(choosing, o, down, r);
+            choice = std::move(r.orientation);
+            turn = compose(choice->trials[choice->chosen].candidate.rotation, turn);
+        }
+        orientations.push_back(std::move(choice));
+        Laid l = lay(down, turn, false);
+        if ((l.w > bed_w || l.d > bed_d) && l.d <= bed_w && l.w <= bed_d) l = lay(down, turn, true);
+        if (settings.bed_check && (l.w > bed_w || l.d > bed_d || l.h > max_h + 1e-6))
+            throw InputError(fmt::format(
+                "{}: piece {} of {} ({:.1f} to {:.1f} mm of the model's height) is {:.1f} x {:.1f} "
+                "x {:.1f} mm, larger than the {:.0f} x {:.0f} mm the bed holds with its skirt "
+                "or {:.0f} mm tall; cut elsewhere, try --cut auto, or scale the model down",
+                options.model_path, k + 1, pieces.size(), pieces[k].z_from - box.min.z,
+                pieces[k].z_to - box.min.z, l.w, l.d, l.h, bed_w, bed_d, max_h));
+        laid.push_back(std::move(l));
+    }
+    return laid;
+}
+
 }  // namespace
 
 CutRunResult run_cut(const Settings& settings, const RunOptions& options) {
@@ -290,7 +363,10 @@ CutRunResult run_cut(const Settings& settings, const RunOptions& options) {
                         "taken with it",
                         options.model_path));
     RunResult loaded;
-    RunMesh run_mesh = load_run_mesh(settings, options, loaded, note);
+    // With --orient auto each piece is oriented once cut, the model is cut as given.
+    Settings as_given = settings;
+    as_given.orient = OrientMode::Given;
+    RunMesh run_mesh = load_run_mesh(as_given, options, loaded, note);
     if (!loaded.mesh.closed())
         throw InputError(
             fmt::format("{}: --cut needs a closed surface; the mesh has {} open and "
@@ -307,34 +383,20 @@ CutRunResult run_cut(const Settings& settings, const RunOptions& options) {
     } catch (const InputError& e) {
         throw InputError(fmt::format("{}: {}", options.model_path, e.what()));
     }
-    // Each piece on the bed, turned a quarter when only that fits; one that fits neither way
-    // (or is too tall) is refused by its number before anything is sliced.
+    std::vector<std::optional<OrientationChoice>> orientations;
+    std::vector<Laid> laid =
+        lay_pieces(pieces, !plan.planes.empty(), settings, options, loaded, box, orientations);
     const double margin = 2 * plate_margin(settings);
-    const double bed_w = settings.bed_x - margin, bed_d = settings.bed_y - margin;
-    const double max_h = settings.max_print_height - settings.model_base_mm() - settings.z_offset;
-    std::vector<Laid> laid;
-    for (size_t k = 0; k < pieces.size(); ++k) {
-        // A piece of planes in any direction lies on its largest cut face.
-        MeshPiece down = pieces[k];
-        if (!plan.planes.empty()) rotate_mesh(down.mesh, lay_on_cut_face(down));
-        Laid l = lay(down, false);
-        if ((l.w > bed_w || l.d > bed_d) && l.d <= bed_w && l.w <= bed_d) l = lay(down, true);
-        if (settings.bed_check && (l.w > bed_w || l.d > bed_d || l.h > max_h + 1e-6))
-            throw InputError(fmt::format(
-                "{}: piece {} of {} ({:.1f} to {:.1f} mm of the model's height) is {:.1f} x {:.1f} "
-                "x {:.1f} mm, larger than the {:.0f} x {:.0f} mm the bed holds with its skirt "
-                "or {:.0f} mm tall; cut elsewhere, try --cut auto, or scale the model down",
-                options.model_path, k + 1, pieces.size(), pieces[k].z_from - box.min.z,
-                pieces[k].z_to - box.min.z, l.w, l.d, l.h, bed_w, bed_d, max_h));
-        laid.push_back(std::move(l));
-    }
-    const size_t plate_count = arrange(laid, bed_w, bed_d, settings.copy_gap);
+    const size_t plate_count =
+        arrange(laid, settings.bed_x - margin, settings.bed_y - margin, settings.copy_gap);
     const std::string stem = std::filesystem::path(options.model_path).stem().string();
     OutputGroup group;
     CutRunResult out;
     out.pieces = pieces.size();
+    std::vector<PlateDrawing> drawings;
     for (size_t p = 0; p < plate_count; ++p) {
         RunMesh plate;
+        std::vector<size_t> on_plate;
         for (size_t k = 0; k < laid.size(); ++k) {
             if (laid[k].plate != p) continue;
             const Laid& l = laid[k];
@@ -345,8 +407,24 @@ CutRunResult run_cut(const Settings& settings, const RunOptions& options) {
                 plate.mesh.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
             plate.copy_boxes.push_back({l.x, l.y, l.x + l.w, l.y + l.d});
             plate.object_names.push_back(fmt::format("{}_piece{}", stem, k + 1));
+            on_plate.push_back(k);
         }
         plate.loaded_box = bounding_box(plate.mesh);
+        // The picture draws the pieces where the G-code prints them: the plate centred on the bed.
+        const Placement place = centre_on_bed(settings, plate.loaded_box);
+        PlateDrawing drawing;
+        drawing.bed_x = settings.bed_x;
+        drawing.bed_y = settings.bed_y;
+        for (size_t k : on_plate) {
+            BedFrame frame = laid[k].frame;
+            frame.shift = {frame.shift.x + laid[k].x + place.offset_x,
+                           frame.shift.y + laid[k].y + place.offset_y, frame.shift.z};
+            drawing.pieces.push_back(draw_piece(
+                pieces[k],
+                plan.planes.empty() ? faces_across_z(pieces[k], k == 0, k + 1 == pieces.size())
+                                    : pieces[k].faces,
+                frame, plate.object_names[drawing.pieces.size()]));
+        }
         RunResult result;
         result.mesh = loaded.mesh;
         result.mesh.warnings.clear();
@@ -362,16 +440,28 @@ CutRunResult run_cut(const Settings& settings, const RunOptions& options) {
         plate_options.raster_dir = plate_path(options.raster_dir, p + 1);
         plate_options.stats_path.clear();
         plate_options.outputs_to = &group;
+        // Issue #48: every plate must pass the rules of carve check --strict, or none is written.
+        plate_options.strict = options.strict;
         out.plates.push_back(slice_run_mesh(settings, plate_options, std::move(plate),
                                             std::move(result), std::chrono::steady_clock::now(),
                                             thread_cpu_ns()));
         out.gcode_paths.push_back(plate_options.gcode_path);
+        drawing.gcode = std::filesystem::path(plate_options.gcode_path).filename().string();
+        drawings.push_back(std::move(drawing));
     }
+    out.picture_path = picture_path(options.gcode_path);
+    write_file_atomically(
+        out.picture_path,
+        cut_plates_svg(drawings, fmt::format("{}: {} pieces on {} plates, seen from above", stem,
+                                             pieces.size(), plate_count)),
+        &group);
     if (!options.stats_path.empty()) {
         nlohmann::json list = nlohmann::json::array();
-        for (size_t k = 0; k < pieces.size(); ++k)
+        for (size_t k = 0; k < pieces.size(); ++k) {
             list.push_back(piece_json(pieces[k], laid[k], k, box.min.z,
                                       fmt::format("{}_piece{}", stem, k + 1)));
+            if (orientations[k]) list.back()["orientation"] = orientation_json(*orientations[k]);
+        }
         std::vector<double> heights;
         for (double z : zs) heights.push_back(z - box.min.z);
         nlohmann::json planes = nlohmann::json::array();
@@ -382,12 +472,10 @@ CutRunResult run_cut(const Settings& settings, const RunOptions& options) {
                  {"normal", {c.normal.x, c.normal.y, c.normal.z}}});
         const double wall_s =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-        write_file_atomically(options.stats_path,
-                              cut_stats(loaded, out.plates, out.gcode_paths, settings,
-                                        std::move(list), heights, std::move(planes), wall_s)
-                                      .dump(2) +
-                                  "\n",
-                              &group);
+        nlohmann::json stats = cut_stats(loaded, out.plates, out.gcode_paths, settings,
+                                         std::move(list), heights, std::move(planes), wall_s);
+        stats["cut"]["picture"] = out.picture_path;
+        write_file_atomically(options.stats_path, stats.dump(2) + "\n", &group);
     }
     group.commit_all();
     return out;

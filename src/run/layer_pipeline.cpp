@@ -330,6 +330,16 @@ void LayerPipeline::write_layer(TokenPtr t) {
         if (note_) note_(w);
     if (outputs_.html) outputs_.html->add_layer(t->record, t->paths);
     add_layer_figures(*t, settings_, result_, sliced_volume_, overhangs_);
+    material_out_ += t->material;
+    if (options_.give_up_above_mm3 > 0) {
+        const std::vector<double>& below = options_.below_at_least_mm3;
+        const size_t i = size_t(layer.index);
+        if (material_out_ + (i < below.size() ? below[i] : 0) > options_.give_up_above_mm3)
+            throw RunGivenUp(
+                fmt::format("heavier than a candidate already carved, {} of {} "
+                            "layers still to go",
+                            i, layer_count_));
+    }
     unprinted_.add(layer.index, settings_.layer_top_mm(layer.index), t->paths.unprinted_mm2);
     ++done_;
     report_progress(options_, done_, layer_count_, start_, last_progress_);

@@ -150,6 +150,7 @@ class LayerPipeline {
     RibPlanner ribs_;
     int done_ = 0;
     double sliced_volume_ = 0;
+    double material_out_ = 0;  // of the layers through the sink (RunOptions::give_up_above_mm3)
 };
 
 }  // namespace carve

@@ -1,5 +1,6 @@
 // --orient auto: every candidate orientation carved at coarse layers, one after another, each on
-// the run's own parallel pipeline, its G-code made (the time estimate needs it) and thrown away.
+// the run's own parallel pipeline, its G-code made (the time estimate needs it) and thrown away;
+// a candidate whose layers outweigh the lightest one carved before it is given up part way.
 #include "run/orient.hpp"
 
 #include <fmt/format.h>
@@ -8,11 +9,15 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <numbers>
+#include <optional>
 #include <utility>
 #include <vector>
 
 #include "base/error.hpp"
 #include "base/stage_timer.hpp"
+#include "geometry/polygon.hpp"
+#include "slice/slicer.hpp"
 
 namespace carve {
 
@@ -76,8 +81,36 @@ Mesh turned(const Mesh& mesh, OrientationCandidate& c, const Settings& settings)
     return m;
 }
 
+// The least the layers under each layer extrude: their outer walls, a line round every contour
+// of their slices, and their covers, solid where a slice is not inside those `covers` above and
+// below it; each taken at 0.7 of what it measures (the wall runs half a line inside, a part too
+// thin to print has none, a cover's lines leave gaps at its edges).
+std::vector<double> walls_and_covers_below(const Mesh& mesh, const Settings& s) {
+    TopDownSlicer slicer(mesh, s.layer_height, s.model_layer_mm(0));
+    std::vector<Paths> slices(size_t(std::max(slicer.layer_count(), 0)));
+    while (std::optional<Slice> slice = slicer.next())
+        if (size_t(slice->index) < slices.size())
+            slices[size_t(slice->index)] = std::move(slice->region);
+    const int n = int(slices.size());
+    std::vector<double> below(slices.size(), 0.0);
+    for (int i = 0; i + 1 < n; ++i) {
+        const double w = s.width_mm(), h = s.model_layer_mm(i);
+        const double wall = to_mm(Coord(length(slices[size_t(i)], true))) * w;
+        Paths core = i >= s.covers && i + s.covers < n ? slices[size_t(i)] : Paths{};
+        for (int j = i - s.covers; j <= i + s.covers && !core.empty(); ++j)
+            if (j != i) core = intersect(core, slices[size_t(j)]);
+        const double cover = area_mm2(slices[size_t(i)]) - area_mm2(core);
+        below[size_t(i) + 1] = below[size_t(i)] + 0.7 * (wall + std::max(0.0, cover - wall)) * h;
+    }
+    return below;
+}
+
+// The candidate carved at the coarse layers; it stops, given up, once its layers with the least
+// of those still to come (walls_and_covers_below) extrude more than `give_up_above_mm3` (0:
+// never). `layer_sum_mm3` is set to what its layers extruded in all.
 OrientationTrial try_candidate(const Mesh& mesh, OrientationCandidate c, const Settings& settings,
-                               const RunOptions& options, const RunResult& loaded) {
+                               const RunOptions& options, const RunResult& loaded,
+                               double give_up_above_mm3, double& layer_sum_mm3) {
     OrientationTrial t;
     Mesh m = turned(mesh, c, settings);
     t.candidate = c;
@@ -92,9 +125,13 @@ OrientationTrial try_candidate(const Mesh& mesh, OrientationCandidate c, const S
     RunMesh run{std::move(m), box, {}, {}};
     try {
         // The run's own limits refuse what does not fit the bed or the printer's height.
-        const RunResult r =
-            slice_run_mesh(s, candidate_options(options), std::move(run), std::move(start),
-                           std::chrono::steady_clock::now(), thread_cpu_ns());
+        RunOptions o = candidate_options(options);
+        o.give_up_above_mm3 = give_up_above_mm3;
+        if (give_up_above_mm3 > 0) o.below_at_least_mm3 = walls_and_covers_below(run.mesh, s);
+        const RunResult r = slice_run_mesh(s, o, std::move(run), std::move(start),
+                                           std::chrono::steady_clock::now(), thread_cpu_ns());
+        layer_sum_mm3 = 0;
+        for (double v : r.layer_material_mm3) layer_sum_mm3 += v;
         t.material_mm3 = r.print.extruded_volume_mm3;
         t.support_mm3 = r.feature_mm3[size_t(Feature::Support)] +
                         r.feature_mm3[size_t(Feature::SupportInterface)];
@@ -103,8 +140,32 @@ OrientationTrial try_candidate(const Mesh& mesh, OrientationCandidate c, const S
     } catch (const InputError& e) {
         t.fits = false;
         t.refused = e.what();
+    } catch (const RunGivenUp&) {
+        t.given_up = true;
+        t.material_mm3 = give_up_above_mm3;
     }
     return t;
+}
+
+// How much the candidate's overhangs would want held up: the area of the faces that look down
+// more steeply than the printer bridges, each times its height over the bed. Only an order to
+// carve the candidates in (the lightest likely first, so that the others are given up early).
+double hanging_estimate(const Mesh& mesh, OrientationCandidate c, const Settings& settings) {
+    const Mesh m = turned(mesh, c, settings);
+    const double bottom = bounding_box(m).min.z;
+    const double angle =
+        settings.support_angle > 0 ? settings.support_angle : settings.max_overhang;
+    const double limit = -std::sin(angle * std::numbers::pi / 180);
+    double sum = 0;
+    for (const auto& t : m.triangles) {
+        const Vec3 &a = m.vertices[t[0]], &b = m.vertices[t[1]], &d = m.vertices[t[2]];
+        const Vec3 u{b.x - a.x, b.y - a.y, b.z - a.z}, v{d.x - a.x, d.y - a.y, d.z - a.z};
+        const double nz = u.x * v.y - u.y * v.x;  // twice the area seen from below, signed
+        const double len = std::hypot(u.y * v.z - u.z * v.y, u.z * v.x - u.x * v.z, nz);
+        if (len <= 0 || nz / len > limit) continue;
+        sum += -nz / 2 * ((a.z + b.z + d.z) / 3 - bottom);
+    }
+    return sum;
 }
 
 }  // namespace
@@ -120,17 +181,39 @@ void choose_orientation(const Settings& settings, const RunOptions& options, Mes
     constexpr int kHullFaces = 6;
     OrientationChoice choice;
     const std::vector<OrientationCandidate> candidates = orientation_candidates(mesh, kHullFaces);
-    for (size_t k = 0; k < candidates.size(); ++k) {
+    // Carved in the order of what they would hang, the least first; each next one is given up
+    // once its layers (summed top down), with the least the layers still to come extrude,
+    // outweigh the lightest so far by kGiveUp: it cannot be the lightest, nor within the half
+    // percent where the print time decides.
+    constexpr double kGiveUp = 1.01;
+    std::vector<double> estimate;
+    for (const OrientationCandidate& c : candidates)
+        estimate.push_back(hanging_estimate(mesh, c, settings));
+    std::vector<size_t> order(candidates.size());
+    for (size_t k = 0; k < order.size(); ++k) order[k] = k;
+    std::stable_sort(order.begin(), order.end(),
+                     [&](size_t a, size_t b) { return estimate[a] < estimate[b]; });
+    choice.trials.resize(candidates.size());
+    double lightest = 0;  // the least any candidate's layers extruded in all, 0 before the first
+    for (size_t n = 0; n < order.size(); ++n) {
+        const size_t k = order[n];
         // The choice takes a few slices' time before the run's own progress starts.
         if (options.progress)
-            std::fprintf(stderr, "carve: orientation %zu/%zu: %s\n", k + 1, candidates.size(),
+            std::fprintf(stderr, "carve: orientation %zu/%zu: %s\n", n + 1, candidates.size(),
                          describe(candidates[k]).c_str());
-        choice.trials.push_back(try_candidate(mesh, candidates[k], settings, options, result));
+        double layers_mm3 = 0;
+        choice.trials[k] = try_candidate(mesh, candidates[k], settings, options, result,
+                                         lightest * kGiveUp, layers_mm3);
+        const OrientationTrial& t = choice.trials[k];
+        if (t.fits && !t.given_up && (lightest == 0 || layers_mm3 < lightest))
+            lightest = layers_mm3;
     }
+    // In the candidates' own order, so that a tie keeps the earlier.
     std::optional<size_t> best;
-    for (size_t k = 0; k < choice.trials.size(); ++k)
-        if (choice.trials[k].fits && (!best || better(choice.trials[k], choice.trials[*best])))
-            best = k;
+    for (size_t k = 0; k < choice.trials.size(); ++k) {
+        const OrientationTrial& t = choice.trials[k];
+        if (t.fits && !t.given_up && (!best || better(t, choice.trials[*best]))) best = k;
+    }
     if (!best)
         throw InputError(
             fmt::format("{}: --orient auto: no orientation fits the printer; as "

@@ -137,6 +137,17 @@ void check_written_gcode(const GcodeWriter& writer, const Mesh& mesh, const Sett
         std::chrono::duration<double>(std::chrono::steady_clock::now() - check_start).count();
 }
 
+// --strict: the rules carve check --strict applies, before anything is renamed into place.
+void refuse_failed_rules(const GcodeAnalysis& check, const RunOptions& options) {
+    const std::vector<std::string> failed = failed_rules(check);
+    if (failed.empty()) return;
+    std::string rules;
+    for (const std::string& f : failed) rules += (rules.empty() ? "" : "; ") + f;
+    throw RuleError(fmt::format("{}: fails carve check --strict ({}); nothing written",
+                                std::filesystem::path(options.gcode_path).filename().string(),
+                                rules));
+}
+
 // CARVE_PROFILE's tables on stderr: the stages, the pipeline's filters, the G-code's chunks
 // and the wall time of each phase.
 void print_profile(const LayerPipeline& layers, double load_s, double finish_s,
@@ -203,10 +214,11 @@ RunResult slice_run_mesh(const Settings& settings, const RunOptions& options, Ru
     const GcodeWriter::ChunkCount chunks = outputs.writer.chunk_count();
     double finish_s = std::min(cpu_s_since(finish_start_ns), chunks.serial_cpu_s);
     result.processing_time_s = clock.elapsed_s();
-    if (options.check_output) {
+    if (options.check_output || options.strict) {
         check_written_gcode(outputs.writer, run_mesh.mesh, settings, place, result);
         clock.phase_ends("check");
     }
+    if (options.strict) refuse_failed_rules(*result.check, options);
     const int64_t writers_start_ns = thread_cpu_ns();  // the resin zip and the HTML: serial too
     outputs.finish(result, settings, options);
     clock.phase_ends("outputs");

@@ -4,6 +4,7 @@
 
 #include <functional>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -31,26 +32,42 @@ struct RunOptions {
     // cat 1.7 s -> 3.4 s, skull 3.8 s -> 8.8 s; wall on a loaded 2-core machine 3.0 -> 7.6 s
     // and 9.3 -> 17.6 s), far above the 5 % that would make it worth doing every time.
     bool check_output = false;
+    // --strict: the written G-code measured as check_output does, and the run refused (RuleError,
+    // nothing written) when it fails a rule of `carve check --strict`; each plate of a --cut.
+    bool strict = false;
     // Called on a worker thread for each layer, in the parallel filter after its toolpaths
     // are planned. Tests throw from it to see an error in a parallel stage reach the caller.
     std::function<void(int layer)> in_parallel_stage;
     // Make every output under its temporary name and remove it at the end (the candidates of
     // --orient auto: their figures are wanted, not their G-code).
     bool discard_outputs = false;
+    // A candidate of --orient auto stops (throws RunGivenUp) as soon as the layers done so far,
+    // with the least the layers below them can extrude (below_at_least_mm3[i]: layers 0 .. i-1,
+    // when given), extrude more than this, mm^3: a lighter candidate is known already. 0 = never.
+    double give_up_above_mm3 = 0;
+    std::vector<double> below_at_least_mm3;
     // When set, the run's finished outputs are handed to this group instead of renamed into
     // place: the plates of a --cut are all renamed once the last is done.
     OutputGroup* outputs_to = nullptr;
+};
+
+// What a run stopped by RunOptions::give_up_above_mm3 throws.
+struct RunGivenUp : std::runtime_error {
+    using std::runtime_error::runtime_error;
 };
 
 RunResult run_slice(const Settings& settings, const RunOptions& options);
 
 // --cut (settings.cutting()): the model cut into pieces, laid on the bed, arranged onto plates
 // and each plate sliced as run_slice does, one G-code each (-o with -plateN before its
-// extension); the stats JSON lists the plates and the pieces. A piece that cannot fit is
-// refused before anything is sliced, and nothing is written unless every plate is done.
+// extension), and an SVG of the plates' pieces, cut faces and connectors (-o's name with
+// -pieces.svg for its extension); the stats JSON lists the plates and the pieces. A piece that
+// cannot fit is refused before anything is sliced, and nothing is written unless every plate is
+// done.
 struct CutRunResult {
     std::vector<RunResult> plates;
     std::vector<std::string> gcode_paths;  // one per plate
+    std::string picture_path;              // the plates seen from above (SVG), beside -o
     size_t pieces = 0;
 };
 CutRunResult run_cut(const Settings& settings, const RunOptions& options);
