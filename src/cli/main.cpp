@@ -129,6 +129,12 @@ int run(int argc, char** argv) {
                     "and overhang, material per type, retractions, travel, thin columns, skins "
                     "left open, the --strict verdict) into the stats' \"check\" and the "
                     "summary [off: it doubles the run time]");
+    slice->add_flag("--stats-strength", run.strength_output,
+                    "Also measure the written G-code's strength as carve check --strength does "
+                    "(grams, weakest section and bond with their z, compression and shear "
+                    "stiffness; 2 mm voxels, linear law) into the stats' \"strength\", the "
+                    "summary and the HTML report, which marks the weakest layers [off: it takes "
+                    "several times as long as the slicing]");
     slice->add_option("--load", profile_path,
                       "PrusaSlicer .ini profile with printer and filament settings (options given "
                       "on the command line win) [none]");

@@ -31,6 +31,10 @@ struct RunOptions {
     // cat 1.7 s -> 3.4 s, skull 3.8 s -> 8.8 s; wall on a loaded 2-core machine 3.0 -> 7.6 s
     // and 9.3 -> 17.6 s), far above the 5 % that would make it worth doing every time.
     bool check_output = false;
+    // Measure the written G-code's strength as `carve check --strength` does (2 mm voxels,
+    // linear law, the run's filament density), read together with check_output's. Off by
+    // default for the same reason: see docs/check.md for what it costs.
+    bool strength_output = false;
     // Called on a worker thread for each layer, in the parallel filter after its toolpaths
     // are planned. Tests throw from it to see an error in a parallel stage reach the caller.
     std::function<void(int layer)> in_parallel_stage;

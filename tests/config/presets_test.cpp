@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -95,6 +96,44 @@ TEST(Strength, StepsAreMonotoneInMaterial) {
         EXPECT_GT(v, last) << "--strong " << step;
         last = v;
     }
+}
+
+// --stats-strength: the stats hold what carve check --strength says of the same G-code, and the
+// HTML report shows it and marks the weakest layer in the material plot.
+TEST(Strength, StatsAndReportHoldTheStrengthOfTheWrittenGcode) {
+    const std::string stem = (test::scratch() / "figures").string();
+    const test::CarveRun r = test::run_carve(
+        "slice " + test::repo_model("fandisk.stl") + " --scale 0.25 -q --strong 0.5 -o " + stem +
+        ".gcode --stats " + stem + ".json --report " + stem + ".html --stats-strength");
+    ASSERT_EQ(r.status, 0) << r.err;
+    const nlohmann::json stats = nlohmann::json::parse(test::read(stem + ".json"), nullptr, false);
+    ASSERT_TRUE(stats.contains("strength"));
+    const nlohmann::json& s = stats["strength"];
+    EXPECT_FALSE(s.contains("layers"));  // carve check --layers' table, not the stats'
+    EXPECT_GT(s["time_s"].get<double>(), 0);
+    const test::CarveRun c = test::run_carve("check " + stem + ".gcode --strength --json");
+    ASSERT_EQ(c.status, 0) << c.err;
+    const nlohmann::json check = nlohmann::json::parse(c.out, nullptr, false)["strength"];
+    for (const char* key :
+         {"grams", "weakest_section_mm4", "weakest_section_z_mm", "weakest_bond_mm2",
+          "weakest_bond_z_mm", "compression_n_per_mm", "shear_n_per_mm"}) {
+        ASSERT_TRUE(s[key].is_number()) << key;
+        EXPECT_NEAR(s[key].get<double>(), check[key].get<double>(),
+                    1e-9 * std::abs(check[key].get<double>()))
+            << key;
+    }
+    EXPECT_GT(s["compression_n_per_mm"].get<double>(), 0);
+    EXPECT_EQ(s["finite_elements"]["law"], "linear");
+    // The grams follow the run's filament, as the stats' own weight does.
+    EXPECT_NEAR(s["grams"].get<double>(), stats["filament_weight_g"].get<double>(),
+                0.05 * stats["filament_weight_g"].get<double>());
+    const std::string page = test::read(stem + ".html");
+    EXPECT_NE(page.find("Stiffness (compression)"), std::string::npos);
+    EXPECT_NE(page.find("class=\"weak\""), std::string::npos);
+    EXPECT_NE(page.find(">weakest section</text>"), std::string::npos);
+    // Without the option neither has it.
+    const nlohmann::json plain = slice_stats("--strong 0.5");
+    EXPECT_FALSE(plain.contains("strength"));
 }
 
 }  // namespace
