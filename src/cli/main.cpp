@@ -133,6 +133,12 @@ int run(int argc, char** argv) {
                     "Measure the G-code as --stats-check does and write nothing (exit status 5, "
                     "the rules failed on stderr) when it fails a rule of carve check --strict; "
                     "with --cut, every plate [off]");
+    slice->add_flag("--stats-strength", run.strength_output,
+                    "Also measure the written G-code's strength as carve check --strength does "
+                    "(grams, weakest section and bond with their z, compression and shear "
+                    "stiffness; 2 mm voxels, linear law) into the stats' \"strength\", the "
+                    "summary and the HTML report, which marks the weakest layers [off: it takes "
+                    "several times as long as the slicing]");
     slice->add_option("--load", profile_path,
                       "PrusaSlicer .ini profile with printer and filament settings (options given "
                       "on the command line win) [none]");
@@ -420,12 +426,23 @@ int run(int argc, char** argv) {
         for (const auto& [spec, text] : given)
             spec->set(settings, text, std::string("--") + spec->option);
         {
-            // --strong moves shells and the scheme, but not those typed on the command line.
+            // --strong moves shells and ties, but not those typed on the command line.
             const auto typed = [&given](std::string_view option) {
                 return std::any_of(given.begin(), given.end(),
                                    [&](const auto& g) { return option == g.first->option; });
             };
-            carve::apply_strength(settings, typed("shells"), typed("carving"));
+            // The split between ties and shells follows the model's slenderness, which no
+            // scale changes; it is the model's as loaded (before --orient auto turns it).
+            double slender = 0;
+            if (settings.strength > 0) {
+                carve::MeshReport report;
+                carve::LoadOptions load_options;
+                load_options.refuse_soup = true;
+                carve::load_mesh(run.model_path, report, load_options);
+                slender =
+                    carve::slenderness(report.bbox.max.z - report.bbox.min.z, report.volume_mm3);
+            }
+            carve::apply_strength(settings, slender, typed("shells"), typed("ties"));
         }
         // Only once every option is in: --carving may come after an option of its scheme.
         for (const auto& given_option : given) carve::check_scheme(*given_option.first, settings);

@@ -26,19 +26,26 @@ void apply_print_preset(const std::string& name, Settings& settings) {
             fmt::format("unknown preset '{}'; choose one of: {}", name, print_preset_names()));
 }
 
-StrengthStep strength_step(double strength) {
-    if (!(strength > 0)) return {};
-    // Every step carves with the report's scheme: its nested walls are the first, cheapest
-    // gain (fandisk: +1.3 g for +11 % compression), the shells the rest.
-    return {static_cast<int>(std::lround(std::min(strength, 1.0) * kStrongShells)),
-            CarvingScheme::Report};
+double slenderness(double height_mm, double volume_mm3) {
+    if (!(height_mm > 0) || !(volume_mm3 > 0)) return 0;
+    return height_mm / std::sqrt(volume_mm3 / height_mm);
 }
 
-void apply_strength(Settings& settings, bool shells_given, bool carving_given) {
+StrengthStep strength_step(double strength, double slenderness) {
+    if (!(strength > 0)) return {};
+    const double s = std::min(strength, 1.0);
+    // Measured (bench/results/strength.md): under the top's sideways push a squat part shears,
+    // and webs across its interior carry that per gram better than shells; a slender one
+    // bends, and the shells, far from its middle, carry it; in compression both do alike.
+    if (slenderness >= kSlender) return {static_cast<int>(std::lround(s * kSlenderShells)), 0.0};
+    return {static_cast<int>(std::lround(s * kSquatShells)), kStrongTieSpacingMm / s};
+}
+
+void apply_strength(Settings& settings, double slenderness, bool shells_given, bool ties_given) {
     if (!(settings.strength > 0)) return;
-    const StrengthStep step = strength_step(settings.strength);
+    const StrengthStep step = strength_step(settings.strength, slenderness);
     if (!shells_given) settings.shells = step.shells;
-    if (!carving_given) settings.carving = step.carving;
+    if (!ties_given) settings.tie_spacing = step.tie_spacing_mm;
 }
 
 }  // namespace carve

@@ -1,7 +1,8 @@
 // Print presets (--preset) and the strength scale between carve's default and the strong
 // preset (--strong, issue 49). The strong preset is what measurement picked (bench/strength.py,
-// bench/results/strength.md): of the existing options, a thicker outer wall and the report's
-// nested single-filament cavity walls stiffen a hollow part most for its weight.
+// bench/results/strength.md): walls tied across the cavity (--ties) and two shells on a squat
+// part, where the top's sideways load shears the interior; four shells and no ties on a
+// slender one, where it bends the part and material far from the middle counts most.
 #pragma once
 
 #include <string>
@@ -15,18 +16,30 @@ std::string print_preset_names();  // "2c0s, 3c1s, strong"
 // unknown name.
 void apply_print_preset(const std::string& name, Settings& settings);
 
-// What --strong S resolves to: 0 is carve's default (whatever shells and scheme the settings
-// already hold); above it the report's carving and round(4 S) shells, so 1 = --preset strong.
-// Each step holds all the material of the one below, so the steps are monotone in grams.
-inline constexpr int kStrongShells = 4;
+// A model's slenderness: its height over the side of its mean section, h / sqrt(V / h), the
+// same at every scale. fandisk 2.7, cat 4.6, elephant 4.7, man 8.9.
+double slenderness(double height_mm, double volume_mm3);
+// At or above it a part counts as slender (fitted between fandisk and man, the two models
+// bench/strength.py measures; see README, Stronger prints).
+inline constexpr double kSlender = 5.0;
+// --strong 1: on a squat part ties this far apart and kSquatShells shells, on a slender one
+// kSlenderShells shells.
+inline constexpr double kStrongTieSpacingMm = 5.5;
+inline constexpr int kSquatShells = 2;
+inline constexpr int kSlenderShells = 4;
+
+// What --strong S resolves to: 0 is carve's default (whatever the settings already hold);
+// above it round(S x shells) shells and, on a squat part, ties at kStrongTieSpacingMm / S (so
+// the ties' material grows in proportion to S). S is a ratio of the strong preset's interior:
+// each step holds all the material of the one below, so the steps are monotone in grams.
 struct StrengthStep {
     int shells = 0;
-    CarvingScheme carving = CarvingScheme::Whole;
+    double tie_spacing_mm = 0;  // 0: no ties
 };
-StrengthStep strength_step(double strength);
+StrengthStep strength_step(double strength, double slenderness);
 
-// Applies settings.strength to shells and carving, except to those the command line gave
-// (they win): called once every option is in. Nothing changes at strength 0.
-void apply_strength(Settings& settings, bool shells_given, bool carving_given);
+// Applies settings.strength to shells and ties, except to those the command line gave (they
+// win): called once every option is in. Nothing changes at strength 0.
+void apply_strength(Settings& settings, double slenderness, bool shells_given, bool ties_given);
 
 }  // namespace carve

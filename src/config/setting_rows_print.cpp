@@ -44,9 +44,14 @@ std::vector<SettingSpec> print_rows() {
         {"shells", "", "lines", 0, 20, &S::shells,
          "Extra perimeters inside the outer wall, lines [0]"},
         {"strong", "", "ratio", 0.0, 1.0, &S::strength,
-         "How strong to print, a ratio from carve's default (0) to --preset strong (1); above "
-         "0 the report's carving and round(4 x S) shells; --shells and --carving given win "
-         "[0]"},
+         "How strong to print, a ratio of --preset strong's interior, from carve's default (0) "
+         "to it (1): on a squat model round(2 x S) shells and --ties 5.5 / S, on a slender "
+         "one (height over the side of its mean section 5 or more) round(4 x S) shells; "
+         "--shells and --ties given win [0]"},
+        {"ties", "", "mm", 0.0, 100.0, &S::tie_spacing,
+         "Walls tied across the cavities: a square grid of single-filament walls at +-45 "
+         "degrees this far apart, stacked layer on layer from wall to wall, mm; --strong sets "
+         "it [0 = none]"},
         {"extrusion-width", "", "mm", 0.0, 3.0, &S::extrusion_width,
          "Line width w of every wall and cover, mm; a profile's perimeter_extrusion_width or "
          "extrusion_width sets it [0 = the nozzle diameter]"},

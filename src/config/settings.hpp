@@ -67,6 +67,10 @@ struct Settings {
     // 0 to 1, from carve's default to --preset strong: more shells and the report's nested
     // walls (config/presets.hpp), applied once every option is in.
     double strength = 0;
+    // Ties (issue 49): a square grid of single-filament walls at +-45 degrees, this far apart
+    // (mm), across the carvable interior on every layer, at the same place on each so that
+    // they stack into vertical webs from wall to wall. 0 = none.
+    double tie_spacing = 0;
     WallMode walls = WallMode::Single;
     double restriction_factor = 1.4;  // t = 1.4 s
     double opening_factor = 0.9;      // s' = 0.9 s

@@ -61,6 +61,7 @@ dl.figs dt{color:var(--muted)}dl.figs dd{margin:0;text-align:right;font-variant-
 .plot-svg .carve-line{fill:none;stroke:#1c7ed6;stroke-width:1.6;stroke-linejoin:round}
 .plot-svg .conv{fill:none;stroke:#6b7280;stroke-width:1.4;stroke-dasharray:5 3}
 .plot-svg .cursor{stroke:#111827;stroke-width:1.2;stroke-dasharray:2 2}
+.plot-svg line.weak{stroke:#e03131;stroke-width:1.4}.plot-svg text.weak{fill:#e03131}
 .details h2{font-size:16px;margin:0 0 8px}
 .details .cols{display:grid;grid-template-columns:1.3fr 1fr;gap:28px}
 .formula{font-family:ui-monospace,SFMono-Regular,Menlo,Consolas,monospace;background:#f6f7f9;border-radius:8px;padding:8px 10px;font-size:12.5px;overflow-x:auto}

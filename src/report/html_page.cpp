@@ -52,6 +52,30 @@ std::string setting_text(const SettingSpec& spec, const Settings& st) {
            (it != shown.end() ? std::string(it->second) : std::string(" ") + spec.unit);
 }
 
+// The report's layer nearest to height z (layers bottom up, not empty).
+size_t nearest_layer(const std::vector<ReportLayer>& layers, double z) {
+    size_t best = 0;
+    for (size_t i = 1; i < layers.size(); ++i)
+        if (std::fabs(layers[i].z - z) < std::fabs(layers[best].z - z)) best = i;
+    return best;
+}
+
+// --stats-strength's card: the stiffness and the weakest layer, which the plot marks.
+void strength_card(std::ostream& out, const StrengthFigures& s) {
+    out << "<div class=\"card\"><div class=\"label\">Stiffness (compression)</div>"
+        << "<div class=\"big\">" << sig3(s.stiffness.compression_n_per_mm)
+        << "<span class=\"unit\">N/mm</span></div><div class=\"small\">shear "
+        << sig3(s.stiffness.shear_n_per_mm) << " N/mm (" << s.law << " law, "
+        << plain_number(s.voxel_mm)
+        << " mm voxels)<br><b style=\"color:#e03131\">weakest layer</b> z "
+        << fixed(s.weakest_section_z_mm, 2) << " mm: section " << sig3(s.weakest_section_mm4)
+        << " mm⁴";
+    if (s.has_weakest_bond)
+        out << "<br>weakest bond " << sig3(s.weakest_bond_mm2) << " mm² at z "
+            << fixed(s.weakest_bond_z_mm, 2) << " mm";
+    out << "</div></div>\n";
+}
+
 }  // namespace
 
 // What the page shows before it is written: totals, the layer it opens on, the drawing stride.
@@ -219,6 +243,7 @@ void HtmlReportWriter::Impl::write_cards(std::ostream& out, const PageFigures& f
         << "<span class=\"unit\">cm³</span></div><div class=\"small\">" << run.mesh.triangles
         << " triangles &middot; " << f.layer_count << " layers<br>" << fixed(size.x, 1) << " × "
         << fixed(size.y, 1) << " × " << fixed(size.z, 1) << " mm</div></div>\n";
+    if (run.strength) strength_card(out, *run.strength);
     out << "</section>\n";
 }
 
@@ -292,14 +317,22 @@ std::array<double, 4> HtmlReportWriter::Impl::write_viewer(std::ostream& out,
     return vb;
 }
 
-PlotFrame HtmlReportWriter::Impl::write_plots(std::ostream& out) const {
+PlotFrame HtmlReportWriter::Impl::write_plots(std::ostream& out, const RunResult& run) const {
     // Plots.
     PlotFrame frame;
     frame.n = int(std::max<size_t>(layers.size(), 1));
+    std::vector<PlotMark> marks;
+    if (run.strength && !layers.empty()) {
+        const StrengthFigures& s = *run.strength;
+        marks.push_back({nearest_layer(layers, s.weakest_section_z_mm), "weakest section"});
+        if (s.has_weakest_bond)
+            marks.push_back({nearest_layer(layers, s.weakest_bond_z_mm), "weakest bond"});
+    }
     out << "<section class=\"panel plots\">\n<div><h3>Material per layer</h3><p class=\"cap\">"
         << chip("#1c7ed6", "carve") << chip("#6b7280", "ordinary 15 % infill (estimate)")
         << "</p><p class=\"cap\">volume extruded in each layer; click a plot to show that layer"
-        << "</p>" << material_plot(layers, frame) << "</div>\n";
+        << (marks.empty() ? "" : "; red: the weakest layers (--stats-strength)") << "</p>"
+        << material_plot(layers, frame, marks) << "</div>\n";
     out << "<div><h3>What each slice is made of</h3><p class=\"cap\">"
         << chip(kCoverColor, "covers");
     for (int j = 1; j <= max_cavities; ++j)
@@ -475,7 +508,7 @@ void HtmlReportWriter::finish(const RunResult& run, const nlohmann::json& stats)
     m.write_head(out, f);
     m.write_cards(out, f, run);
     const std::array<double, 4> vb = m.write_viewer(out, f);
-    const PlotFrame frame = m.write_plots(out);
+    const PlotFrame frame = m.write_plots(out, run);
     m.write_side(out);
     m.write_details(out, f, run, stats);
     m.write_data(out, f, vb, frame);

@@ -111,7 +111,8 @@ std::string plot_cursor(const PlotFrame& f) {
 
 }  // namespace
 
-std::string material_plot(const std::vector<ReportLayer>& layers, const PlotFrame& f) {
+std::string material_plot(const std::vector<ReportLayer>& layers, const PlotFrame& f,
+                          const std::vector<PlotMark>& marks) {
     double top = 0;
     for (const ReportLayer& l : layers) top = std::max({top, l.material_mm3, l.conventional_mm3});
     const double step = nice_step(top > 0 ? top : 1, 4);
@@ -133,6 +134,14 @@ std::string material_plot(const std::vector<ReportLayer>& layers, const PlotFram
     s += fmt::format(R"(<path class="conv" d="{}"/>)", conv_line);
     s += fmt::format(R"(<path class="carve-area" d="{}"/><path class="carve-line" d="{}"/>)", area,
                      carve_line);
+    // Labels stacked down from the top so that two marks on near layers stay readable.
+    for (size_t k = 0; k < marks.size(); ++k) {
+        const double x = f.x(double(marks[k].layer));
+        s += fmt::format(
+            R"(<line class="weak" x1="{0:.1f}" y1="{1:.1f}" x2="{0:.1f}" y2="{2:.1f}"/>)"
+            R"(<text class="weak" x="{3:.1f}" y="{4:.1f}">{5}</text>)",
+            x, f.top, f.top + f.inner_h(), x + 4, f.top + 11 + 13 * double(k), marks[k].label);
+    }
     s += plot_cursor(f);
     s += "</svg>";
     return s;

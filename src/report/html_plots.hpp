@@ -28,8 +28,15 @@ struct PlotFrame {
     double x(double pos) const { return left + (pos + 0.5) * inner_w() / n; }
 };
 
+// A layer marked on a plot (the weakest one of --stats-strength): its position, bottom up.
+struct PlotMark {
+    size_t layer = 0;
+    std::string label;
+};
+
 // Material per layer against the 15 % infill estimate; layers bottom up.
-std::string material_plot(const std::vector<ReportLayer>& layers, const PlotFrame& f);
+std::string material_plot(const std::vector<ReportLayer>& layers, const PlotFrame& f,
+                          const std::vector<PlotMark>& marks = {});
 // Stacked shares of each slice's area: covers, C^1..C^k, the remainder V^k.
 std::string share_plot(const std::vector<ReportLayer>& layers, int cavities, const PlotFrame& f);
 

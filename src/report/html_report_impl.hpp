@@ -49,7 +49,7 @@ struct HtmlReportWriter::Impl {
     void write_head(std::ostream& out, const PageFigures& f) const;  // <head>, style sheet
     void write_cards(std::ostream& out, const PageFigures& f, const RunResult& run) const;
     std::array<double, 4> write_viewer(std::ostream& out, const PageFigures& f) const;  // viewBox
-    html::PlotFrame write_plots(std::ostream& out) const;
+    html::PlotFrame write_plots(std::ostream& out, const RunResult& run) const;
     void write_side(std::ostream& out) const;  // the tallest internal support, from the side
     void write_details(std::ostream& out, const PageFigures& f, const RunResult& run,
                        const nlohmann::json& stats) const;

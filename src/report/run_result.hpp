@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "check/gcode_analysis.hpp"
+#include "check/strength.hpp"
 #include "gcode/gcode.hpp"
 #include "mesh/mesh.hpp"
 #include "mesh/orient.hpp"
@@ -84,6 +85,10 @@ struct RunResult {
     std::optional<OrientationChoice> orientation;  // with --orient auto
     std::optional<GcodeAnalysis> check;            // with RunOptions::check_output
     double check_time_s = 0;                       // its cost, not in processing_time_s
+    std::optional<StrengthFigures> strength;       // with RunOptions::strength_output
+    // Its cost, not in processing_time_s: the finite elements, and the reading of the G-code
+    // unless the check read it too (then in check_time_s).
+    double strength_time_s = 0;
     double material_percent() const {
         return mesh.volume_mm3 > 0 ? 100.0 * print.extruded_volume_mm3 / mesh.volume_mm3 : 0;
     }

@@ -166,6 +166,13 @@ nlohmann::json stats_json(const RunResult& run, const Settings& settings) {
         j["check"] = to_json(*run.check);
         j["check"]["time_s"] = run.check_time_s;
     }
+    if (run.strength) {
+        // What `carve check --strength --json` says of it (--stats-strength), but the table of
+        // every layer, which is carve check --layers' to give.
+        j["strength"] = to_json(*run.strength);
+        j["strength"].erase("layers");
+        j["strength"]["time_s"] = run.strength_time_s;
+    }
     nlohmann::json s;
     for (const SettingSpec& spec : setting_table())
         std::visit([&](auto v) { s[stats_key(spec)] = v; }, spec.value(settings));
@@ -241,6 +248,19 @@ std::string summary_text(const RunResult& run, const Settings& settings) {
             "hanging    {:.1f} mm2 inside the model, {:.1f} mm2 overhang (checked in {:.2f} s)\n",
             run.check->hanging_inside_mm2, run.check->hanging_overhang_mm2, run.check_time_s);
     if (run.check) out += describe_printability(*run.check);
+    if (run.strength) {
+        const StrengthFigures& f = *run.strength;
+        out += fmt::format("strength   weakest section {:.1f} mm4 at z {:.2f} mm",
+                           f.weakest_section_mm4, f.weakest_section_z_mm);
+        if (f.has_weakest_bond)
+            out += fmt::format(", weakest bond {:.1f} mm2 at z {:.2f} mm", f.weakest_bond_mm2,
+                               f.weakest_bond_z_mm);
+        out += fmt::format(
+            "\n           compression {:.0f} N/mm, shear {:.0f} N/mm ({} law, {:g} mm voxels; "
+            "measured in {:.2f} s)\n",
+            f.stiffness.compression_n_per_mm, f.stiffness.shear_n_per_mm, f.law, f.voxel_mm,
+            run.strength_time_s);
+    }
     out += fmt::format("sliced in  {:.2f} s, peak memory {:.0f} MB\n", run.processing_time_s,
                        run.peak_memory_mb);
     return out;

@@ -16,6 +16,7 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "base/error.hpp"
@@ -23,6 +24,7 @@
 #include "carving/carving.hpp"
 #include "config/setting_table.hpp"
 #include "gcode/gcode.hpp"
+#include "report/measure_output.hpp"
 #include "report/stats.hpp"
 #include "run/layer_pipeline.hpp"
 #include "run/orient.hpp"
@@ -120,21 +122,22 @@ PrintStats finish_gcode(GcodeWriter& writer, const RunOptions& options, const Ru
     return writer.finish(header);
 }
 
-// The written G-code measured as `carve check --mesh` does (RunOptions::check_output).
-void check_written_gcode(const GcodeWriter& writer, const Mesh& mesh, const Settings& settings,
-                         const Placement& place, RunResult& result) {
+// The written G-code measured as `carve check --mesh` does (RunOptions::check_output) and as
+// `carve check --strength` does (RunOptions::strength_output), in one reading of it.
+void measure_written_gcode(const GcodeWriter& writer, const Mesh& mesh, const Settings& settings,
+                           const RunOptions& options, const Placement& place, RunResult& result) {
+    OutputMeasure measure;
+    measure.check = options.check_output || options.strict;
+    measure.strength = options.strength_output;
+    measure.analysis.filament_diameter_mm = settings.filament_diameter;
+    measure.analysis.keep_layers = false;
+    measure.strength_options.density_g_cm3 = settings.filament_density;
     // The mesh is where the slicer had it: moved by the bed offset, its lowest point on z = 0,
     // and raised by --z-offset as every Z written is, and by the raft under it.
-    const auto check_start = std::chrono::steady_clock::now();
-    GcodeAnalysisOptions check_options;
-    check_options.filament_diameter_mm = settings.filament_diameter;
-    check_options.keep_layers = false;
-    result.check =
-        analyse_gcode_on_mesh(writer.written_path(), mesh, check_options,
-                              Vec3{place.offset_x, place.offset_y,
-                                   settings.z_offset + settings.model_base_mm() - place.z0});
-    result.check_time_s =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - check_start).count();
+    measure_output(writer.written_path(), mesh,
+                   Vec3{place.offset_x, place.offset_y,
+                        settings.z_offset + settings.model_base_mm() - place.z0},
+                   std::move(measure), result);
 }
 
 // --strict: the rules carve check --strict applies, before anything is renamed into place.
@@ -214,8 +217,8 @@ RunResult slice_run_mesh(const Settings& settings, const RunOptions& options, Ru
     const GcodeWriter::ChunkCount chunks = outputs.writer.chunk_count();
     double finish_s = std::min(cpu_s_since(finish_start_ns), chunks.serial_cpu_s);
     result.processing_time_s = clock.elapsed_s();
-    if (options.check_output || options.strict) {
-        check_written_gcode(outputs.writer, run_mesh.mesh, settings, place, result);
+    if (options.check_output || options.strength_output || options.strict) {
+        measure_written_gcode(outputs.writer, run_mesh.mesh, settings, options, place, result);
         clock.phase_ends("check");
     }
     if (options.strict) refuse_failed_rules(*result.check, options);

@@ -35,6 +35,10 @@ struct RunOptions {
     // --strict: the written G-code measured as check_output does, and the run refused (RuleError,
     // nothing written) when it fails a rule of `carve check --strict`; each plate of a --cut.
     bool strict = false;
+    // Measure the written G-code's strength as `carve check --strength` does (2 mm voxels,
+    // linear law, the run's filament density), read together with check_output's. Off by
+    // default for the same reason: see docs/check.md for what it costs.
+    bool strength_output = false;
     // Called on a worker thread for each layer, in the parallel filter after its toolpaths
     // are planned. Tests throw from it to see an error in a parallel stage reach the caller.
     std::function<void(int layer)> in_parallel_stage;

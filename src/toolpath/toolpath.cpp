@@ -12,6 +12,7 @@
 #include <cmath>
 #include <iterator>
 #include <limits>
+#include <numbers>
 #include <optional>
 
 #include "base/stage_timer.hpp"
@@ -319,6 +320,51 @@ std::vector<Extrusion> remainder_lines(int layer_index, const BridgedPartition& 
     return solid_lines;
 }
 
+// 4b. Ties (--ties, issue 49): a square grid of lines at +-45 degrees on fixed coordinates, so
+// that each layer's lie on the layer below's and they stack into vertical webs, clipped to the
+// carvable part (reaching s past it, onto the wall its boundary is the centreline of). Where a
+// line leaves the layer below's carvable part it lies on that layer's cover: nothing of it
+// hangs. A lattice's stiffness grows with the material in it, the cavities' walls' barely (they
+// lean by the overhang angle and bend), so the ties are what carries load across the hollow.
+std::vector<Extrusion> tie_lines(const LayerPartition& layer, const Paths& inner,
+                                 const Settings& settings) {
+    std::vector<Extrusion> out;
+    if (!(settings.tie_spacing > 0) || layer.carvable.empty()) return out;
+    const Coord w = settings.line_width();
+    // Closer than two widths the lines would merge into a solid.
+    const Coord spacing = std::max(to_units(settings.tie_spacing), 2 * w);
+    const Paths region = intersect(dilate(layer.carvable, settings.nozzle_radius()), inner);
+    if (region.empty()) return out;
+    const BBox2 b = bounds(region);
+    // The lines x - y = c and x + y = c, c a multiple of spacing * sqrt(2) (their normal
+    // distance is the spacing).
+    const double step = double(spacing) * std::numbers::sqrt2;
+    Paths grid;
+    for (const int sign : {-1, 1}) {
+        const double lo = sign < 0 ? double(b.min_x - b.max_y) : double(b.min_x + b.min_y);
+        const double hi = sign < 0 ? double(b.max_x - b.min_y) : double(b.max_x + b.max_y);
+        for (double k = std::ceil(lo / step); k * step <= hi; ++k) {
+            const Coord c = static_cast<Coord>(std::llround(k * step));
+            // x = c + y (sign -1) or x = c - y (sign +1), from y = min_y - 1 to max_y + 1.
+            const Coord y0 = b.min_y - 1, y1 = b.max_y + 1;
+            grid.push_back({Point(c - sign * y0, y0), Point(c - sign * y1, y1)});
+        }
+    }
+    const double min_length = 2.0 * double(w);
+    for (Path& piece : clip_lines(grid, region)) {
+        double length = 0;
+        for (size_t n = 1; n < piece.size(); ++n)
+            length += std::hypot(double(piece[n].X - piece[n - 1].X),
+                                 double(piece[n].Y - piece[n - 1].Y));
+        if (length < min_length) continue;
+        Extrusion e;
+        e.feature = Feature::CavityWall;  // cavity 0: the stats count them with the walls
+        e.points = std::move(piece);
+        out.push_back(std::move(e));
+    }
+    return out;
+}
+
 // 6. Travel between the paths (issue #18): inside the island without retraction where it
 // can, retracted and through the islands where it must leave. Planned here, on the worker
 // threads; only the travel into the layer is left to the G-code stage.
@@ -448,6 +494,7 @@ LayerToolpaths plan_layer(const LayerRecord& record, const Settings& settings) {
     CoverPaths covers = cover_paths(layer, bridged, inner, settings);                         // 2.
     std::vector<std::vector<Extrusion>> cavity_walls = cavity_wall_paths(bridged, settings);  // 3.
     std::vector<Extrusion> solid_lines = remainder_lines(layer.index, bridged, settings);     // 4.
+    std::vector<Extrusion> ties = tie_lines(layer, inner, settings);                          // 4b.
 
     // 5. Order, island by island (an island: a connected piece of the model's slice O_i). The
     // report's order C^0, C^1 .. C^k matters only between touching contours (4.2: a small
@@ -468,6 +515,7 @@ LayerToolpaths plan_layer(const LayerRecord& record, const Settings& settings) {
     add_lines(record.ribs.lines, Feature::Rib, ribs);
     add_lines(record.ribs.ties, Feature::Rib, ribs);
     add_lines(record.ribs.vaults, Feature::Rib, ribs);
+    for (Extrusion& e : ties) ribs.push_back(std::move(e));
     islands.distribute(ribs, &Island::ribs);
     islands.distribute_bridges(bridged.bridges);
 

@@ -1,12 +1,15 @@
 // Print presets and the --strong scale (issue 49): --preset strong resolves to the settings
-// docs/carve.1 states (the report's carving and 4 shells), options typed on the command line win
-// over --strong, and the scale's steps are monotone in material on a small model.
+// docs/carve.1 states (ties and 2 shells on a squat model, 4 shells on a slender one), options
+// typed on the command line win over --strong, the scale's steps are monotone in material on a
+// small model, and --stats-strength puts the strength figures in the stats and the report.
 #include "config/presets.hpp"
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "base/error.hpp"
@@ -16,15 +19,27 @@
 namespace carve {
 namespace {
 
-TEST(Presets, StrongIsStrengthOneWhichIsTheReportsCarvingAndFourShells) {
-    Settings s;
-    apply_print_preset("strong", s);
-    EXPECT_DOUBLE_EQ(s.strength, 1.0);
-    apply_strength(s, false, false);
-    EXPECT_EQ(s.shells, 4);
-    EXPECT_EQ(s.carving, CarvingScheme::Report);
-    EXPECT_EQ(s.covers, Settings{}.covers);  // covers stay: measured to pay less than shells
-    EXPECT_EQ(s.walls, WallMode::Single);
+TEST(Presets, StrongIsTiesAndTwoShellsOnASquatPartFourShellsOnASlenderOne) {
+    Settings squat;
+    apply_print_preset("strong", squat);
+    EXPECT_DOUBLE_EQ(squat.strength, 1.0);
+    apply_strength(squat, 2.7, false, false);  // fandisk
+    EXPECT_EQ(squat.shells, 2);
+    EXPECT_DOUBLE_EQ(squat.tie_spacing, 5.5);
+    EXPECT_EQ(squat.carving, CarvingScheme::Whole);  // the scheme stays
+    EXPECT_EQ(squat.covers, Settings{}.covers);
+    Settings slender;
+    apply_print_preset("strong", slender);
+    apply_strength(slender, 8.9, false, false);  // man
+    EXPECT_EQ(slender.shells, 4);
+    EXPECT_DOUBLE_EQ(slender.tie_spacing, 0.0);
+}
+
+TEST(Presets, SlendernessIsTheSameAtEveryScale) {
+    // A 10 x 10 x 40 box: 40 / sqrt(100) = 4; at twice the size the same.
+    EXPECT_DOUBLE_EQ(slenderness(40, 4000), 4.0);
+    EXPECT_DOUBLE_EQ(slenderness(80, 32000), 4.0);
+    EXPECT_DOUBLE_EQ(slenderness(0, 10), 0.0);
 }
 
 TEST(Presets, TheReportsPresetsAndUnknownNames) {
@@ -36,65 +51,111 @@ TEST(Presets, TheReportsPresetsAndUnknownNames) {
     EXPECT_THROW(apply_print_preset("stronger", b), InputError);
 }
 
-TEST(Strength, StepsAddShellsUnderTheReportsCarvingAndZeroChangesNothing) {
-    const std::vector<std::pair<double, int>> steps{
-        {0.25, 1}, {0.5, 2}, {0.75, 3}, {1.0, 4}, {0.1, 0}};
-    for (const auto& [strength, shells] : steps) {
-        const StrengthStep step = strength_step(strength);
-        EXPECT_EQ(step.shells, shells) << strength;
-        EXPECT_EQ(step.carving, CarvingScheme::Report) << strength;
+TEST(Strength, StepsScaleShellsAndTieDensityAndZeroChangesNothing) {
+    // {S, shells squat, tie spacing squat, shells slender}
+    const std::vector<std::tuple<double, int, double, int>> steps{
+        {0.25, 1, 22.0, 1}, {0.5, 1, 11.0, 2}, {0.75, 2, 5.5 / 0.75, 3}, {1.0, 2, 5.5, 4}};
+    for (const auto& [strength, shells, spacing, slender_shells] : steps) {
+        const StrengthStep squat = strength_step(strength, 2.7);
+        EXPECT_EQ(squat.shells, shells) << strength;
+        EXPECT_DOUBLE_EQ(squat.tie_spacing_mm, spacing) << strength;
+        const StrengthStep slender = strength_step(strength, kSlender);
+        EXPECT_EQ(slender.shells, slender_shells) << strength;
+        EXPECT_DOUBLE_EQ(slender.tie_spacing_mm, 0.0) << strength;
     }
     Settings s;
     s.shells = 2;  // from a profile, say
-    apply_strength(s, false, false);
+    apply_strength(s, 2.7, false, false);
     EXPECT_EQ(s.shells, 2);
-    EXPECT_EQ(s.carving, CarvingScheme::Whole);
+    EXPECT_DOUBLE_EQ(s.tie_spacing, 0.0);
 }
 
 TEST(Strength, OptionsTypedWin) {
     Settings s;
     s.strength = 0.75;
     s.shells = 1;
-    apply_strength(s, true, true);
+    s.tie_spacing = 9;
+    apply_strength(s, 2.7, true, true);
     EXPECT_EQ(s.shells, 1);
-    EXPECT_EQ(s.carving, CarvingScheme::Whole);
-    apply_strength(s, false, true);
-    EXPECT_EQ(s.shells, 3);
-    EXPECT_EQ(s.carving, CarvingScheme::Whole);
+    EXPECT_DOUBLE_EQ(s.tie_spacing, 9.0);
+    apply_strength(s, 2.7, false, true);
+    EXPECT_EQ(s.shells, 2);
+    EXPECT_DOUBLE_EQ(s.tie_spacing, 9.0);
 }
 
-// carve slice fandisk at a quarter of its size with ARGS: its stats.
-nlohmann::json slice_stats(const std::string& args) {
+// carve slice fandisk at `scale` (a quarter of its size by default) with ARGS: its stats.
+nlohmann::json slice_stats(const std::string& args, const std::string& scale = "0.25") {
     static int n = 0;
     const std::string stem = (test::scratch() / ("s" + std::to_string(++n))).string();
     const test::CarveRun r =
-        test::run_carve("slice " + test::repo_model("fandisk.stl") + " --scale 0.25 -q -o " + stem +
-                        ".gcode --stats " + stem + ".json " + args);
+        test::run_carve("slice " + test::repo_model("fandisk.stl") + " --scale " + scale +
+                        " -q -o " + stem + ".gcode --stats " + stem + ".json " + args);
     EXPECT_EQ(r.status, 0) << args << "\n" << r.err;
     return nlohmann::json::parse(test::read(stem + ".json"), nullptr, false);
 }
 
 TEST(Strength, EndToEndThePresetResolvesAndTypedOptionsWin) {
-    const nlohmann::json strong = slice_stats("--preset strong");
+    const nlohmann::json strong = slice_stats("--preset strong");  // fandisk: squat
     ASSERT_TRUE(strong.contains("settings"));
-    EXPECT_EQ(strong["settings"]["shells"], 4);
-    EXPECT_EQ(strong["settings"]["carving_scheme"], "report");
+    EXPECT_EQ(strong["settings"]["shells"], 2);
+    EXPECT_EQ(strong["settings"]["ties_mm"], 5.5);
+    EXPECT_EQ(strong["settings"]["carving_scheme"], "whole");
     EXPECT_EQ(strong["settings"]["strong"], 1.0);
-    const nlohmann::json typed = slice_stats("--preset strong --shells 1 --carving whole");
+    const nlohmann::json typed = slice_stats("--preset strong --shells 1 --ties 0");
     ASSERT_TRUE(typed.contains("settings"));
     EXPECT_EQ(typed["settings"]["shells"], 1);
-    EXPECT_EQ(typed["settings"]["carving_scheme"], "whole");
+    EXPECT_EQ(typed["settings"]["ties_mm"], 0.0);
 }
 
 TEST(Strength, StepsAreMonotoneInMaterial) {
     double last = -1;
     for (const char* step : {"0", "0.25", "0.5", "0.75", "1"}) {
-        const nlohmann::json stats = slice_stats(std::string("--strong ") + step);
+        // At half size: at a quarter the interior is too small for ties 22 and 11 mm apart to
+        // differ.
+        const nlohmann::json stats = slice_stats(std::string("--strong ") + step, "0.5");
         ASSERT_TRUE(stats.contains("extruded_volume_mm3")) << step;
         const double v = stats["extruded_volume_mm3"].get<double>();
         EXPECT_GT(v, last) << "--strong " << step;
         last = v;
     }
+}
+
+// --stats-strength: the stats hold what carve check --strength says of the same G-code, and the
+// HTML report shows it and marks the weakest layer in the material plot.
+TEST(Strength, StatsAndReportHoldTheStrengthOfTheWrittenGcode) {
+    const std::string stem = (test::scratch() / "figures").string();
+    const test::CarveRun r = test::run_carve(
+        "slice " + test::repo_model("fandisk.stl") + " --scale 0.25 -q --strong 0.5 -o " + stem +
+        ".gcode --stats " + stem + ".json --report " + stem + ".html --stats-strength");
+    ASSERT_EQ(r.status, 0) << r.err;
+    const nlohmann::json stats = nlohmann::json::parse(test::read(stem + ".json"), nullptr, false);
+    ASSERT_TRUE(stats.contains("strength"));
+    const nlohmann::json& s = stats["strength"];
+    EXPECT_FALSE(s.contains("layers"));  // carve check --layers' table, not the stats'
+    EXPECT_GT(s["time_s"].get<double>(), 0);
+    const test::CarveRun c = test::run_carve("check " + stem + ".gcode --strength --json");
+    ASSERT_EQ(c.status, 0) << c.err;
+    const nlohmann::json check = nlohmann::json::parse(c.out, nullptr, false)["strength"];
+    for (const char* key :
+         {"grams", "weakest_section_mm4", "weakest_section_z_mm", "weakest_bond_mm2",
+          "weakest_bond_z_mm", "compression_n_per_mm", "shear_n_per_mm"}) {
+        ASSERT_TRUE(s[key].is_number()) << key;
+        EXPECT_NEAR(s[key].get<double>(), check[key].get<double>(),
+                    1e-9 * std::abs(check[key].get<double>()))
+            << key;
+    }
+    EXPECT_GT(s["compression_n_per_mm"].get<double>(), 0);
+    EXPECT_EQ(s["finite_elements"]["law"], "linear");
+    // The grams follow the run's filament, as the stats' own weight does.
+    EXPECT_NEAR(s["grams"].get<double>(), stats["filament_weight_g"].get<double>(),
+                0.05 * stats["filament_weight_g"].get<double>());
+    const std::string page = test::read(stem + ".html");
+    EXPECT_NE(page.find("Stiffness (compression)"), std::string::npos);
+    EXPECT_NE(page.find("class=\"weak\""), std::string::npos);
+    EXPECT_NE(page.find(">weakest section</text>"), std::string::npos);
+    // Without the option neither has it.
+    const nlohmann::json plain = slice_stats("--strong 0.5");
+    EXPECT_FALSE(plain.contains("strength"));
 }
 
 }  // namespace
