@@ -88,21 +88,53 @@ TEST(KlipperPreset, MatchesTheStockVoron250AndKeepsWithinItsMaxAccel) {
 }
 
 // Marlin 2 and Prusa firmware read the travel acceleration from M204 T (with P for printing
-// and R for retracting), written once.
-TEST(KlipperPreset, MarlinPresetsWriteTravelAccelerationAsM204T) {
+// and R for retracting), written once. Klipper reads M204 P T as min(P, T) for every move, so
+// where the two differ (every Marlin preset) an M204 S, which both read alike, precedes each
+// change: every extruding move at P's value, every travel at T's.
+TEST(KlipperPreset, MarlinPresetsWriteTravelAccelerationAsEveryFirmwareReadsIt) {
     for (const std::string printer : {"mk3s", "ender3", "generic"}) {  // NOLINT
         const std::string g =
             slice(small_part(), "--cavities 1 --printer " + printer, "m204" + printer);
-        int lines = 0;
-        for (const std::string& l : lines_of(g))
-            if (command_of(l) == "M204") {
-                ++lines;
-                const std::map<char, double> w = words(l);
-                EXPECT_TRUE(w.count('P') && w.count('R') && w.count('T') && !w.count('S')) << l;
-                EXPECT_EQ(w.at('T'), std::stod(config_value(g, "machine_max_acceleration_travel")));
+        int ptr = 0, switches = 0, prints = 0, travels = 0;
+        double p = 0, t = 0, s = -1;
+        bool body = false;
+        for (const std::string& l : lines_of(g)) {
+            const std::string c = command_of(l);
+            const std::map<char, double> w = words(l);
+            if (l.rfind(";LAYER_CHANGE", 0) == 0) body = true;
+            if (c == "M204" && !w.count('S')) {
+                ++ptr;
+                EXPECT_TRUE(w.count('P') && w.count('R') && w.count('T')) << l;
+                p = w.at('P'), t = w.at('T');
+                EXPECT_EQ(t, std::stod(config_value(g, "machine_max_acceleration_travel")));
+                EXPECT_NE(p, t) << printer;
+            } else if (c == "M204") {
+                ++switches;
+                s = w.at('S');
+            } else if (body && (c == "G0" || c == "G1") && (w.count('X') || w.count('Y'))) {
+                if (w.count('E') && w.at('E') > 0 && c == "G1") {
+                    ++prints;
+                    EXPECT_EQ(s, p) << printer << ": " << l;
+                } else if (c == "G0") {
+                    ++travels;
+                    EXPECT_EQ(s, t) << printer << ": " << l;
+                }
             }
-        EXPECT_EQ(lines, 1) << printer;
+        }
+        EXPECT_EQ(ptr, 1) << printer;
+        EXPECT_GT(switches, 1) << printer;
+        EXPECT_GT(prints, 0) << printer;
+        EXPECT_GT(travels, 0) << printer;
     }
+    // With the two equal, M204 P R T alone says it to every firmware.
+    const std::string g = slice(small_part(), "--cavities 1 --travel-acceleration 1000", "m204eq");
+    int m204 = 0;
+    for (const std::string& l : lines_of(g))
+        if (command_of(l) == "M204") {
+            ++m204;
+            EXPECT_FALSE(words(l).count('S')) << l;
+        }
+    EXPECT_EQ(m204, 1);
 }
 
 namespace {
