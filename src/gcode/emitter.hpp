@@ -202,6 +202,7 @@ class Emitter {
     void unretract();
     // `what` names the move when the printer's height refuses it (a lift or a layer change).
     void move_z(Coord z, const char* what = nullptr);
+    void retract_dwell();
     // --pause-at's park, command and return.
     void pause();
     void travel_to(const Point& p, const Path& via, TravelKind kind);
@@ -247,7 +248,7 @@ class Emitter {
     long long written_ = 0;            // bytes of text flushed to out_
     double speed_factor_ = 1;          // cooling's slowdown of the layer being written
     int layer_fan_ = 0;                // percent, for the layer's ordinary extrusions
-    double accel_ = -1;                // Klipper's M204 S in force
+    double accel_ = -1;                // the M204 S in force (switches_acceleration)
     // The print's and the travel's accelerations as written and planned (limits.hpp).
     double print_accel_ = 0, travel_accel_ = 0;
     // The objects on the bed: one (the model, named at construction) or what set_objects gave.

@@ -32,7 +32,13 @@ void Emitter::move_filament(long long target) {
     feed(st_.retract_speed);
     buf_.push_back('\n');
     e_units_ = target;
-    planner_.dwell(st_.retract_length / retract_speed_limit(st_));
+    retract_dwell();
+}
+
+// A filament-only move: the estimate times it as the firmware runs it (retract_time), the cooling
+// as it did before, at the retraction speed, so that no layer's feed rate changes.
+void Emitter::retract_dwell() {
+    planner_.dwell(retract_time(st_), st_.retract_length / retract_speed_limit(st_));
 }
 
 void Emitter::retract() {
@@ -41,7 +47,7 @@ void Emitter::retract() {
         wipe();
     } else if (st_.firmware_retraction) {
         line("G10 ; retract");
-        planner_.dwell(st_.retract_length / retract_speed_limit(st_));
+        retract_dwell();
     } else {
         move_filament(e_units_ - retract_units_);
     }
@@ -78,7 +84,9 @@ void Emitter::wipe() {
         }
         feed(v);
         buf_.push_back('\n');
-        planner_.move(dx, dy, v, travel_accel_);
+        // The wipe extrudes (backwards) after the line: every firmware moves it at the print
+        // acceleration (Marlin's P applies to any move with E, and S was the print's).
+        planner_.move(dx, dy, v, print_accel_);
         stats_.travel_length_mm += len;
         pos_ = q;
     }
@@ -92,7 +100,7 @@ void Emitter::wipe() {
     line(";WIPE_END");
     if (firmware) {
         line("G10 ; retract");
-        planner_.dwell(st_.retract_length / retract_speed_limit(st_));
+        retract_dwell();
     } else {
         planner_.stop();
     }
@@ -104,7 +112,7 @@ void Emitter::unretract() {
     if (!retracted_) return;
     if (st_.firmware_retraction) {
         line("G11 ; unretract");
-        planner_.dwell(st_.retract_length / retract_speed_limit(st_));
+        retract_dwell();
     } else {
         move_filament(std::llround(e_mm_ * kEScale));
     }
@@ -126,10 +134,12 @@ void Emitter::move_z(Coord z, const char* what) {
     feed(kZSpeed);
     buf_.push_back('\n');
     const double dz = z_ < 0 ? to_mm(z) : std::abs(to_mm(z - z_));
-    const bool limited = st_.flavor != GcodeFlavor::Klipper;
-    planner_.dwell(
-        trapezoid_time(dz, 0, limited ? std::min(kZSpeed, st_.max_feedrate_z) : kZSpeed, 0,
-                       limited ? std::min(travel_accel_, st_.max_acceleration_z) : travel_accel_));
+    // The cooling times it as before Klipper's Z limits were planned (no feed rate changes).
+    const double cooling = st_.flavor == GcodeFlavor::Klipper
+                               ? trapezoid_time(dz, 0, kZSpeed, 0, travel_accel_)
+                               : trapezoid_time(dz, 0, std::min(kZSpeed, st_.max_feedrate_z), 0,
+                                                std::min(travel_accel_, st_.max_acceleration_z));
+    planner_.dwell(z_move_time(st_, dz, kZSpeed, travel_accel_), cooling);
     z_ = z;
 }
 
@@ -417,10 +427,10 @@ void Emitter::remember_for_wipe(const Extrusion& ex, Shift shifted) {
     }
 }
 
-// Klipper takes the acceleration from M204 S as the moves change (its limits are in
-// printer.cfg); the other firmwares were told M204 P and T once.
+// M204 S as the moves change where the firmware may read nothing else (switches_acceleration);
+// the others were told M204 P and T once.
 void Emitter::use_acceleration(double a) {
-    if (st_.flavor != GcodeFlavor::Klipper || a == accel_) return;
+    if (!switches_acceleration(st_) || a == accel_) return;
     accel_ = a;
     line(fmt::format("M204 S{}", std::llround(a)));
 }

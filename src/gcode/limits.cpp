@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <numbers>
 
 #include "base/numbers.hpp"
 
@@ -47,9 +48,34 @@ double commanded_acceleration(const Settings& s, double accel) {
     return std::min({accel, s.max_acceleration_x, s.max_acceleration_y});
 }
 
+bool switches_acceleration(const Settings& s) {
+    if (s.flavor == GcodeFlavor::Klipper) return true;
+    return s.flavor == GcodeFlavor::Marlin && s.acceleration != s.travel_acceleration;
+}
+
 double retract_speed_limit(const Settings& s) {
     return s.flavor == GcodeFlavor::Klipper ? s.retract_speed
                                             : std::min(s.retract_speed, s.max_feedrate_e);
+}
+
+double retract_time(const Settings& s) {
+    if (s.retract_length <= 0) return 0;
+    if (s.flavor == GcodeFlavor::Klipper) {
+        const double filament_area =
+            std::numbers::pi * s.filament_diameter * s.filament_diameter / 4;
+        const double ratio = 4 * s.nozzle * s.nozzle / filament_area;
+        const double v = std::min(s.retract_speed, s.max_feedrate_x * ratio);
+        return trapezoid_time(s.retract_length, 0, v, 0, s.max_acceleration_x * ratio);
+    }
+    const double v = retract_speed_limit(s);
+    const double rest = s.junction_deviation > 0 ? 0 : std::min(v, s.max_jerk_e);
+    return trapezoid_time(s.retract_length, rest, v, rest,
+                          std::min(s.retract_acceleration, s.max_acceleration_e));
+}
+
+double z_move_time(const Settings& s, double dz, double z_speed, double accel) {
+    return trapezoid_time(dz, 0, std::min(z_speed, s.max_feedrate_z), 0,
+                          std::min(accel, s.max_acceleration_z));
 }
 
 bool feed_limits_bind(const Settings& s, double z_speed) {

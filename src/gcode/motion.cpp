@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 
 namespace carve {
 
@@ -42,7 +43,24 @@ void MotionPlanner::move(double dx, double dy, double speed, double accel, doubl
     blocks_.push_back({len, ux, uy, e_per_mm, normal, dual_ ? capped(stealth_) : normal});
 }
 
-double MotionPlanner::junction_speed(const Block& p, const Block& q, bool stealth) const {
+namespace {
+
+// Marlin 2's acos of its JD_HANDLE_SMALL_SEGMENTS, a polynomial (planner.cpp: within 0.033 rad,
+// and never below 0.033, so that a straight junction does not divide by 0): the angle between
+// two directions whose cosine is t.
+double marlin_acos(double t) {
+    const double asinx =
+        0.032843707 +
+        t * (-1.451838349 +
+             t * (29.66153956 +
+                  t * (-131.1123477 + t * (262.8130562 + t * (-242.7199627 + t * 84.31466202)))));
+    return std::numbers::pi / 2 - asinx;
+}
+
+}  // namespace
+
+double MotionPlanner::junction_speed(const Block& p, const Block& q, bool stealth,
+                                     bool small_segments) const {
     const MachineLimits& m = stealth ? stealth_ : limits_;
     const Capped& a = stealth ? p.stealth : p.normal;
     const Capped& b = stealth ? q.stealth : q.normal;
@@ -60,6 +78,11 @@ double MotionPlanner::junction_speed(const Block& p, const Block& q, bool stealt
         const double sin_half = std::sqrt(0.5 * (1 - cos_theta));
         const double acc = std::min(a.accel, b.accel);
         v = std::min(v, std::sqrt(acc * m.junction_deviation * sin_half / (1 - sin_half)));
+        // Marlin 2's JD_HANDLE_SMALL_SEGMENTS (on in its default Configuration.h): into a move
+        // shorter than 1 mm turning by less than 45 degrees, the speed of a circle through it,
+        // v^2 = a * length / angle.
+        if (small_segments && q.length < 1 && cos_theta < -0.7071067812)
+            v = std::min(v, std::sqrt(q.length * acc / marlin_acos(-cos_theta)));
     }
     return v;
 }
@@ -77,15 +100,18 @@ void MotionPlanner::stop() {
     const double t = plan(blocks_, false);
     done_ += t;
     done_stealth_ += dual_ ? plan(blocks_, true) : t;
-    done_cooling_ += limits_.square_corner_velocity > 0 ? plan(blocks_, false, false) : t;
+    // The cooling's plan differs where the firmware's has more than the junction rule (Klipper's
+    // lookahead, Marlin 2's small segments).
+    const bool own = limits_.square_corner_velocity > 0 || limits_.junction_deviation > 0;
+    done_cooling_ += own ? plan(blocks_, false, false) : t;
     blocks_.clear();
 }
 
-void MotionPlanner::dwell(double seconds) {
+void MotionPlanner::dwell(double seconds, double cooling_seconds) {
     stop();
     done_ += seconds;
     done_stealth_ += seconds;
-    done_cooling_ += seconds;
+    done_cooling_ += cooling_seconds < 0 ? seconds : cooling_seconds;
 }
 
 double MotionPlanner::time() const {
@@ -110,7 +136,7 @@ double MotionPlanner::plan(const std::vector<Block>& b, bool stealth, bool firmw
     std::vector<double> entry(n + 1, 0.0);
     entry[0] = safe_speed(b[0], stealth);
     entry[n] = safe_speed(b[n - 1], stealth);
-    for (size_t i = 1; i < n; ++i) entry[i] = junction_speed(b[i - 1], b[i], stealth);
+    for (size_t i = 1; i < n; ++i) entry[i] = junction_speed(b[i - 1], b[i], stealth, firmware);
     // Backward: each block must be able to slow down to the next entry speed.
     for (size_t i = n; i-- > 0;)
         entry[i] =

@@ -10,7 +10,10 @@
 // planner does. The buffer is emptied whenever the machine stops (retraction, Z move, end).
 // With classic jerk instead (junction deviation 0, Prusa firmware), the junction speed is the
 // highest at which no axis changes speed by more than its jerk, and a move may start or end at
-// its axes' jerk ("safe speed"). The machine's axis limits (M201, M203) cap each move's
+// its axes' jerk ("safe speed"). With junction deviation, a move under 1 mm that turns by less
+// than 45 degrees enters at most at the speed of the circle through it (Marlin 2's
+// JD_HANDLE_SMALL_SEGMENTS); the cooling times its layers without that limit, as before it was
+// modelled, so that no feed rate changes. The machine's axis limits (M201, M203) cap each move's
 // acceleration and speed by its direction, as the firmware does.
 // Klipper plans otherwise (its toolhead.py): a corner's speed is the smaller of its square corner
 // velocity rule and a centripetal limit that shrinks with the moves' lengths, and its
@@ -69,8 +72,9 @@ class MotionPlanner {
     void move(double dx, double dy, double speed, double accel, double e_per_mm = 0);
     // The machine comes to rest: plans and times the buffered moves.
     void stop();
-    // Time spent at rest (retractions, Z moves), after an implicit stop.
-    void dwell(double seconds);
+    // Time spent at rest (retractions, Z moves), after an implicit stop; the cooling's time
+    // (time_cooling) takes cooling_seconds instead where given.
+    void dwell(double seconds, double cooling_seconds = -1);
     // Total time so far, including the buffered moves (planned as if stopping after them).
     double time() const;
     // The time of the moves planned so far, which starts again from 0; the buffered moves stay
@@ -108,7 +112,8 @@ class MotionPlanner {
     };
     double plan(const std::vector<Block>& blocks, bool stealth, bool firmware = true) const;
     double plan_klipper(const std::vector<Block>& blocks, bool stealth) const;
-    double junction_speed(const Block& p, const Block& q, bool stealth) const;
+    // small_segments: Marlin 2's limit on short moves (the estimate's, not the cooling's).
+    double junction_speed(const Block& p, const Block& q, bool stealth, bool small_segments) const;
     double safe_speed(const Block& b, bool stealth) const;  // entry from, or exit to, rest
 
     MachineLimits limits_, stealth_;
