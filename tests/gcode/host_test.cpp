@@ -432,7 +432,9 @@ TEST(Hosts, MoonrakerIdentifiesCarveAndReadsItsFigures) {
             "first_layer_extrusion_width", "extrusion_multiplier", "max_volumetric_speed",
             "elefant_foot_compensation", "xy_size_compensation", "z_offset",
             // ... and the stealth limits at theirs (issue #51).
-            "stealth_max_acceleration", "stealth_max_feedrate"};
+            "stealth_max_acceleration", "stealth_max_feedrate",
+            // ... and the walls tied across cavities at none (issue #49).
+            "ties"};
         // And the connectors of a cut, in the plates of a cut only (issue #48).
         const bool cut = key.starts_with("dowel_") || key == "connector_clearance";
         EXPECT_EQ(block.find("\n; " + key + " = ") != std::string::npos,
