@@ -336,10 +336,8 @@ double unit_scale(std::string_view unit, const std::string& path) {
     fail(path, "3MF model has an unknown unit '" + std::string(unit) + "'");
 }
 
-}  // namespace
-
-void read_3mf(std::string& data, const std::string& path, Mesh& mesh, MeshReport& report) {
-    report.format = "3MF";
+// The root model part's text, read out of the archive in `data`, which is freed.
+std::string model_text(std::string& data, const std::string& path) {
     zip_error_t error;
     zip_error_init(&error);
     zip_source_t* source = zip_source_buffer_create(data.data(), data.size(), 0, &error);
@@ -361,10 +359,21 @@ void read_3mf(std::string& data, const std::string& path, Mesh& mesh, MeshReport
     // The archive is no longer needed. Freed by a swap: moving an empty string in keeps the
     // old buffer (libstdc++ copies a short string into the capacity it has).
     std::string().swap(data);
+    return text;
+}
 
+// What the model part declares: its objects, the build's items and the unit.
+struct ModelPart {
     std::unordered_map<uint32_t, Object> objects;
     std::vector<std::pair<uint32_t, Affine>> items;
-    double scale = 1.0;
+    double scale = 1.0;  // mm per unit
+};
+
+ModelPart parse_model(const std::string& text, const std::string& path) {
+    ModelPart part;
+    std::unordered_map<uint32_t, Object>& objects = part.objects;
+    std::vector<std::pair<uint32_t, Affine>>& items = part.items;
+    double& scale = part.scale;
     try {
         XmlScanner xml(text);
         XmlElement e;
@@ -433,6 +442,18 @@ void read_3mf(std::string& data, const std::string& path, Mesh& mesh, MeshReport
     } catch (const XmlError& x) {
         fail(path, std::string("malformed 3MF model: ") + x.what());
     }
+    return part;
+}
+
+}  // namespace
+
+void read_3mf(std::string& data, const std::string& path, Mesh& mesh, MeshReport& report) {
+    report.format = "3MF";
+    std::string text = model_text(data, path);
+    ModelPart part = parse_model(text, path);
+    std::unordered_map<uint32_t, Object>& objects = part.objects;
+    std::vector<std::pair<uint32_t, Affine>>& items = part.items;
+    const double scale = part.scale;
     // The objects hold their own copies: the model's text (up to 256 MB) is not needed while
     // they are placed and welded.
     const size_t text_size = text.size();
