@@ -128,6 +128,55 @@ TEST(Toolpath, ShellsAreInsetByOneLineWidth) {
     EXPECT_NEAR(path_length(*shells[1]) / kMm, 4 * 18.0, 0.05);
 }
 
+// --ties (issue 49): straight lines at +-45 degrees across the carvable part, the grid's share
+// of its area (two families of lines `spacing` apart: 2 A / spacing of length), and a smaller
+// carvable part on the layer above gets lines that lie on the layer below's, so they stack.
+TEST(Toolpath, TiesAreAFixedGridAtFortyFiveDegreesThatStacks) {
+    Settings st;
+    st.tie_spacing = 5;
+    auto ties = [](const LayerToolpaths& t) {
+        std::vector<const Extrusion*> out;
+        for (const Extrusion* e : of_feature(t, Feature::CavityWall))
+            if (e->cavity == 0) out.push_back(e);
+        return out;
+    };
+    LayerPartition below = square_layer(st);
+    const LayerToolpaths tb = plan_layer(below, st);
+    const std::vector<const Extrusion*> lower = ties(tb);
+    ASSERT_FALSE(lower.empty());
+    double length = 0;
+    const Paths reach = dilate(below.carvable, st.nozzle_radius() + 2);
+    for (const Extrusion* e : lower) {
+        EXPECT_FALSE(e->closed);
+        ASSERT_EQ(e->points.size(), 2u);
+        const Point a = e->points[0], b = e->points[1];
+        EXPECT_NEAR(std::abs(double(b.X - a.X)), std::abs(double(b.Y - a.Y)), 3.0);
+        for (const Point& p : e->points) EXPECT_TRUE(point_in_region(p, reach));
+        length += std::hypot(double(b.X - a.X), double(b.Y - a.Y));
+    }
+    const double side = to_mm(
+        below.carvable.empty() ? 0 : bounds(below.carvable).max_x - bounds(below.carvable).min_x);
+    EXPECT_NEAR(to_mm(Coord(length)), 2 * side * side / 5, 0.08 * 2 * side * side / 5);
+
+    LayerPartition above = square_layer(st);
+    above.index = 6;
+    above.carvable = rect_region(-6 * kMm, -3 * kMm, 7 * kMm, 8 * kMm);
+    above.remainder = above.carvable;
+    const LayerToolpaths ta = plan_layer(above, st);
+    const std::vector<const Extrusion*> upper = ties(ta);
+    ASSERT_FALSE(upper.empty());
+    for (const Extrusion* e : upper)
+        for (const Point& p : e->points) {
+            double nearest = std::numeric_limits<double>::infinity();
+            for (const Extrusion* l : lower)
+                nearest = std::min(nearest, seg_dist(p, l->points[0], l->points[1]));
+            EXPECT_LT(nearest, 3.0);  // micrometres: on a line of the layer below
+        }
+    // No ties without the option.
+    st.tie_spacing = 0;
+    EXPECT_TRUE(ties(plan_layer(square_layer(st), st)).empty());
+}
+
 TEST(Toolpath, CoverLinesFillTheRegionAtLineSpacingAlternatingByParity) {
     Settings st;
     const double w = double(st.line_width());
