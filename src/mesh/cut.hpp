@@ -80,8 +80,9 @@ std::vector<double> plan_cuts(const Mesh& mesh, const CutLimits& limits,
 std::vector<MeshPiece> cut_by_planes(const Mesh& mesh, const std::vector<CutPlane>& planes,
                                      const ConnectorSpec& spec);
 
-// The turn that lays a piece on its largest cut face with no pin (its largest face when all have
-// pins; none when it has no cut face): a flat face down, nothing to support under it.
+// The turn that lays a piece on its largest cut face with no pin: a flat face down, nothing to
+// support under it. When every face has pins, the largest of them faces up; none when it has no
+// cut face.
 Rotation lay_on_cut_face(const MeshPiece& piece);
 
 // --cut auto with planes across x, y and z: the fewest pieces that fit (each laid by

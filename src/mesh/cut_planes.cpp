@@ -151,7 +151,12 @@ Rotation lay_on_cut_face(const MeshPiece& piece) {
             if ((allow_pins || !f.pins) && (!best || f.area_mm2 > best->area_mm2)) best = &f;
         if (best) break;
     }
-    return best ? lay_down(best->outward) : Rotation{};
+    if (!best) return Rotation{};
+    // Every face carries pins: the piece would stand on them. The largest goes up instead, its
+    // pins standing clear, and the piece stands on the side across from it (the lower piece of
+    // a cut across z stays as it was).
+    if (best->pins) return lay_down(Vec3{-best->outward.x, -best->outward.y, -best->outward.z});
+    return lay_down(best->outward);
 }
 
 std::vector<CutPlane> plan_planar_cuts(const Mesh& mesh, const CutLimits& limits,

@@ -120,6 +120,38 @@ TEST(Cut, PinsStandOnThePieceBelow) {
     EXPECT_GT(pieces[1].connectors[0].diameter_mm, pieces[0].connectors[0].diameter_mm);
 }
 
+// The piece carrying the pins never stands on them: across x it lies with its pinned face up,
+// on the box's flat end (what touches the bed spans the whole 60 x 40 end, not a pin's tip);
+// across z the lower piece stays as it was.
+TEST(Cut, APieceWithPinsIsNotLaidOnThem) {
+    ConnectorSpec pin;
+    pin.kind = ConnectorKind::Pin;
+    CutPlane across_x;
+    across_x.point = {150, 0, 0};
+    across_x.normal = {1, 0, 0};
+    for (MeshPiece& p : cut_by_planes(box(300, 60, 40), {across_x}, pin)) {
+        rotate_mesh(p.mesh, lay_on_cut_face(p));
+        const BBox3 b = bounding_box(p.mesh);
+        double lo_x = 1e9, hi_x = -1e9, lo_y = 1e9, hi_y = -1e9;
+        for (const Vec3& v : p.mesh.vertices)
+            if (v.z < b.min.z + 0.01)
+                lo_x = std::min(lo_x, v.x), hi_x = std::max(hi_x, v.x), lo_y = std::min(lo_y, v.y),
+                hi_y = std::max(hi_y, v.y);
+        const double sx = hi_x - lo_x, sy = hi_y - lo_y;
+        EXPECT_NEAR(std::max(sx, sy), 60, 0.01);
+        EXPECT_NEAR(std::min(sx, sy), 40, 0.01);
+    }
+    const std::vector<MeshPiece> z = cut_across_z(box(40, 30, 100), {50}, pin);
+    ASSERT_EQ(z.size(), 2u);
+    ASSERT_TRUE(z[0].connectors[0].pin);
+    Mesh lower = z[0].mesh;
+    const BBox3 before = bounding_box(lower);
+    rotate_mesh(lower, lay_on_cut_face(z[0]));
+    const BBox3 after = bounding_box(lower);
+    EXPECT_NEAR(after.max.z - after.min.z, before.max.z - before.min.z, 1e-6);
+    EXPECT_NEAR(after.max.x - after.min.x, 40, 1e-6);
+}
+
 TEST(Cut, SphereSectionsAreCapped) {
     const Mesh m = sphere(30, 40, 64);
     const double v = signed_volume(m);
