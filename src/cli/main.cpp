@@ -133,6 +133,11 @@ int run(int argc, char** argv) {
                     "Measure the G-code as --stats-check does and write nothing (exit status 5, "
                     "the rules failed on stderr) when it fails a rule of carve check --strict; "
                     "with --cut, every plate [off]");
+    slice->add_flag(
+        "--plate-meshes", run.plate_meshes,
+        "With --cut: also write each plate's pieces as a binary STL (-o with -plateN.stl "
+        "for its extension), where the plate's G-code prints them, for carve check "
+        "--mesh or another slicer [off]");
     slice->add_flag("--stats-strength", run.strength_output,
                     "Also measure the written G-code's strength as carve check --strength does "
                     "(grams, weakest section and bond with their z, compression and shear "
@@ -469,6 +474,8 @@ int run(int argc, char** argv) {
             }
 
         carve::validate_settings(settings);
+        if (run.plate_meshes && !settings.cutting())
+            return fail("--plate-meshes needs --cut or --cut-plane", carve::kExitUsage);
         // Nothing the run writes may be one of its inputs, another of its outputs, or a device.
         carve::check_output_paths({{run.model_path, "the model"}, {profile_path, "the profile"}},
                                   {{run.gcode_path, "-o"},
@@ -492,6 +499,7 @@ int run(int argc, char** argv) {
                     std::cout << "plate " << p + 1 << ":\n"
                               << carve::summary_text(cut.plates[p], settings) << "G-code     "
                               << cut.gcode_paths[p] << "\n";
+                for (const std::string& m : cut.mesh_paths) std::cout << "mesh       " << m << "\n";
                 std::cout << "pieces     " << cut.picture_path << "\n";
                 if (!run.stats_path.empty()) std::cout << "stats      " << run.stats_path << "\n";
             }

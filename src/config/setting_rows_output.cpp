@@ -83,9 +83,9 @@ std::vector<SettingSpec> output_rows() {
          "With --silent-mode: the stealth mode's X and Y speed limit (a profile's second "
          "machine_max_feedrate_x/y), mm/s [0 = the normal limits; 100 with --printer mk3s]"},
         {"pause-at", "", "mm", 0, 0, pause_at_field(),
-         "Pause before the first layer at or above each height, mm of the model: M600 "
-         "(filament change) on Marlin and RepRap, PAUSE on Klipper, retracted and lifted 5 mm "
-         "before it and back after it [none]"},
+         "Pause before the first layer at or above each height, mm of the model (with --cut, of "
+         "each plate): M600 (filament change) on Marlin and RepRap, PAUSE on Klipper, retracted "
+         "and lifted 5 mm before it and back after it [none]"},
         {"pause-command", "", "", 0, 0, pause_command_field(),
          "The command --pause-at writes: a G-code or a macro's name (M601, M0, PAUSE, "
          "M600; Klipper's PAUSE needs its pause_resume section and a PAUSE macro) [none: "

@@ -83,6 +83,11 @@ void analyse_and_repair(Mesh& mesh, MeshReport& report,
 double signed_volume(const Mesh& mesh);
 BBox3 bounding_box(const Mesh& mesh);
 
+// The mesh as a binary STL file's bytes (float32, little-endian, facet normals from the vertex
+// order), `name` in the 80-byte header: how a cut's plates are handed to carve check --mesh
+// or to another slicer.
+std::string binary_stl(const Mesh& mesh, const std::string& name);
+
 // Triangles a model may have once every copy is placed (3MF components and items, --copies):
 // some 2 GB of mesh and slicing work, ten times the largest scans the shared models hold.
 constexpr size_t kMaxPlacedTriangles = 20'000'000;

@@ -8,11 +8,14 @@
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
+#include <functional>
 #include <limits>
 #include <nlohmann/json.hpp>
 #include <optional>
 
 #include "base/error.hpp"
+#include "base/numbers.hpp"
+#include "base/output_paths.hpp"
 #include "base/stage_timer.hpp"
 #include "mesh/cut.hpp"
 #include "report/stats.hpp"
@@ -298,6 +301,49 @@ std::string picture_path(const std::string& gcode_path) {
     return (p.parent_path() / (p.stem().string() + "-pieces.svg")).string();
 }
 
+// "out.gcode" -> "out-plate2.stl": plate 2's pieces as a mesh, beside its G-code.
+std::string plate_mesh_path(const std::string& gcode_path, size_t plate) {
+    const std::filesystem::path p(plate_path(gcode_path, plate));
+    return (p.parent_path() / (p.stem().string() + ".stl")).string();
+}
+
+// The files a cut writes in place of the run's own (-plateN beside each, the picture, the
+// plates' meshes) are checked as the CLI checks the run's: none may be the model or another of
+// them, nor a device, and this before anything is sliced.
+void check_cut_outputs(const RunOptions& options, size_t plates) {
+    std::vector<NamedPath> outputs;
+    for (size_t p = 1; p <= plates; ++p) {
+        const std::string plate = fmt::format("plate {}'s", p);
+        outputs.push_back({plate_path(options.gcode_path, p), plate + " G-code"});
+        outputs.push_back({plate_path(options.report_path, p), plate + " --report"});
+        outputs.push_back({plate_path(options.svg_dir, p), plate + " --svg-layers", true});
+        outputs.push_back({plate_path(options.raster_dir, p), plate + " --raster", true});
+        if (options.plate_meshes)
+            outputs.push_back({plate_mesh_path(options.gcode_path, p), plate + " mesh"});
+    }
+    outputs.push_back({picture_path(options.gcode_path), "the pieces' picture"});
+    outputs.push_back({options.stats_path, "--stats"});
+    check_output_paths({{options.model_path, "the model"}}, outputs);
+}
+
+// --pause-at with --cut: heights on each plate (a piece lies on its cut face, so the model's
+// heights are not the plate's). A plate lower than a height prints without that pause, which
+// is said; a height no plate reaches is refused, as a pause above the model's top is.
+std::vector<double> plate_pauses(const Settings& settings, const RunOptions& options, size_t plate,
+                                 double height,
+                                 const std::function<void(const std::string&)>& note) {
+    std::vector<double> kept;
+    for (double z : settings.pause_at)
+        if (z <= height + 1e-6)
+            kept.push_back(z);
+        else
+            note(
+                fmt::format("{}: plate {} is {:.2f} mm tall and prints without the pause at "
+                            "{} mm",
+                            options.model_path, plate, height, plain_number(z)));
+    return kept;
+}
+
 // Each piece on the bed, on its cut face (or, with --orient auto, in the orientation that prints
 // it lightest), turned a quarter when only that fits; one that fits neither way (or is too tall)
 // is refused by its number before anything is sliced.
@@ -389,6 +435,17 @@ CutRunResult run_cut(const Settings& settings, const RunOptions& options) {
     const double margin = 2 * plate_margin(settings);
     const size_t plate_count =
         arrange(laid, settings.bed_x - margin, settings.bed_y - margin, settings.copy_gap);
+    check_cut_outputs(options, plate_count);
+    if (!settings.pause_at.empty()) {
+        double tallest = 0;
+        for (const Laid& l : laid) tallest = std::max(tallest, l.h);
+        for (double z : settings.pause_at)
+            if (z > tallest + 1e-6)
+                throw InputError(fmt::format(
+                    "{}: --pause-at {} mm is above every plate's top (the tallest piece is "
+                    "{:.2f} mm): with --cut, pauses are heights on the plates",
+                    options.model_path, plain_number(z), tallest));
+    }
     const std::string stem = std::filesystem::path(options.model_path).stem().string();
     OutputGroup group;
     CutRunResult out;
@@ -440,9 +497,26 @@ CutRunResult run_cut(const Settings& settings, const RunOptions& options) {
         plate_options.raster_dir = plate_path(options.raster_dir, p + 1);
         plate_options.stats_path.clear();
         plate_options.outputs_to = &group;
+        // A plate's warnings say which plate and pieces they are about.
+        std::string names;
+        for (size_t k : on_plate) names += fmt::format("{}{}", names.empty() ? "" : ", ", k + 1);
+        plate_options.note = [&note, p, names, many = on_plate.size() > 1](const std::string& s) {
+            note(fmt::format("plate {} (piece{} {}): {}", p + 1, many ? "s" : "", names, s));
+        };
         // Issue #48: every plate must pass the rules of carve check --strict, or none is written.
         plate_options.strict = options.strict;
-        out.plates.push_back(slice_run_mesh(settings, plate_options, std::move(plate),
+        if (options.plate_meshes) {
+            Mesh placed = plate.mesh;
+            for (Vec3& v : placed.vertices) v = {v.x + place.offset_x, v.y + place.offset_y, v.z};
+            out.mesh_paths.push_back(plate_mesh_path(options.gcode_path, p + 1));
+            write_file_atomically(out.mesh_paths.back(),
+                                  binary_stl(placed, fmt::format("{} plate {}", stem, p + 1)),
+                                  &group);
+        }
+        Settings plate_settings = settings;
+        plate_settings.pause_at = plate_pauses(
+            settings, options, p + 1, plate.loaded_box.max.z - plate.loaded_box.min.z, note);
+        out.plates.push_back(slice_run_mesh(plate_settings, plate_options, std::move(plate),
                                             std::move(result), std::chrono::steady_clock::now(),
                                             thread_cpu_ns()));
         out.gcode_paths.push_back(plate_options.gcode_path);

@@ -53,6 +53,9 @@ struct RunOptions {
     // When set, the run's finished outputs are handed to this group instead of renamed into
     // place: the plates of a --cut are all renamed once the last is done.
     OutputGroup* outputs_to = nullptr;
+    // --plate-meshes, with --cut: each plate's pieces also as a binary STL, <-o stem>-plateN.stl,
+    // where the plate's G-code prints them (for carve check --mesh, or another slicer).
+    bool plate_meshes = false;
 };
 
 // What a run stopped by RunOptions::give_up_above_mm3 throws.
@@ -72,6 +75,7 @@ struct CutRunResult {
     std::vector<RunResult> plates;
     std::vector<std::string> gcode_paths;  // one per plate
     std::string picture_path;              // the plates seen from above (SVG), beside -o
+    std::vector<std::string> mesh_paths;   // one per plate with RunOptions::plate_meshes
     size_t pieces = 0;
 };
 CutRunResult run_cut(const Settings& settings, const RunOptions& options);

@@ -59,7 +59,8 @@ void write_file(const std::string& path, const std::string& bytes) {
     out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
 }
 
-std::string binary_stl(const Mesh& m, const std::string& header) {
+// A binary STL with this header byte for byte (carve::binary_stl never starts one with "solid").
+std::string raw_stl(const Mesh& m, const std::string& header) {
     std::string out(80, ' ');
     std::memcpy(out.data(), header.data(), std::min<size_t>(header.size(), 80));
     uint32_t n = static_cast<uint32_t>(m.triangles.size());
@@ -497,7 +498,7 @@ TEST(MeshRepair, TheEdgeCountsAreReportedOnceBeforeTheShellsAreWalked) {
 
 TEST(MeshRepair, ASoupIsRefusedOnlyWhenAsked) {
     const std::string path = temp().file("soup.stl");
-    write_file(path, binary_stl(soup_mesh(2000), "soup"));
+    write_file(path, raw_stl(soup_mesh(2000), "soup"));
     MeshReport r = load_ok(path);
     EXPECT_EQ(r.open_edges, 6000u);
     EXPECT_EQ(r.shells, 2000u);
@@ -516,10 +517,10 @@ TEST(MeshRepair, ASoupIsRefusedOnlyWhenAsked) {
     }
     // A closed model passes, and so does a small soup (up to 1000 triangles).
     const std::string cube = temp().file("cube_refuse.stl");
-    write_file(cube, binary_stl(cube_mesh(), "cube"));
+    write_file(cube, raw_stl(cube_mesh(), "cube"));
     EXPECT_NO_THROW(load_mesh(cube, r, refuse));
     EXPECT_FALSE(is_triangle_soup(r));
-    write_file(path, binary_stl(soup_mesh(1000), "small soup"));
+    write_file(path, raw_stl(soup_mesh(1000), "small soup"));
     EXPECT_NO_THROW(load_mesh(path, r, refuse));
 }
 
@@ -529,7 +530,7 @@ TEST(MeshRepair, ASoupIsRefusedOnlyWhenAsked) {
 TEST(MeshRepair, ASoupIsProvedFromItsCornersBeforeItIsWelded) {
     auto proof = [](const Mesh& m, const std::string& name) {
         const std::string path = temp().file(name);
-        write_file(path, binary_stl(m, name));
+        write_file(path, raw_stl(m, name));
         std::FILE* f = std::fopen(path.c_str(), "rb");
         auto p = detail::binary_stl_soup_corners(f, path, 0);
         std::fclose(f);
@@ -766,10 +767,29 @@ TEST(MeshRepair, Measures) {
 
 TEST(MeshFormats, BinaryStlWhoseHeaderSaysSolid) {
     const std::string path = temp().file("solid_header.stl");
-    write_file(path, binary_stl(cube_mesh(), "solid cube written by a careless exporter"));
+    write_file(path, raw_stl(cube_mesh(), "solid cube written by a careless exporter"));
     MeshReport r = load_ok(path);
     EXPECT_EQ(r.format, "binary STL");
     EXPECT_EQ(r.triangles, 12u);
+    EXPECT_NEAR(r.volume_mm3, 8000.0, 1e-6);
+}
+
+// carve's own writer (the plates of --plate-meshes): the cube reads back as the same 12
+// triangles and volume, its header starts with carve's name even when the name given is
+// "solid", and each facet's stored normal points out.
+TEST(MeshFormats, BinaryStlWrittenByCarveReadsBack) {
+    const std::string bytes = carve::binary_stl(cube_mesh(), "solid");
+    ASSERT_EQ(bytes.size(), 84u + 12 * 50);
+    EXPECT_EQ(bytes.substr(0, 11), "carve solid");
+    float normal[3];
+    std::memcpy(normal, bytes.data() + 84, sizeof normal);  // the bottom quad's first facet
+    EXPECT_FLOAT_EQ(normal[2], -1);
+    const std::string path = temp().file("carve_written.stl");
+    write_file(path, bytes);
+    MeshReport r = load_ok(path);
+    EXPECT_EQ(r.format, "binary STL");
+    EXPECT_EQ(r.triangles, 12u);
+    EXPECT_EQ(r.flipped_triangles, 0u);
     EXPECT_NEAR(r.volume_mm3, 8000.0, 1e-6);
 }
 
@@ -1085,7 +1105,7 @@ TEST(MeshErrors, NoTrianglesLeft) {
 
 TEST(MeshErrors, CoordinatesBeyondAKilometre) {
     Mesh m = cube_mesh(2e6);
-    write_file(temp().file("huge.stl"), binary_stl(m, "huge"));
+    write_file(temp().file("huge.stl"), raw_stl(m, "huge"));
     expect_input_error(temp().file("huge.stl"), {"1 km", "wrong units"});
 }
 
