@@ -396,11 +396,69 @@ std::vector<Laid> lay_pieces(const std::vector<MeshPiece>& pieces, bool any_plan
     return laid;
 }
 
+// --pause-at with --cut: a height no plate reaches is refused before anything is sliced.
+void check_pauses(const Settings& settings, const RunOptions& options,
+                  const std::vector<Laid>& laid) {
+    double tallest = 0;
+    for (const Laid& l : laid) tallest = std::max(tallest, l.h);
+    for (double z : settings.pause_at)
+        if (z > tallest + 1e-6)
+            throw InputError(
+                fmt::format("{}: --pause-at {} mm is above every plate's top (the tallest piece is "
+                            "{:.2f} mm): with --cut, pauses are heights on the plates",
+                            options.model_path, plain_number(z), tallest));
+}
+
+// Plate p's pieces as one mesh where the arrangement put them, each a labelled object;
+// `on_plate` gets their numbers.
+RunMesh gather_plate(const std::vector<Laid>& laid, size_t p, const std::string& stem,
+                     std::vector<size_t>& on_plate) {
+    RunMesh plate;
+    for (size_t k = 0; k < laid.size(); ++k) {
+        if (laid[k].plate != p) continue;
+        const Laid& l = laid[k];
+        const uint32_t base = uint32_t(plate.mesh.vertices.size());
+        for (const Vec3& v : l.mesh.vertices)
+            plate.mesh.vertices.push_back({v.x + l.x, v.y + l.y, v.z});
+        for (const auto& t : l.mesh.triangles)
+            plate.mesh.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
+        plate.copy_boxes.push_back({l.x, l.y, l.x + l.w, l.y + l.d});
+        plate.object_names.push_back(fmt::format("{}_piece{}", stem, k + 1));
+        on_plate.push_back(k);
+    }
+    plate.loaded_box = bounding_box(plate.mesh);
+    return plate;
+}
+
+// The run's options for plate p: its outputs -plateN beside the run's, handed to the group so
+// that none is renamed into place before the last plate is done.
+RunOptions plate_run_options(const RunOptions& options, size_t p,
+                             const std::vector<size_t>& on_plate,
+                             const std::function<void(const std::string&)>& note,
+                             OutputGroup& group) {
+    RunOptions plate_options = options;
+    plate_options.gcode_path = plate_path(options.gcode_path, p + 1);
+    plate_options.report_path = plate_path(options.report_path, p + 1);
+    plate_options.svg_dir = plate_path(options.svg_dir, p + 1);
+    plate_options.raster_dir = plate_path(options.raster_dir, p + 1);
+    plate_options.stats_path.clear();
+    plate_options.outputs_to = &group;
+    // A plate's warnings say which plate and pieces they are about.
+    std::string names;
+    for (size_t k : on_plate) names += fmt::format("{}{}", names.empty() ? "" : ", ", k + 1);
+    plate_options.note = [note, p, names, many = on_plate.size() > 1](const std::string& s) {
+        note(fmt::format("plate {} (piece{} {}): {}", p + 1, many ? "s" : "", names, s));
+    };
+    // Issue #48: every plate must pass the rules of carve check --strict, or none is written.
+    plate_options.strict = options.strict;
+    return plate_options;
+}
+
 }  // namespace
 
 CutRunResult run_cut(const Settings& settings, const RunOptions& options) {
     const auto started = std::chrono::steady_clock::now();
-    auto note = [&](const std::string& s) {
+    const std::function<void(const std::string&)> note = [&](const std::string& s) {
         if (options.note) options.note(s);
     };
     if (settings.copies > 1)
@@ -436,37 +494,15 @@ CutRunResult run_cut(const Settings& settings, const RunOptions& options) {
     const size_t plate_count =
         arrange(laid, settings.bed_x - margin, settings.bed_y - margin, settings.copy_gap);
     check_cut_outputs(options, plate_count);
-    if (!settings.pause_at.empty()) {
-        double tallest = 0;
-        for (const Laid& l : laid) tallest = std::max(tallest, l.h);
-        for (double z : settings.pause_at)
-            if (z > tallest + 1e-6)
-                throw InputError(fmt::format(
-                    "{}: --pause-at {} mm is above every plate's top (the tallest piece is "
-                    "{:.2f} mm): with --cut, pauses are heights on the plates",
-                    options.model_path, plain_number(z), tallest));
-    }
+    check_pauses(settings, options, laid);
     const std::string stem = std::filesystem::path(options.model_path).stem().string();
     OutputGroup group;
     CutRunResult out;
     out.pieces = pieces.size();
     std::vector<PlateDrawing> drawings;
     for (size_t p = 0; p < plate_count; ++p) {
-        RunMesh plate;
         std::vector<size_t> on_plate;
-        for (size_t k = 0; k < laid.size(); ++k) {
-            if (laid[k].plate != p) continue;
-            const Laid& l = laid[k];
-            const uint32_t base = uint32_t(plate.mesh.vertices.size());
-            for (const Vec3& v : l.mesh.vertices)
-                plate.mesh.vertices.push_back({v.x + l.x, v.y + l.y, v.z});
-            for (const auto& t : l.mesh.triangles)
-                plate.mesh.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
-            plate.copy_boxes.push_back({l.x, l.y, l.x + l.w, l.y + l.d});
-            plate.object_names.push_back(fmt::format("{}_piece{}", stem, k + 1));
-            on_plate.push_back(k);
-        }
-        plate.loaded_box = bounding_box(plate.mesh);
+        RunMesh plate = gather_plate(laid, p, stem, on_plate);
         // The picture draws the pieces where the G-code prints them: the plate centred on the bed.
         const Placement place = centre_on_bed(settings, plate.loaded_box);
         PlateDrawing drawing;
@@ -490,21 +526,7 @@ CutRunResult run_cut(const Settings& settings, const RunOptions& options) {
         result.mesh.volume_mm3 = signed_volume(plate.mesh);
         result.mesh.triangles = plate.mesh.triangles.size();
         result.mesh.vertices = plate.mesh.vertices.size();
-        RunOptions plate_options = options;
-        plate_options.gcode_path = plate_path(options.gcode_path, p + 1);
-        plate_options.report_path = plate_path(options.report_path, p + 1);
-        plate_options.svg_dir = plate_path(options.svg_dir, p + 1);
-        plate_options.raster_dir = plate_path(options.raster_dir, p + 1);
-        plate_options.stats_path.clear();
-        plate_options.outputs_to = &group;
-        // A plate's warnings say which plate and pieces they are about.
-        std::string names;
-        for (size_t k : on_plate) names += fmt::format("{}{}", names.empty() ? "" : ", ", k + 1);
-        plate_options.note = [&note, p, names, many = on_plate.size() > 1](const std::string& s) {
-            note(fmt::format("plate {} (piece{} {}): {}", p + 1, many ? "s" : "", names, s));
-        };
-        // Issue #48: every plate must pass the rules of carve check --strict, or none is written.
-        plate_options.strict = options.strict;
+        const RunOptions plate_options = plate_run_options(options, p, on_plate, note, group);
         if (options.plate_meshes) {
             Mesh placed = plate.mesh;
             for (Vec3& v : placed.vertices) v = {v.x + place.offset_x, v.y + place.offset_y, v.z};
