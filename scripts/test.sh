@@ -7,10 +7,12 @@ export CI=true
 # Each phase's end, seconds since the start and the load average, for bench/results/ci_time.md.
 mark() { echo "test.sh: $1 done at ${SECONDS} s, load $(cut -d' ' -f1-3 /proc/loadavg)"; }
 bash scripts/install-deps.sh
-# The layering drawn in docs/architecture.md and the formatting: cheap, so before the build.
+# The layering drawn in docs/architecture.md, the size rules (no function body over 150 lines,
+# no file over 650) and the formatting: cheap, so before the build.
 python3 scripts/check_layers.py
+python3 scripts/check_sizes.py
 bash scripts/check_format.sh
-mark "install-deps, check_layers, check_format"
+mark "install-deps, check_layers, check_sizes, check_format"
 bash scripts/build.sh
 mark "Release build"
 ctest --test-dir build --output-on-failure -j "$(nproc)"

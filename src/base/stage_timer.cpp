@@ -21,8 +21,8 @@ struct Counter {
 std::array<Counter, size_t(Stage::kCount)> counters;
 
 constexpr std::array<const char*, size_t(Stage::kCount)> kNames{
-    "slice",   "covers",    "sweep C1", "sweep C2..", "skeleton", "voronoi",
-    "bridges", "toolpaths", "gcode",    "morphology", "boolean"};
+    "slice",   "covers", "sweep C1",  "sweep C2..", "skeleton",   "voronoi",
+    "bridges", "ribs",   "toolpaths", "gcode",      "morphology", "boolean"};
 
 }  // namespace
 

@@ -17,6 +17,7 @@ enum class Stage {
     kSkeleton,
     kVoronoi,
     kBridges,
+    kRibs,  // the ribs and their vaults (supports/ribs*.cpp); counted as kBridges before issue 50
     kToolpaths,
     kGcode,
     kMorphology,  // geometry's operations, reported through its probe (geometry/probe.hpp)

@@ -43,6 +43,18 @@ Paths difference(const Paths& a, const Paths& b) {
     return out;
 }
 
+Paths clip_open(const Paths& lines, const Paths& region, bool inside) {
+    Clipper c;
+    c.AddPaths(lines, ClipperLib::ptSubject, false);
+    c.AddPaths(region, ClipperLib::ptClip, true);
+    ClipperLib::PolyTree tree;
+    c.Execute(inside ? ClipperLib::ctIntersection : ClipperLib::ctDifference, tree,
+              ClipperLib::pftNonZero, ClipperLib::pftNonZero);
+    Paths out;
+    ClipperLib::OpenPathsFromPolyTree(tree, out);
+    return out;
+}
+
 // Total length of open paths, mm.
 double open_length_mm(const Paths& paths) {
     double l = 0;
@@ -189,13 +201,7 @@ TravelFigures measure_travel(const Paths& travel, const Paths& grown) {
     double total = 0;
     for (const Path& p : travel) total += open_length_mm(Paths{p});
     if (travel.empty()) return t;
-    Clipper c;
-    c.AddPaths(travel, ClipperLib::ptSubject, false);
-    c.AddPaths(grown, ClipperLib::ptClip, true);
-    ClipperLib::PolyTree tree;
-    c.Execute(ClipperLib::ctDifference, tree, ClipperLib::pftNonZero, ClipperLib::pftNonZero);
-    Paths out;
-    ClipperLib::OpenPathsFromPolyTree(tree, out);
+    const Paths out = clip_open(travel, grown, false);
     t.outside_mm = open_length_mm(out);
     t.inside_mm = std::max(0.0, total - t.outside_mm);
     // Ends of the paths: a piece ending at one did not come back in (or never was in).

@@ -18,6 +18,8 @@ double region_area_mm2(const Paths& region);
 Paths dilate_round(const Paths& region, Coord delta);
 Paths difference(const Paths& a, const Paths& b);
 Paths intersection(const Paths& a, const Paths& b);
+// The parts of open polylines inside a closed region (`inside`) or outside it.
+Paths clip_open(const Paths& lines, const Paths& region, bool inside);
 // Total length of open paths, mm.
 double open_length_mm(const Paths& paths);
 

@@ -330,13 +330,7 @@ Bridge longest_bridge(const std::vector<Path>& polylines, const Paths& unsupport
         }
     }
     if (segments.empty()) return best;
-    Clipper c;
-    c.AddPaths(segments, ClipperLib::ptSubject, false);
-    c.AddPaths(unsupported, ClipperLib::ptClip, true);
-    ClipperLib::PolyTree tree;
-    c.Execute(ClipperLib::ctIntersection, tree, ClipperLib::pftNonZero, ClipperLib::pftNonZero);
-    Paths stretches;
-    ClipperLib::OpenPathsFromPolyTree(tree, stretches);
+    const Paths stretches = clip_open(segments, unsupported, true);
     // A stretch that reaches a move's end is not held there (the move ends over nothing).
     std::vector<Point> ends;
     for (const Path& s : segments) ends.push_back(s.front()), ends.push_back(s.back());

@@ -54,6 +54,7 @@ std::vector<BridgeAbove> bridges_above(const BridgedPartition& bridged) {
 RibSlice rib_slice(const LayerRecord& layer, const RibOptions& options) {
     RibSlice out;
     if (!options.enabled) return out;
+    StageTimer timer(Stage::kRibs);
     const Coord w = options.line_width;
     // Each cavity less half a line width (its wall's half inside it; cavities touch along the
     // walls between them, so each is eroded alone) and less its bridge lines.
@@ -81,7 +82,7 @@ RibSlice rib_slice(const LayerRecord& layer, const RibOptions& options) {
 }
 
 void rib_overlap(RibSlice& slice, const RibAbove& above) {
-    StageTimer timer(Stage::kBridges);
+    StageTimer timer(Stage::kRibs);
     // What the slice above prints deep in this one's empty region (deep lies inside empty: one
     // boolean, not two).
     if (above.above && !slice.empty.empty() && above.printed && !above.printed->empty() &&
@@ -101,7 +102,7 @@ void rib_overlap(RibSlice& slice, const RibAbove& above) {
 
 LayerRibs clip_ribs(LayerRibs ribs, const RibSlice& slice, const RibOptions& options) {
     if (ribs.lines.empty() && ribs.ties.empty() && ribs.vaults.empty()) return ribs;
-    StageTimer timer(Stage::kBridges);
+    StageTimer timer(Stage::kRibs);
     Paths kept;
     for (Path& l : clip_lines(ribs.lines, slice.empty))
         if (length(Paths{l}, false) >= double(options.line_width)) kept.push_back(std::move(l));

@@ -596,7 +596,7 @@ void RibPlanner::Descent::hold_minima() {
 LayerRibs RibPlanner::add(const LayerRecord& layer, const RibSlice& slice) {
     LayerRibs out;
     if (!options_.enabled) return out;
-    StageTimer timer(Stage::kBridges);
+    StageTimer timer(Stage::kRibs);
     if (!has_above_) nodes_.clear(), vaults_.clear();
     Descent d(*this, slice, out);
     if (has_above_ && !slice.empty.empty()) d.seed();

@@ -10,7 +10,6 @@
 #include <numbers>
 #include <tuple>
 
-#include "base/stage_timer.hpp"
 #include "geometry/morphology.hpp"
 #include "geometry/polygon.hpp"
 
@@ -229,7 +228,6 @@ std::vector<VaultPlanner::WallDistance> VaultPlanner::wall_distances(
 
 Paths VaultPlanner::carry(const VaultRegion& slice) {
     if (lines_.empty()) return {};
-    StageTimer timer(Stage::kBridges);
     const double r = double(options_.lean);
     // Each line's target: the offset where it merges with the line of the other half of its
     // block's parent. A line whose other half has no line left stands for the parent as it is.
@@ -321,7 +319,6 @@ Paths VaultPlanner::carry(const VaultRegion& slice) {
 Paths VaultPlanner::seed(const VaultRegion& slice, const Paths& hang,
                          const std::vector<BridgeAbove>& above) {
     if (!options_.enabled || hang.empty() || slice.room.empty()) return {};
-    StageTimer timer(Stage::kBridges);
     const Paths wide = open(hang, options_.wide);
     if (wide.empty()) return {};
     const double spacing = double(options_.spacing());

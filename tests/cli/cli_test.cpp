@@ -25,6 +25,7 @@
 #include "slice/slicer.hpp"
 #include "support/carve_run.hpp"
 #include "support/models.hpp"
+#include "support/regex.hpp"
 
 namespace fs = std::filesystem;
 using namespace carve;
@@ -390,6 +391,23 @@ TEST(Cli, ProgressIsPlainLinesWithoutATerminalAndABarOnOne) {
     EXPECT_NE(tty.find("\r["), std::string::npos) << tty;
     EXPECT_NE(tty.find("] 100/100 layers"), std::string::npos) << tty;
     EXPECT_EQ(tty.find(" layers (10 %)"), std::string::npos);
+}
+
+// The ribs are a stage of CARVE_PROFILE's table of their own, not folded into the bridges'.
+TEST(Cli, ProfileTimesTheRibsAsAStageOfTheirOwn) {
+    CARVE_NEED_MODEL("fandisk.stl");
+    const std::string gcode = (scratch() / "ribs-profiled.gcode").string();
+    const std::string stats = (scratch() / "ribs-profiled.json").string();
+    const CarveRun r =
+        run_carve("slice " + model("fandisk.stl") + " -q -o " + gcode + " --stats " + stats,
+                  "CARVE_PROFILE=1");
+    ASSERT_EQ(r.status, 0) << r.err;
+    ASSERT_GT(nlohmann::json::parse(read(stats))["material_by_feature"]["ribs_mm3"].get<double>(),
+              0);
+    std::vector<std::string> m;
+    ASSERT_TRUE(carve::test::Regex(R"((^|\n)ribs +([0-9.]+) +([0-9]+)\n)").search(r.err, &m))
+        << r.err;
+    EXPECT_GT(std::stoll(m[3]), 0) << r.err;  // its calls
 }
 
 // CARVE_PROFILE's account of where a run went: the serial fraction with its projection, the

@@ -1,18 +1,26 @@
 // The documentation of the command line: every option of `carve slice|info|check --help` states
-// its default (a "[...]" marker) and, for a number, its unit; the man page docs/carve.1 covers
-// every option with the same default and renders without groff warnings.
+// its default (a "[...]" marker) and, for a number, its unit; that default is the value in the
+// code (the member a row of cli/options.hpp or the setting table binds); the man page
+// docs/carve.1 covers every option with the same default and renders without groff warnings.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cctype>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <set>
 #include <sstream>
 #include <string>
+#include <type_traits>
+#include <variant>
 #include <vector>
 
+#include "base/numbers.hpp"
+#include "cli/options.hpp"
+#include "config/setting_table.hpp"
 #include "support/carve_run.hpp"
 #include "support/regex.hpp"
 
@@ -163,6 +171,102 @@ TEST(Help, ThePlainDescriptionsParse) {
     EXPECT_EQ(e[0].description, "Aaa, mm [1]");
     EXPECT_EQ(e[1].names, "--keep");
     EXPECT_EQ(default_marker(e[2].description), "");
+}
+
+// Whether a help's marker ("[0.05]", "[0: eight spread ...]", "[the header's, else 1.75]")
+// states `value` as the default.
+bool states(const std::string& marker, const std::string& value) {
+    const std::string open = "[" + value;
+    if (marker.rfind(open, 0) == 0 && marker.size() > open.size() &&
+        std::string("]: ,;").find(marker[open.size()]) != std::string::npos)
+        return true;
+    const std::string close = " " + value + "]";
+    return marker.size() >= close.size() &&
+           marker.compare(marker.size() - close.size(), close.size(), close) == 0;
+}
+
+// What a row's member holds in a command as constructed: "0.05", "40000", "linear", "off", "".
+template <class Command>
+std::string code_default(const carve::cli::OptionRow<Command>& row) {
+    Command defaults;
+    return std::visit(
+        [](auto* member) -> std::string {
+            using T = std::remove_pointer_t<decltype(member)>;
+            if constexpr (std::is_same_v<T, bool>)
+                return *member ? "on" : "off";
+            else if constexpr (std::is_same_v<T, std::string>)
+                return *member;
+            else
+                return carve::plain_number(static_cast<double>(*member));
+        },
+        row.target(defaults));
+}
+
+// Every row's default against its --help line, by the row's long name.
+template <class Command>
+void expect_rows_state_their_defaults(const std::string& sub,
+                                      const std::vector<carve::cli::OptionRow<Command>>& rows,
+                                      std::set<std::string>& seen) {
+    std::map<std::string, std::string> marker_of;
+    for (const HelpEntry& e : help_of(sub))
+        marker_of[long_name(e.names)] = default_marker(e.description);
+    for (const carve::cli::OptionRow<Command>& row : rows) {
+        if (row.names == carve::cli::kSettingsHere) continue;
+        const std::string name = long_name(row.names);
+        seen.insert(sub + " " + name);
+        ASSERT_TRUE(marker_of.count(name)) << sub << " " << name << " is not in --help";
+        const std::string marker = marker_of[name], value = code_default(row);
+        if (value.empty())  // a path or a name not given: "[none]", "[required]", or in words
+            EXPECT_TRUE(marker.size() > 1 && !std::isdigit(static_cast<unsigned char>(marker[1])))
+                << sub << " " << name << ": the help states " << marker
+                << " but the code's default is empty";
+        else
+            EXPECT_TRUE(states(marker, value)) << sub << " " << name << ": the help states "
+                                               << marker << " but the code's default is " << value;
+    }
+}
+
+TEST(Help, EveryDefaultIsTheValueInTheCode) {
+    EXPECT_TRUE(states("[0.05]", "0.05"));
+    EXPECT_TRUE(states("[0: eight spread over the height]", "0"));
+    EXPECT_TRUE(states("[the header's, else 1.75]", "1.75"));
+    EXPECT_FALSE(states("[0.4]", "0"));
+    EXPECT_FALSE(states("[0.05]", "0.06"));
+    std::set<std::string> seen;
+    expect_rows_state_their_defaults("slice", carve::cli::slice_rows(), seen);
+    expect_rows_state_their_defaults("info", carve::cli::info_rows(), seen);
+    expect_rows_state_their_defaults("check", carve::cli::check_rows(), seen);
+    // The setting table's options (a switch's help speaks of giving it, "[off]": not given).
+    const carve::Settings defaults;
+    std::map<std::string, std::string> marker_of;
+    for (const HelpEntry& e : help_of("slice"))
+        marker_of[long_name(e.names)] = default_marker(e.description);
+    for (const carve::SettingSpec& spec : carve::setting_table()) {
+        if (!*spec.option) continue;
+        const std::string name = std::string("--") + spec.option;
+        seen.insert("slice " + name);
+        if (spec.is_switch()) {  // "--wipe", "!--no-m73,--m73", "!--keep-all-bridges"
+            std::stringstream names(spec.cli_switch_names());
+            for (std::string n; std::getline(names, n, ',');)
+                seen.insert("slice " + n.substr(n.find("--")));
+            continue;
+        }
+        ASSERT_TRUE(marker_of.count(name)) << name << " is not in carve slice --help";
+        // A number as the number (a 0/1 setting's help says "[1]"), a text as its text.
+        const std::string value =
+            spec.text() ? spec.text_value(defaults) : carve::plain_number(spec.get(defaults));
+        EXPECT_TRUE(states(marker_of[name], value.empty() ? "none" : value))
+            << "slice " << name << ": the help states " << marker_of[name]
+            << " but the code's default is " << value;
+    }
+    // No option declared outside both tables, where its default would be restated by hand.
+    for (const std::string& sub : kSubcommands)
+        for (const HelpEntry& e : help_of(sub)) {
+            const std::string name = long_name(e.names);
+            if (name == "--help") continue;
+            EXPECT_TRUE(seen.count(sub + " " + name))
+                << sub << " " << e.names << " is a row of neither cli/options.hpp nor the table";
+        }
 }
 
 TEST(ManPage, CoversEveryOptionWithTheSameDefault) {
