@@ -52,6 +52,9 @@ std::vector<SettingSpec> print_rows() {
          "Walls tied across the cavities: a square grid of single-filament walls at +-45 "
          "degrees this far apart, stacked layer on layer from wall to wall, mm; --strong sets "
          "it [0 = none]"},
+        {"solid-below", "", "mm", 0.0, 100.0, &S::solid_below,
+         "Interior narrower than this (inside the shells) printed solid instead of carved, "
+         "mm; --strong sets it [0 = none]"},
         {"extrusion-width", "", "mm", 0.0, 3.0, &S::extrusion_width,
          "Line width w of every wall and cover, mm; a profile's perimeter_extrusion_width or "
          "extrusion_width sets it [0 = the nozzle diameter]"},
