@@ -33,6 +33,12 @@ TEST(Presets, StrongIsTiesAndTwoShellsOnASquatPartFourShellsOnASlenderOne) {
     apply_strength(slender, 8.9, false, false);  // man
     EXPECT_EQ(slender.shells, 4);
     EXPECT_DOUBLE_EQ(slender.tie_spacing, 0.0);
+    // cat (4.6) and elephant (4.7) are slender: shells measured stiffer there than ties.
+    Settings cat;
+    apply_print_preset("strong", cat);
+    apply_strength(cat, 4.6, false, false);
+    EXPECT_EQ(cat.shells, 4);
+    EXPECT_DOUBLE_EQ(cat.tie_spacing, 0.0);
 }
 
 TEST(Presets, SlendernessIsTheSameAtEveryScale) {
