@@ -9,8 +9,10 @@ bench/baselines.py), reads every G-code back with `carve check --strength --json
 linear and the cubic material law (2 mm voxels) and writes bench/results/strength.md: grams,
 print time (carve check's stick time, one measure for every slicer), compression and shear
 stiffness, each per gram, and whether `carve check --strict` passes.
-Usage: /usr/bin/python3 bench/strength.py [--work DIR] [--reuse] [MODEL...]
-       (default models: fandisk and man; G-code goes to /tmp/carve_strength)
+Usage: /usr/bin/python3 bench/strength.py [--work DIR] [--reuse] [--prints A,B] [MODEL...]
+       (default models: fandisk and man; G-code goes to /tmp/carve_strength; --prints keeps
+       the prints whose label contains one of the comma-separated words, e.g. "default,strong,
+       PrusaSlicer" for carve's default and strong preset against PrusaSlicer's grid)
 """
 import argparse
 import json
@@ -59,15 +61,19 @@ def measure(gcode, model):
     return out
 
 
-def runs(model, work, reuse):
+def runs(model, work, reuse, keep):
     name = os.path.splitext(os.path.basename(model))[0]
     for label, args in CARVE_CONFIGS:
+        if not keep(label):
+            continue
         stem = "_".join([name, "carve"] + [a.strip("-") for a in args])
         gcode = os.path.join(work, stem + ".gcode")
         if not (reuse and os.path.exists(gcode)):
             subprocess.run([CARVE, "slice", model, "-o", gcode, "-q"] + args, check=True)
         yield label, gcode
     for label, slicer, config in PEERS:
+        if not keep(label):
+            continue
         gcode = os.path.join(work, f"{name}_{slicer}_{config}.gcode")
         if not (reuse and os.path.exists(gcode)):
             with open(gcode + ".log", "w") as log:
@@ -110,7 +116,15 @@ def main():
     ap.add_argument("models", nargs="*", default=["fandisk", "man"])
     ap.add_argument("--work", default="/tmp/carve_strength")
     ap.add_argument("--reuse", action="store_true", help="measure G-code already in --work")
+    ap.add_argument("--out", default=os.path.join(ROOT, "bench", "results", "strength.md"))
+    ap.add_argument("--no-voxels", action="store_true", help="leave out the voxel-size table")
+    ap.add_argument("--prints", default="", help="keep the prints whose label has one of these")
     args = ap.parse_args()
+    words = [w for w in args.prints.split(",") if w]
+
+    def keep(label):
+        return not words or any(w in label for w in words)
+
     os.makedirs(args.work, exist_ok=True)
     lines = []
     voxel_lines = []
@@ -121,20 +135,20 @@ def main():
             print(f"skipped {name}: {model} absent", file=sys.stderr)
             continue
         gcodes = []
-        for label, gcode in runs(model, args.work, args.reuse):
+        for label, gcode in runs(model, args.work, args.reuse, keep):
             gcodes.append((label, gcode))
             m = measure(gcode, model)
             voxel.add(m["linear"]["finite_elements"]["voxel_mm"])
             lines.append(row(name, label, m))
             print(lines[-1], file=sys.stderr, flush=True)
-        if not voxel_lines:
+        if not voxel_lines and not args.no_voxels:
             voxel_lines = voxel_rows(name, [g for g in gcodes if g[0] in VOXEL_PRINTS])
     commit = subprocess.run(["git", "-C", ROOT, "rev-parse", "--short", "HEAD"],
                             capture_output=True, text=True).stdout.strip()
     head = [
         "# Strength of carve's prints and the peers' (`bench/strength.py`)",
         "",
-        f"carve at {commit}; PrusaSlicer 2.5 and CuraEngine 4.13 with bench/baselines.py's "
+        f"`bench/strength.py {' '.join(sys.argv[1:])}`; carve at {commit}; PrusaSlicer 2.5 and CuraEngine 4.13 with bench/baselines.py's "
         "settings (0.4 mm nozzle, 0.2 mm layers). Every figure from `carve check --strength "
         f"--json` of the G-code, voxel {', '.join(f'{v:g}' for v in sorted(voxel))} mm, "
         "E = 3500 MPa x f (linear) or x f^3 (cubic) of a voxel's filled fraction f; time = "
@@ -160,7 +174,7 @@ def main():
         "4 mm cubic |",
         "|---|---|---:|---:|---:|---:|---:|---:|",
     ] + voxel_lines
-    with open(os.path.join(ROOT, "bench", "results", "strength.md"), "w") as f:
+    with open(args.out, "w") as f:
         f.write("\n".join(head + lines + tail) + "\n")
 
 

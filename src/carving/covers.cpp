@@ -24,12 +24,15 @@ CoverSlice cover_slice(Slice slice, const Settings& settings) {
     const Coord s = settings.nozzle_radius();
     const Coord w = settings.line_width();
     slice.region = compensated_slice(std::move(slice.region), slice.index, settings);
-    CoverSlice e{std::move(slice), {}, {}};
+    CoverSlice e{std::move(slice), {}, {}, {}};
     // The outer wall's centreline runs at s inside the model's outline, so that the printed
     // wall fills the outline exactly; each extra shell sits one line width further in.
     e.wall_region = erode(e.slice.region, s);
     e.shell_paths_region =
         settings.shells > 0 ? erode(e.wall_region, w * settings.shells) : e.wall_region;
+    // --solid-below: what an opening of that width removes stays solid (covers fill it).
+    const Coord solid = to_units(settings.solid_below);
+    e.carvable_region = solid > 0 ? open(e.shell_paths_region, solid / 2) : e.shell_paths_region;
     return e;
 }
 
@@ -56,13 +59,14 @@ LayerPartition carvable_layer(int i, const std::vector<const CoverSlice*>& windo
     // missing from the window (above the top or below the bottom) means a surface within
     // `covers` layers, so nothing is carvable. Erosion distributes over intersection, so the
     // intersection of the slices' own eroded regions (made once per slice) is the erosion of
-    // the window's common outline.
+    // the window's common outline. With --solid-below each slice's own part wide enough to carve
+    // takes the place of its eroded region.
     if (in_range == 2 * c + 1) {
-        layer.carvable = own->shell_paths_region;
+        layer.carvable = own->carvable_region;
         for (const CoverSlice* other : window) {
             if (other == own || other->slice.index < i - c || other->slice.index > i + c) continue;
             if (layer.carvable.empty()) break;
-            layer.carvable = intersect(layer.carvable, other->shell_paths_region);
+            layer.carvable = intersect(layer.carvable, other->carvable_region);
         }
     }
     layer.covers = subtract(layer.shell_paths_region, layer.carvable);

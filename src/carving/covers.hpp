@@ -20,6 +20,7 @@ struct CoverSlice {
     Slice slice;
     Paths wall_region;         // O_k eroded by s
     Paths shell_paths_region;  // ... and by the extra shells
+    Paths carvable_region;     // ... less what is narrower than --solid-below
 };
 
 // The two steps of the stream as functions of their inputs alone, so that a scheduler may run

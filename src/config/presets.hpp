@@ -17,11 +17,13 @@ std::string print_preset_names();  // "2c0s, 3c1s, strong"
 void apply_print_preset(const std::string& name, Settings& settings);
 
 // A model's slenderness: its height over the side of its mean section, h / sqrt(V / h), the
-// same at every scale. fandisk 2.7, cat 4.6, elephant 4.7, man 8.9.
+// same at every scale. skull 2.2, fandisk 2.7, cat 4.6, elephant 4.7, man 8.9.
 double slenderness(double height_mm, double volume_mm3);
-// At or above it a part counts as slender (fitted between fandisk and man, the two models
-// bench/strength.py measures; see README, Stronger prints).
-inline constexpr double kSlender = 5.0;
+// At or above it a part counts as slender. Measured on the five shared models
+// (bench/results/strength.md): on cat and elephant four shells are stiffer than two shells and
+// ties in every column, for less material; on fandisk and skull the ties are. 4 is a round
+// value in the gap between 2.7 and 4.6, not fitted to it.
+inline constexpr double kSlender = 4.0;
 // --strong 1: on a squat part ties this far apart and kSquatShells shells, on a slender one
 // kSlenderShells shells.
 inline constexpr double kStrongTieSpacingMm = 5.5;

@@ -46,12 +46,15 @@ std::vector<SettingSpec> print_rows() {
         {"strong", "", "ratio", 0.0, 1.0, &S::strength,
          "How strong to print, a ratio of --preset strong's interior, from carve's default (0) "
          "to it (1): on a squat model round(2 x S) shells and --ties 5.5 / S, on a slender "
-         "one (height over the side of its mean section 5 or more) round(4 x S) shells; "
+         "one (height over the side of its mean section 4 or more) round(4 x S) shells; "
          "--shells and --ties given win [0]"},
         {"ties", "", "mm", 0.0, 100.0, &S::tie_spacing,
          "Walls tied across the cavities: a square grid of single-filament walls at +-45 "
          "degrees this far apart, stacked layer on layer from wall to wall, mm; --strong sets "
          "it [0 = none]"},
+        {"solid-below", "", "mm", 0.0, 100.0, &S::solid_below,
+         "Interior narrower than this (inside the shells) printed solid instead of carved, "
+         "mm [0 = none]"},
         {"extrusion-width", "", "mm", 0.0, 3.0, &S::extrusion_width,
          "Line width w of every wall and cover, mm; a profile's perimeter_extrusion_width or "
          "extrusion_width sets it [0 = the nozzle diameter]"},

@@ -71,6 +71,10 @@ struct Settings {
     // (mm), across the carvable interior on every layer, at the same place on each so that
     // they stack into vertical webs from wall to wall. 0 = none.
     double tie_spacing = 0;
+    // The interior (inside the shells) narrower than this (mm) is printed solid rather than
+    // carved (issue 49): a thin section in series with the rest decides the part's stiffness
+    // and hollowing it saves little. 0 = every part carved.
+    double solid_below = 0;
     WallMode walls = WallMode::Single;
     double restriction_factor = 1.4;  // t = 1.4 s
     double opening_factor = 0.9;      // s' = 0.9 s

@@ -257,6 +257,7 @@ double Emitter::speed_of(Feature f) const {
             break;
         case Feature::CavityWall:
         case Feature::Rib:
+        case Feature::Tie:
         case Feature::Support:  // single walls, as the cavities'
             v = st_.cavity_speed;
             break;

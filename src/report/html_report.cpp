@@ -57,6 +57,7 @@ std::string HtmlReportWriter::Impl::drawing(const LayerRecord& layer, const Laye
                 kind = 2;
                 break;
             case Feature::CavityWall:
+            case Feature::Tie:  // drawn as the walls they join
                 kind = 3, j = cavity_class(e.cavity);
                 break;
             case Feature::Rib:  // internal supports: their own colour, drawn over the rest
@@ -146,6 +147,7 @@ void HtmlReportWriter::add_layer(const LayerRecord& record, const LayerToolpaths
                 break;
             case Feature::CavityWall:
             case Feature::Rib:
+            case Feature::Tie:
                 r.cavity_wall_mm += len;
                 break;
             case Feature::Bridge:

@@ -150,6 +150,7 @@ nlohmann::json stats_json(const RunResult& run, const Settings& settings) {
     m["cavity_walls_mm3"] = run.feature_mm3[size_t(Feature::CavityWall)];
     m["bridges_mm3"] = run.feature_mm3[size_t(Feature::Bridge)];
     m["ribs_mm3"] = run.feature_mm3[size_t(Feature::Rib)];
+    m["ties_mm3"] = run.feature_mm3[size_t(Feature::Tie)];  // --ties: not cavity walls
     m["support_mm3"] = run.feature_mm3[size_t(Feature::Support)];
     m["support_interface_mm3"] = run.feature_mm3[size_t(Feature::SupportInterface)];
     m["remainder_mm3"] = run.remainder_fill_mm3;

@@ -161,6 +161,7 @@ std::vector<LegendEntry> layer_legend(const LayerRecord& record, const LayerTool
         add_line(Feature::Cover, kCoverLine, "cover lines");
         add_line(Feature::Bridge, kBridge, "bridge lines");
         add_line(Feature::Rib, kRibColour, "ribs");
+        add_line(Feature::Tie, dark(cavity_colour(0)), "ties");
         add_line(Feature::Support, kSupport, "support lines");
         add_line(Feature::SupportInterface, kSupportInterface, "support interface");
         add_line(Feature::Skirt, kSkirtColour, "skirt");
@@ -199,6 +200,7 @@ void toolpath_strokes(std::string& svg, const LayerToolpaths& layer_paths, const
         if (e.feature == Feature::CavityWall) max_cavity = std::max(max_cavity, e.cavity);
     for (int j = 0; j <= max_cavity; ++j)
         stroke(Feature::CavityWall, j, "cavity-wall", dark(cavity_colour(j)), 1);
+    stroke(Feature::Tie, 0, "ties", dark(cavity_colour(0)), 1);
     stroke(Feature::Shell, 0, "shell", kShell, 1);
     stroke(Feature::OuterWall, 0, "outer-wall", kOuterWall, 1.2);
     stroke(Feature::Bridge, 0, "bridge-lines", kBridge, 1.5);

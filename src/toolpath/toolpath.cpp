@@ -358,7 +358,7 @@ std::vector<Extrusion> tie_lines(const LayerPartition& layer, const Paths& inner
                                  double(piece[n].Y - piece[n - 1].Y));
         if (length < min_length) continue;
         Extrusion e;
-        e.feature = Feature::CavityWall;  // cavity 0: the stats count them with the walls
+        e.feature = Feature::Tie;
         e.points = std::move(piece);
         out.push_back(std::move(e));
     }
@@ -446,8 +446,10 @@ std::string_view feature_name(Feature f) {
         case Feature::Bridge:
             return "Bridge infill";
         case Feature::Rib:
+        case Feature::Tie:
             // Not "Support material": checkers (carve check too) let support stand across a z
             // gap, and ribs stand on the walls inside, so they are measured as the interior is.
+            // PrusaSlicer's viewer knows no other word for what is inside; ties are infill too.
             return "Internal infill";
         case Feature::Support:
             return "Support material";

@@ -12,7 +12,8 @@
 
 namespace carve {
 
-// Rib: ribs under what would hang inside the model (supports/ribs.hpp). Support and
+// Rib: ribs under what would hang inside the model (supports/ribs.hpp). Tie: the walls tied
+// across the cavities (--ties), their own so that the stats show what they cost. Support and
 // SupportInterface: supports under the model's own overhangs, outside the model.
 // Skirt and Brim: loops on the bed around the first layer (toolpath/skirt.hpp).
 enum class Feature {
@@ -22,6 +23,7 @@ enum class Feature {
     CavityWall,
     Bridge,
     Rib,
+    Tie,
     Support,
     SupportInterface,
     Skirt,

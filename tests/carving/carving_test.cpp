@@ -202,6 +202,39 @@ TEST(Carving, CoversKeepTopAndBottomSolid) {
     EXPECT_EQ(seen, n);
 }
 
+// --solid-below (issue 49): the interior narrower than it is left to the covers, solid, the rest
+// carvable as before: a 20 mm square with a 4 mm wide arm keeps the square carvable, and the
+// arm only without the option.
+TEST(Carving, InteriorNarrowerThanSolidBelowIsNotCarvable) {
+    Settings s;
+    s.covers = 0;  // the slice's own region alone decides
+    const Coord mm = to_units(1.0);
+    Path square{{0, 0}, {20 * mm, 0}, {20 * mm, 20 * mm}, {0, 20 * mm}};
+    Path arm{{20 * mm, 8 * mm}, {35 * mm, 8 * mm}, {35 * mm, 12 * mm}, {20 * mm, 12 * mm}};
+    Slice slice{0, 0.1, unite(Paths{square}, Paths{arm})};
+    auto carvable = [&](double solid_below) {
+        s.solid_below = solid_below;
+        const CoverSlice e = cover_slice(slice, s);
+        return carvable_layer(0, {&e}, s);
+    };
+    const LayerPartition plain = carvable(0);
+    const LayerPartition solid = carvable(5);
+    const double arm_mm2 = (15 - 0.2) * (4 - 0.4);  // the arm inside the wall's centreline
+    EXPECT_NEAR(area_mm2(plain.carvable), (20 - 0.4) * (20 - 0.4) + arm_mm2, 1);
+    EXPECT_LT(area_mm2(plain.covers), 0.01);
+    // The opening takes at most the square's four corners (rounded to its radius, 2.5 mm:
+    // (4 - pi) r^2) besides the arm, which the covers get.
+    const double corners_mm2 = (4 - std::acos(-1.0)) * 2.5 * 2.5;
+    EXPECT_LE(area_mm2(solid.carvable), (20 - 0.4) * (20 - 0.4) + 0.01);
+    EXPECT_GE(area_mm2(solid.carvable), (20 - 0.4) * (20 - 0.4) - corners_mm2 - 0.5);
+    EXPECT_NEAR(area_mm2(solid.covers) + area_mm2(solid.carvable), area_mm2(plain.carvable), 0.5);
+    const Point mid_arm(28 * mm, 10 * mm), mid_square(10 * mm, 10 * mm);
+    EXPECT_TRUE(point_in_region(mid_arm, plain.carvable));
+    EXPECT_FALSE(point_in_region(mid_arm, solid.carvable));
+    EXPECT_TRUE(point_in_region(mid_arm, solid.covers));
+    EXPECT_TRUE(point_in_region(mid_square, solid.carvable));
+}
+
 // The report's conclusion: a tear front limited to r/2 per slice. On the indented cube the
 // unlimited seed opens the whole pruned axis (an X across the square) in one slice, and the
 // cavity front runs far ahead of the dilation; limited to r/2, every new wall stays within

@@ -33,6 +33,12 @@ TEST(Presets, StrongIsTiesAndTwoShellsOnASquatPartFourShellsOnASlenderOne) {
     apply_strength(slender, 8.9, false, false);  // man
     EXPECT_EQ(slender.shells, 4);
     EXPECT_DOUBLE_EQ(slender.tie_spacing, 0.0);
+    // cat (4.6) and elephant (4.7) are slender: shells measured stiffer there than ties.
+    Settings cat;
+    apply_print_preset("strong", cat);
+    apply_strength(cat, 4.6, false, false);
+    EXPECT_EQ(cat.shells, 4);
+    EXPECT_DOUBLE_EQ(cat.tie_spacing, 0.0);
 }
 
 TEST(Presets, SlendernessIsTheSameAtEveryScale) {
@@ -156,6 +162,46 @@ TEST(Strength, StatsAndReportHoldTheStrengthOfTheWrittenGcode) {
     // Without the option neither has it.
     const nlohmann::json plain = slice_stats("--strong 0.5");
     EXPECT_FALSE(plain.contains("strength"));
+}
+
+// With --cut every plate is its own G-code: each plate's stats hold what carve check --strength
+// says of that plate's file.
+TEST(Strength, EveryPlateOfACutHoldsTheStrengthOfItsOwnGcode) {
+    const std::string stem = (test::scratch() / "cut").string();
+    // A 40 x 40 mm bed holds one of the two 18.4 x 9.6 mm pieces with its skirt: two plates.
+    const test::CarveRun r = test::run_carve(
+        "slice " + test::repo_model("fandisk.stl") + " --scale 0.25 -q --cut 10 --bed 40x40" +
+        " -o " + stem + ".gcode --stats " + stem + ".json --stats-strength");
+    ASSERT_EQ(r.status, 0) << r.err;
+    const nlohmann::json stats = nlohmann::json::parse(test::read(stem + ".json"), nullptr, false);
+    ASSERT_TRUE(stats.contains("plates"));
+    ASSERT_EQ(stats["plates"].size(), 2u);
+    for (const nlohmann::json& plate : stats["plates"]) {
+        ASSERT_TRUE(plate.contains("strength")) << plate["plate"];
+        const test::CarveRun c =
+            test::run_carve("check " + plate["gcode"].get<std::string>() + " --strength --json");
+        ASSERT_EQ(c.status, 0) << c.err;
+        const nlohmann::json check = nlohmann::json::parse(c.out, nullptr, false)["strength"];
+        for (const char* key :
+             {"grams", "weakest_section_mm4", "compression_n_per_mm", "shear_n_per_mm"})
+            EXPECT_NEAR(plate["strength"][key].get<double>(), check[key].get<double>(),
+                        1e-9 * std::abs(check[key].get<double>()))
+                << key << " of plate " << plate["plate"];
+    }
+}
+
+// --ties are their own feature: the stats count them as ties_mm3, and the cavity walls are
+// what they are without ties.
+TEST(Strength, TiesAreCountedAsTiesNotAsCavityWalls) {
+    const nlohmann::json plain = slice_stats("", "0.5");
+    const nlohmann::json tied = slice_stats("--ties 5", "0.5");
+    ASSERT_TRUE(tied.contains("material_by_feature"));
+    const nlohmann::json& m = tied["material_by_feature"];
+    ASSERT_TRUE(m.contains("ties_mm3"));
+    EXPECT_GT(m["ties_mm3"].get<double>(), 10);
+    EXPECT_EQ(plain["material_by_feature"]["ties_mm3"].get<double>(), 0.0);
+    EXPECT_NEAR(m["cavity_walls_mm3"].get<double>(),
+                plain["material_by_feature"]["cavity_walls_mm3"].get<double>(), 0.01);
 }
 
 }  // namespace

@@ -134,16 +134,13 @@ TEST(Toolpath, ShellsAreInsetByOneLineWidth) {
 TEST(Toolpath, TiesAreAFixedGridAtFortyFiveDegreesThatStacks) {
     Settings st;
     st.tie_spacing = 5;
-    auto ties = [](const LayerToolpaths& t) {
-        std::vector<const Extrusion*> out;
-        for (const Extrusion* e : of_feature(t, Feature::CavityWall))
-            if (e->cavity == 0) out.push_back(e);
-        return out;
-    };
+    auto ties = [](const LayerToolpaths& t) { return of_feature(t, Feature::Tie); };
     LayerPartition below = square_layer(st);
     const LayerToolpaths tb = plan_layer(below, st);
     const std::vector<const Extrusion*> lower = ties(tb);
     ASSERT_FALSE(lower.empty());
+    // Ties are their own feature (the stats' ties_mm3), not walls of the outer cavity.
+    for (const Extrusion* e : of_feature(tb, Feature::CavityWall)) EXPECT_NE(e->cavity, 0);
     double length = 0;
     const Paths reach = dilate(below.carvable, st.nozzle_radius() + 2);
     for (const Extrusion* e : lower) {
