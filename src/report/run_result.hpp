@@ -35,6 +35,9 @@ struct OrientationChoice {
     std::vector<OrientationTrial> trials;
     size_t chosen = 0;
     double choice_time_s = 0;  // wall time of the whole choice
+    // CPU time (user + system, every thread of the process) of the whole choice: what the
+    // machine's load moves far less than the wall time.
+    double choice_cpu_s = 0;
 };
 
 // Figures of one run; the stats JSON is made from these.

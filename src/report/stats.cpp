@@ -65,6 +65,7 @@ nlohmann::json orientation_json(const OrientationChoice& o) {
     nlohmann::json j;
     j["chosen"] = rotation_json(o.trials[o.chosen].candidate);
     j["choice_time_s"] = o.choice_time_s;
+    j["choice_cpu_s"] = o.choice_cpu_s;
     nlohmann::json list = nlohmann::json::array();
     for (size_t k = 0; k < o.trials.size(); ++k) {
         const OrientationTrial& t = o.trials[k];
