@@ -30,6 +30,8 @@ struct OrientationTrial {
     // Stopped once its layers so far had extruded more than a lighter candidate's whole run
     // (material_mm3 is then what they had: a lower bound of its own), so it cannot be chosen.
     bool given_up = false;
+    int layers_left = 0;  // of a candidate given up: its layers not carved (those lowest)
+    int layers = 0;       // its coarse layers in all
 };
 struct OrientationChoice {
     std::vector<OrientationTrial> trials;

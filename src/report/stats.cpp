@@ -80,6 +80,9 @@ nlohmann::json orientation_json(const OrientationChoice& o) {
             c["given_up"] = t.given_up;
             if (t.given_up) {
                 c["extruded_at_least_mm3"] = t.material_mm3;
+                // How early: the layers (of its coarse ones, bottom up) it never carved.
+                c["layers_not_carved"] = t.layers_left;
+                c["layers"] = t.layers;
             } else {
                 c["extruded_volume_mm3"] = t.material_mm3;
                 c["support_volume_mm3"] = t.support_mm3;

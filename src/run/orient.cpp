@@ -203,8 +203,10 @@ OrientationTrial try_candidate(const Mesh& mesh, OrientationCandidate c, const S
     } catch (const InputError& e) {
         t.fits = false;
         t.refused = e.what();
-    } catch (const RunGivenUp&) {
+    } catch (const RunGivenUp& e) {
         t.given_up = true;
+        t.layers_left = e.layers_left;
+        t.layers = e.layers;
         t.material_mm3 = give_up_above_mm3;
     }
     return t;
