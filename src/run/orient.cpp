@@ -23,6 +23,7 @@
 #include "carving/covers.hpp"
 #include "geometry/morphology.hpp"
 #include "geometry/polygon.hpp"
+#include "run/run_setup.hpp"
 #include "slice/slicer.hpp"
 #include "supports/support_volume.hpp"
 
@@ -189,8 +190,17 @@ OrientationTrial try_candidate(const Mesh& mesh, OrientationCandidate c, const S
         // The run's own limits refuse what does not fit the bed or the printer's height.
         RunOptions o = candidate_options(options);
         o.give_up_above_mm3 = give_up_above_mm3;
-        if (give_up_above_mm3 > 0)
+        // Before the bound's pass, which a candidate that does not fit would waste.
+        check_run_size(s, o, box);
+        if (give_up_above_mm3 > 0) {
             o.below_at_least_mm3 = least_extruded_below(run.mesh, s, box.min.z);
+            // Heavier by the bound alone: given up before the pipeline starts, whose layers in
+            // flight would be carved for nothing (the pipeline would give it up at its top).
+            const std::vector<double>& b = o.below_at_least_mm3;
+            if (!b.empty() && b.back() > give_up_above_mm3)
+                throw RunGivenUp("heavier than a candidate already carved by its bound alone",
+                                 int(b.size()), int(b.size()));
+        }
         const RunResult r = slice_run_mesh(s, o, std::move(run), std::move(start),
                                            std::chrono::steady_clock::now(), thread_cpu_ns());
         layer_sum_mm3 = 0;

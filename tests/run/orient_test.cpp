@@ -176,7 +176,8 @@ TEST(OrientAuto, TeeStandsOnItsCap) {
 // The bound a candidate is given up by counts the supports its layers below would print (planned
 // as the run plans them): the T as given, whose supports under the cap outweigh the T upside down
 // by themselves, is given up within its cap's layers, before it carves any layer of its stem (a
-// bound of walls and covers alone carried it 12 layers down, two into the stem).
+// bound of walls and covers alone carried it 12 layers down, two into the stem), or before it
+// carves any.
 TEST(OrientAuto, SupportsToComeGiveACandidateUpBeforeItCarvesThem) {
     SKIP_UNDER_SANITIZERS("TiltedBoxIsLaidFlatOnAFace: the same candidates' runs, smaller");
     std::vector<StlTriangle> t;
@@ -189,7 +190,7 @@ TEST(OrientAuto, SupportsToComeGiveACandidateUpBeforeItCarvesThem) {
     ASSERT_TRUE(given["given_up"].get<bool>()) << given.dump();
     const int carved = given["layers"].get<int>() - given["layers_not_carved"].get<int>();
     const double cap_layers = 4 / given["layer_height_mm"].get<double>();
-    EXPECT_GE(carved, 1);
+    EXPECT_GE(carved, 0);
     EXPECT_LE(carved, cap_layers) << given.dump();
 }
 
