@@ -30,11 +30,16 @@ struct OrientationTrial {
     // Stopped once its layers so far had extruded more than a lighter candidate's whole run
     // (material_mm3 is then what they had: a lower bound of its own), so it cannot be chosen.
     bool given_up = false;
+    int layers_left = 0;  // of a candidate given up: its layers not carved (those lowest)
+    int layers = 0;       // its coarse layers in all
 };
 struct OrientationChoice {
     std::vector<OrientationTrial> trials;
     size_t chosen = 0;
     double choice_time_s = 0;  // wall time of the whole choice
+    // CPU time (user + system, every thread of the process) of the whole choice: what the
+    // machine's load moves far less than the wall time.
+    double choice_cpu_s = 0;
 };
 
 // Figures of one run; the stats JSON is made from these.

@@ -65,6 +65,7 @@ nlohmann::json orientation_json(const OrientationChoice& o) {
     nlohmann::json j;
     j["chosen"] = rotation_json(o.trials[o.chosen].candidate);
     j["choice_time_s"] = o.choice_time_s;
+    j["choice_cpu_s"] = o.choice_cpu_s;
     nlohmann::json list = nlohmann::json::array();
     for (size_t k = 0; k < o.trials.size(); ++k) {
         const OrientationTrial& t = o.trials[k];
@@ -79,6 +80,9 @@ nlohmann::json orientation_json(const OrientationChoice& o) {
             c["given_up"] = t.given_up;
             if (t.given_up) {
                 c["extruded_at_least_mm3"] = t.material_mm3;
+                // How early: the layers (of its coarse ones, bottom up) it never carved.
+                c["layers_not_carved"] = t.layers_left;
+                c["layers"] = t.layers;
             } else {
                 c["extruded_volume_mm3"] = t.material_mm3;
                 c["support_volume_mm3"] = t.support_mm3;

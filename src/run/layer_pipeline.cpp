@@ -335,10 +335,10 @@ void LayerPipeline::write_layer(TokenPtr t) {
         const std::vector<double>& below = options_.below_at_least_mm3;
         const size_t i = size_t(layer.index);
         if (material_out_ + (i < below.size() ? below[i] : 0) > options_.give_up_above_mm3)
-            throw RunGivenUp(
-                fmt::format("heavier than a candidate already carved, {} of {} "
-                            "layers still to go",
-                            i, layer_count_));
+            throw RunGivenUp(fmt::format("heavier than a candidate already carved, {} of {} "
+                                         "layers still to go",
+                                         i, layer_count_),
+                             int(i), layer_count_);
     }
     unprinted_.add(layer.index, settings_.layer_top_mm(layer.index), t->paths.unprinted_mm2);
     ++done_;

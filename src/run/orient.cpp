@@ -1,6 +1,8 @@
 // --orient auto: every candidate orientation carved at coarse layers, one after another, each on
 // the run's own parallel pipeline, its G-code made (the time estimate needs it) and thrown away;
-// a candidate whose layers outweigh the lightest one carved before it is given up part way.
+// a candidate whose layers, with the least those below them extrude (their outer walls, covers
+// and supports, from a slicing and support-planning pass of their own), outweigh the lightest
+// one carved before it is given up part way.
 #include "run/orient.hpp"
 
 #include <fmt/format.h>
@@ -9,6 +11,8 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <ctime>
+#include <memory>
 #include <numbers>
 #include <optional>
 #include <utility>
@@ -16,12 +20,23 @@
 
 #include "base/error.hpp"
 #include "base/stage_timer.hpp"
+#include "carving/covers.hpp"
+#include "geometry/morphology.hpp"
 #include "geometry/polygon.hpp"
+#include "run/run_setup.hpp"
 #include "slice/slicer.hpp"
+#include "supports/support_volume.hpp"
 
 namespace carve {
 
 namespace {
+
+// The process's CPU time, every thread's, user and system.
+double process_cpu_s() {
+    timespec ts{};
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+    return double(ts.tv_sec) + double(ts.tv_nsec) * 1e-9;
+}
 
 // The coarse layers the candidates are carved at: material is a sum over the layers of what
 // each prints, so it changes little with their height, while the work falls with their number.
@@ -81,32 +96,80 @@ Mesh turned(const Mesh& mesh, OrientationCandidate& c, const Settings& settings)
     return m;
 }
 
-// The least the layers under each layer extrude: their outer walls, a line round every contour
-// of their slices, and their covers, solid where a slice is not inside those `covers` above and
-// below it; each taken at 0.7 of what it measures (the wall runs half a line inside, a part too
-// thin to print has none, a cover's lines leave gaps at its edges).
-std::vector<double> walls_and_covers_below(const Mesh& mesh, const Settings& s) {
+// What share of the outer wall, of the covers and of the supports the bound counts. The wall's
+// centreline is the contour of the slice eroded by half a line (carving/covers.cpp), the very
+// loops the wall prints: its length measures the wall within rounding (the candidates of the
+// shared models: 0.997 to 1.001 of their outer wall). The covers' measure leaves out what is
+// solid only for the carving's shells, so it runs below their lines. The supports are planned
+// here as the run plans them (the same planner fed the same outlines), and measured as their
+// loops, single walls, sparse lines and dense interface would print, less what the lines lose at
+// their ends.
+constexpr double kWallShare = 0.97, kCoverShare = 0.85, kSupportShare = 0.8;
+
+// The least a layer's supports extrude, mm^2 of line (times the layer's thickness: mm^3).
+double support_least_mm2(const SupportLayer& support, const Settings& s) {
+    const double w = s.width_mm();
+    double line_mm = to_mm(Coord(length(support.walls, false)));
+    double area_mm2_sparse = 0, area_mm2_dense = 0;
+    if (!support.region.empty()) {
+        const Paths body = support.interface.empty() ? support.region
+                                                     : subtract(support.region, support.interface);
+        const Paths inner = erode(body, s.nozzle_radius());
+        line_mm += to_mm(Coord(length(inner, true)));
+        area_mm2_sparse = area_mm2(inner);
+        area_mm2_dense = area_mm2(erode(support.interface, s.nozzle_radius()));
+    }
+    // The sparse lines 2.5 mm apart (toolpath.cpp), the interface's 2 w apart.
+    return line_mm * w + area_mm2_sparse * w / 2.5 + area_mm2_dense / 2;
+}
+
+// The least the layers under each layer extrude: their outer walls, the loops round every
+// contour of their slices eroded by half a line; their covers, solid where a slice is not
+// inside those `covers` above and below it, less the wall's own strip; and their supports.
+std::vector<double> least_extruded_below(const Mesh& mesh, const Settings& s, double z0) {
     TopDownSlicer slicer(mesh, s.layer_height, s.model_layer_mm(0));
-    std::vector<Paths> slices(size_t(std::max(slicer.layer_count(), 0)));
+    const int n = std::max(slicer.layer_count(), 0);
+    std::vector<CoverSlice> slices(static_cast<size_t>(n));
     while (std::optional<Slice> slice = slicer.next())
-        if (size_t(slice->index) < slices.size())
-            slices[size_t(slice->index)] = std::move(slice->region);
-    const int n = int(slices.size());
-    std::vector<double> below(slices.size(), 0.0);
+        if (slice->index >= 0 && slice->index < n) {
+            const size_t i = size_t(slice->index);
+            slices[i] = cover_slice(std::move(*slice), s);
+        }
+    std::vector<double> support(size_t(n), 0.0);
+    if (s.support != SupportMode::None) {
+        std::unique_ptr<ModelShadow> shadow;
+        if (s.support == SupportMode::Buildplate)
+            shadow = std::make_unique<ModelShadow>(mesh.vertices, mesh.triangles, 0.5);
+        SupportPlanner planner(support_options(s, z0), shadow.get());
+        auto plan_ready = [&](bool finished) {
+            for (int r = planner.ready(finished); r >= 0; r = planner.ready(finished))
+                support[size_t(r)] = support_least_mm2(planner.plan(r), s);
+        };
+        for (int i = n - 1; i >= 0; --i) {
+            planner.add_outline(i, slices[size_t(i)].slice.region);
+            plan_ready(false);
+        }
+        plan_ready(true);
+    }
+    std::vector<double> below(size_t(n), 0.0);
     for (int i = 0; i + 1 < n; ++i) {
-        const double w = s.width_mm(), h = s.model_layer_mm(i);
-        const double wall = to_mm(Coord(length(slices[size_t(i)], true))) * w;
-        Paths core = i >= s.covers && i + s.covers < n ? slices[size_t(i)] : Paths{};
+        const double w = std::min(s.width_mm(), s.layer_width_mm(i));
+        const double h = s.model_layer_mm(i) * s.extrusion_multiplier;
+        const Paths& region = slices[size_t(i)].slice.region;
+        const double wall = to_mm(Coord(length(slices[size_t(i)].wall_region, true))) * w;
+        Paths core = i >= s.covers && i + s.covers < n ? region : Paths{};
         for (int j = i - s.covers; j <= i + s.covers && !core.empty(); ++j)
-            if (j != i) core = intersect(core, slices[size_t(j)]);
-        const double cover = area_mm2(slices[size_t(i)]) - area_mm2(core);
-        below[size_t(i) + 1] = below[size_t(i)] + 0.7 * (wall + std::max(0.0, cover - wall)) * h;
+            if (j != i) core = intersect(core, slices[size_t(j)].slice.region);
+        const double cover = std::max(0.0, area_mm2(region) - area_mm2(core) - wall);
+        below[size_t(i) + 1] =
+            below[size_t(i)] +
+            (kWallShare * wall + kCoverShare * cover + kSupportShare * support[size_t(i)]) * h;
     }
     return below;
 }
 
 // The candidate carved at the coarse layers; it stops, given up, once its layers with the least
-// of those still to come (walls_and_covers_below) extrude more than `give_up_above_mm3` (0:
+// of those still to come (least_extruded_below) extrude more than `give_up_above_mm3` (0:
 // never). `layer_sum_mm3` is set to what its layers extruded in all.
 OrientationTrial try_candidate(const Mesh& mesh, OrientationCandidate c, const Settings& settings,
                                const RunOptions& options, const RunResult& loaded,
@@ -127,7 +190,17 @@ OrientationTrial try_candidate(const Mesh& mesh, OrientationCandidate c, const S
         // The run's own limits refuse what does not fit the bed or the printer's height.
         RunOptions o = candidate_options(options);
         o.give_up_above_mm3 = give_up_above_mm3;
-        if (give_up_above_mm3 > 0) o.below_at_least_mm3 = walls_and_covers_below(run.mesh, s);
+        // Before the bound's pass, which a candidate that does not fit would waste.
+        check_run_size(s, o, box);
+        if (give_up_above_mm3 > 0) {
+            o.below_at_least_mm3 = least_extruded_below(run.mesh, s, box.min.z);
+            // Heavier by the bound alone: given up before the pipeline starts, whose layers in
+            // flight would be carved for nothing (the pipeline would give it up at its top).
+            const std::vector<double>& b = o.below_at_least_mm3;
+            if (!b.empty() && b.back() > give_up_above_mm3)
+                throw RunGivenUp("heavier than a candidate already carved by its bound alone",
+                                 int(b.size()), int(b.size()));
+        }
         const RunResult r = slice_run_mesh(s, o, std::move(run), std::move(start),
                                            std::chrono::steady_clock::now(), thread_cpu_ns());
         layer_sum_mm3 = 0;
@@ -140,8 +213,10 @@ OrientationTrial try_candidate(const Mesh& mesh, OrientationCandidate c, const S
     } catch (const InputError& e) {
         t.fits = false;
         t.refused = e.what();
-    } catch (const RunGivenUp&) {
+    } catch (const RunGivenUp& e) {
         t.given_up = true;
+        t.layers_left = e.layers_left;
+        t.layers = e.layers;
         t.material_mm3 = give_up_above_mm3;
     }
     return t;
@@ -173,6 +248,7 @@ double hanging_estimate(const Mesh& mesh, OrientationCandidate c, const Settings
 void choose_orientation(const Settings& settings, const RunOptions& options, Mesh& mesh,
                         RunResult& result) {
     const auto start = std::chrono::steady_clock::now();
+    const double start_cpu_s = process_cpu_s();
     if (result.mesh.items.size() > 1)
         throw InputError(fmt::format(
             "{}: --orient auto turns one model; this 3MF plate holds {} objects (orient each "
@@ -224,6 +300,7 @@ void choose_orientation(const Settings& settings, const RunOptions& options, Mes
     result.mesh.bbox = bounding_box(mesh);
     choice.choice_time_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    choice.choice_cpu_s = process_cpu_s() - start_cpu_s;
     result.orientation = std::move(choice);
 }
 

@@ -58,9 +58,12 @@ struct RunOptions {
     bool plate_meshes = false;
 };
 
-// What a run stopped by RunOptions::give_up_above_mm3 throws.
+// What a run stopped by RunOptions::give_up_above_mm3 throws: how many of its layers were not
+// carved (the stats say how early a candidate of --orient auto was given up).
 struct RunGivenUp : std::runtime_error {
-    using std::runtime_error::runtime_error;
+    RunGivenUp(const std::string& what, int left, int all)
+        : std::runtime_error(what), layers_left(left), layers(all) {}
+    int layers_left = 0, layers = 0;
 };
 
 RunResult run_slice(const Settings& settings, const RunOptions& options);
