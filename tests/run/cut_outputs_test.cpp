@@ -13,6 +13,7 @@
 #include "mesh/mesh.hpp"
 #include "run/pipeline.hpp"
 #include "support/carve_run.hpp"
+#include "support/cut_runs.hpp"
 #include "support/sanitizers.hpp"
 #include "support/stl_boxes.hpp"
 
@@ -21,19 +22,8 @@ namespace fs = std::filesystem;
 namespace carve {
 namespace {
 
-RunOptions options(const std::string& model, const std::string& out) {
-    RunOptions o;
-    o.model_path = model;
-    o.gcode_path = (test::scratch() / (out + ".gcode")).string();
-    o.stats_path = (test::scratch() / (out + ".json")).string();
-    return o;
-}
-
-std::string box_model(const std::string& name, float x, float y, float z) {
-    std::vector<test::StlTriangle> t;
-    test::add_box(t, 0, 0, 0, x, y, z);
-    return test::write_stl(name, t).string();
-}
+using test::box_model;
+using test::cut_options;
 
 size_t count(const std::string& text, const std::string& what) {
     size_t n = 0;
@@ -47,7 +37,7 @@ size_t count(const std::string& text, const std::string& what) {
 TEST(CutOutputs, EachPlatesMeshIsWhereItsGcodePrintsIt) {
     Settings s;
     s.cut_at = {40};
-    RunOptions o = options(box_model("meshes.stl", 30, 20, 100), "meshes");
+    RunOptions o = cut_options(box_model("meshes.stl", 30, 20, 100), "meshes");
     o.plate_meshes = true;
     const CutRunResult r = run_cut(s, o);
     ASSERT_EQ(r.mesh_paths.size(), 1u);
@@ -81,7 +71,7 @@ TEST(CutOutputs, APauseIsAHeightOnEachPlate) {
     s.bed_x = s.bed_y = 100;
     s.pause_at = {60};
     const std::string model = box_model("paused.stl", 80, 60, 120);
-    RunOptions o = options(model, "paused");
+    RunOptions o = cut_options(model, "paused");
     std::vector<std::string> notes;
     o.note = [&](const std::string& n) { notes.push_back(n); };
     const CutRunResult r = run_cut(s, o);
@@ -95,7 +85,7 @@ TEST(CutOutputs, APauseIsAHeightOnEachPlate) {
                            std::string::npos;
     EXPECT_TRUE(said);
     s.pause_at = {100};
-    o = options(model, "paused_high");
+    o = cut_options(model, "paused_high");
     try {
         run_cut(s, o);
         ADD_FAILURE() << "no error";
@@ -112,7 +102,7 @@ TEST(CutOutputs, APauseIsAHeightOnEachPlate) {
 TEST(CutOutputs, AnOutputThatIsAnotherOfTheCutsIsRefused) {
     Settings s;
     s.cut_at = {40};
-    RunOptions o = options(box_model("clash.stl", 30, 20, 100), "clash");
+    RunOptions o = cut_options(box_model("clash.stl", 30, 20, 100), "clash");
     o.stats_path = (test::scratch() / "clash-pieces.svg").string();
     try {
         run_cut(s, o);

@@ -13,6 +13,7 @@
 #include "base/error.hpp"
 #include "run/pipeline.hpp"
 #include "support/carve_run.hpp"
+#include "support/cut_runs.hpp"
 #include "support/sanitizers.hpp"
 #include "support/stl_boxes.hpp"
 
@@ -21,19 +22,8 @@ namespace fs = std::filesystem;
 namespace carve {
 namespace {
 
-RunOptions options(const std::string& model, const std::string& out) {
-    RunOptions o;
-    o.model_path = model;
-    o.gcode_path = (test::scratch() / (out + ".gcode")).string();
-    o.stats_path = (test::scratch() / (out + ".json")).string();
-    return o;
-}
-
-std::string box_model(const std::string& name, float x, float y, float z) {
-    std::vector<test::StlTriangle> t;
-    test::add_box(t, 0, 0, 0, x, y, z);
-    return test::write_stl(name, t).string();
-}
+using test::box_model;
+using test::cut_options;
 
 struct Circle {
     std::string cls;
@@ -90,7 +80,7 @@ std::vector<DrawnPiece> drawn_pieces(const std::string& svg) {
 TEST(CutPicture, NamesEveryPieceWithItsCutFaceAndHoles) {
     Settings s;
     s.cut_at = {40};
-    const RunOptions o = options(box_model("pic.stl", 30, 20, 100), "pic");
+    const RunOptions o = cut_options(box_model("pic.stl", 30, 20, 100), "pic");
     const CutRunResult r = run_cut(s, o);
     EXPECT_EQ(r.picture_path, (test::scratch() / "pic-pieces.svg").string());
     ASSERT_TRUE(fs::exists(r.picture_path));
@@ -133,7 +123,7 @@ TEST(CutPicture, PinsAndHolesOfACutAcrossX) {
     Settings s;
     s.cut_planes = {150, 0, 0, 1, 0, 0};
     s.cut_connectors = CutConnectors::Pin;
-    const RunOptions o = options(box_model("pins.stl", 300, 60, 40), "pins");
+    const RunOptions o = cut_options(box_model("pins.stl", 300, 60, 40), "pins");
     const CutRunResult r = run_cut(s, o);
     const std::vector<DrawnPiece> pieces = drawn_pieces(test::read(r.picture_path));
     ASSERT_EQ(pieces.size(), 2u);
@@ -153,7 +143,7 @@ TEST(CutStrict, EveryPlatePassesOrNothingIsWritten) {
     const std::string model = box_model("strict.stl", 30, 20, 100);
     Settings s;
     s.cut_at = {40};
-    RunOptions o = options(model, "strict_good");
+    RunOptions o = cut_options(model, "strict_good");
     o.strict = true;
     const CutRunResult r = run_cut(s, o);
     ASSERT_EQ(r.gcode_paths.size(), 1u);
@@ -161,7 +151,7 @@ TEST(CutStrict, EveryPlatePassesOrNothingIsWritten) {
     const nlohmann::json j = nlohmann::json::parse(test::read(o.stats_path));
     EXPECT_TRUE(j["plates"][0]["check"]["printability"]["passes"].get<bool>());
     s.covers = 0;
-    o = options(model, "strict_bad");
+    o = cut_options(model, "strict_bad");
     o.strict = true;
     try {
         run_cut(s, o);
@@ -208,10 +198,10 @@ TEST(CutOrient, EachPieceInTheOrientationWithLeastMaterial) {
     Settings s;
     s.cut_at = {20};
     s.support = SupportMode::Auto;
-    const RunOptions given = options(model, "mushroom_given");
+    const RunOptions given = cut_options(model, "mushroom_given");
     run_cut(s, given);
     s.orient = OrientMode::Auto;
-    const RunOptions o = options(model, "mushroom_auto");
+    const RunOptions o = cut_options(model, "mushroom_auto");
     const CutRunResult r = run_cut(s, o);
     const nlohmann::json a = nlohmann::json::parse(test::read(given.stats_path));
     const nlohmann::json j = nlohmann::json::parse(test::read(o.stats_path));
