@@ -104,7 +104,8 @@ class Emitter {
         double e_mm = 0;        // filament fed for extrusion so far (retractions excluded)
         long long e_units = 0;  // the firmware's E position, in 10^-5 mm
         long long feed = -1;    // the F in force
-        bool retracted = false, first_travel = true;
+        bool retracted = false;
+        bool first_travel = true;  // nothing printed yet
         int fan = -1;
         bool type_known = false;  // the ;TYPE: in force is type
         Feature type = Feature::OuterWall;
