@@ -511,9 +511,11 @@ std::string rest_of_print(Emitter& e, int from, int layers, const Settings& st) 
 // A chunk's emitter starts from the carried state (Emitter::Carry) and nothing else: one that
 // has written nothing, given another's carried state after some layers, writes the rest of the
 // print byte for byte as that one does. A state the text depends on kept outside Carry would
-// escape the chunks' check of their warm-up, and the file would depend on the thread count:
-// this fails for the feed, fan, width, acceleration, E, position, Z, retraction, the wipe,
-// the objects' labels and the layer's number (the end G-code states it), each one taken out.
+// escape the chunks' check of their warm-up, and the file would depend on the thread count.
+// Checked by keeping each member out of what resume() takes: this fails for the position, Z,
+// first travel, fan, width, wipe and the objects' labels; here the layer's own first moves set
+// the feed, acceleration, E and retraction again, and the layer's number and Z, whatever came
+// before.
 TEST(GcodeWriter, AnEmitterGivenAnothersCarriedStateWritesTheSameRest) {
     constexpr int kLayers = 60;
     std::vector<ObjectLabel> objects;
