@@ -72,16 +72,16 @@ Emitter::Emitter(const Settings& st, Coord off_x, Coord off_y, std::FILE* out, s
       out_(out),
       path_(std::move(path)),
       objects_{ObjectLabel{std::move(object)}},
-      objects_labelled_(1, 0),
-      object_bounds_(1),
-      planner_(estimate_planner(st)) {
+      object_bounds_(1) {
     print_accel_ = commanded_acceleration(st, st.acceleration);
     travel_accel_ = commanded_acceleration(st, st.travel_acceleration);
     const double r = st.filament_diameter / 2;
     filament_area_ = std::numbers::pi * r * r;
     retract_units_ = std::llround(std::max(0.0, st.retract_length) * kEScale);
     z_offset_ = to_units(st.z_offset);
-    layer_ = st.first_print_layer();
+    carry_.layer = st.first_print_layer();
+    carry_.objects_labelled.assign(1, 0);
+    carry_.planner = estimate_planner(st);
 }
 
 void Emitter::start() {
@@ -132,25 +132,25 @@ void Emitter::start() {
 }
 
 void Emitter::layer(const LayerToolpaths& layer) {
-    layer_ = layer.index;
-    layer_z_ = to_units(layer.z);
+    carry_.layer = layer.index;
+    carry_.layer_z = to_units(layer.z);
     // PrusaSlicer's profiles write ";BEFORE_LAYER_CHANGE" and the layer's height on the next
     // lines; Moonraker reads the object's height from them before anything else.
     if (st_.before_layer_gcode.find(";BEFORE_LAYER_CHANGE") == std::string::npos) {
         put("\n;BEFORE_LAYER_CHANGE\n;");
-        fixed(layer_z_, 3);
+        fixed(carry_.layer_z, 3);
         buf_.push_back('\n');
     } else {
         buf_.push_back('\n');
     }
     custom(st_.before_layer_gcode);
     put(";LAYER_CHANGE\n;Z:");
-    fixed(layer_z_, 3);
+    fixed(carry_.layer_z, 3);
     // The layer's height as PrusaSlicer states it: the model's first layer on a raft is a layer
     // height, the gap under it apart (`carve check` places the model at Z less it), though its
     // flow fills the gap too.
     put("\n;HEIGHT:");
-    fixed(to_units(layer_ >= 0 ? st_.model_layer_mm(layer_) : thickness()), 3);
+    fixed(to_units(carry_.layer >= 0 ? st_.model_layer_mm(carry_.layer) : thickness()), 3);
     fmt::format_to(std::back_inserter(buf_), "\n;LAYER:{}\n", print_layer());
     custom(st_.layer_gcode);
     if (print_layer() == 1) {
@@ -172,8 +172,8 @@ void Emitter::layer(const LayerToolpaths& layer) {
             break;
         }
     }
-    mark_progress(planner_.time(), planner_.time_stealth());
-    type_known_ = false;
+    mark_progress(carry_.planner.time(), carry_.planner.time_stealth());
+    carry_.type_known = false;
     layer_comb_ = &layer.comb_region;
     layer_thin_ = &layer.thin_region;
     // Built on first use and kept for the layer: the choice of its order and every cooling pass
@@ -195,7 +195,7 @@ void Emitter::layer(const LayerToolpaths& layer) {
     layer_thin_ = nullptr;
     ++stats_.layers;
     // The next layer starts with a Z move, at rest: its time does not depend on this one's.
-    planner_.stop();
+    carry_.planner.stop();
     reset_e();
     close_section();
     flush(false);
@@ -209,13 +209,13 @@ void Emitter::pause() {
     const std::string command = !st_.pause_command.empty()           ? st_.pause_command
                                 : st_.flavor == GcodeFlavor::Klipper ? "PAUSE"
                                                                      : "M600";
-    if (first_travel_ || z_ < 0) {
+    if (carry_.first_travel || carry_.z < 0) {
         line(command);
         return;
     }
-    const bool was_retracted = retracted_;
+    const bool was_retracted = carry_.retracted;
     retract();
-    const Coord at = z_;
+    const Coord at = carry_.z;
     const Coord top = to_units(st_.max_print_height) - z_offset_;
     const Coord lifted = std::max(at, std::min(at + to_units(kPauseLift), top));
     move_z(lifted, "the lift before a pause (--pause-at)");
@@ -225,7 +225,7 @@ void Emitter::pause() {
 }
 
 void Emitter::end() {
-    if (!retracted_ && !first_travel_) retract();
+    if (!carry_.retracted && !carry_.first_travel) retract();
     mark_progress(-1, -1);  // 100 %: the total, known below
     custom(st_.end_filament_gcode);
     line(";TYPE:Custom");
@@ -233,8 +233,8 @@ void Emitter::end() {
     try {
         const std::string end_text =
             expand_custom_gcode(st_.end_gcode, st_,
-                                {{"max_layer_z", to_mm(layer_z_)},
-                                 {"layer_z", to_mm(layer_z_)},
+                                {{"max_layer_z", to_mm(carry_.layer_z)},
+                                 {"layer_z", to_mm(carry_.layer_z)},
                                  {"layer_num", std::max(0, print_layer())}})
                 .text;
         raw(end_text);
@@ -242,7 +242,7 @@ void Emitter::end() {
     } catch (const InputError& e) {
         throw InputError(fmt::format("end_gcode: {}", e.what()));
     }
-    planner_.stop();
+    carry_.planner.stop();
     close_section();
     run_stats_.estimated_print_time_s = time_base_;
     run_stats_.estimated_stealth_time_s = stealth_base_;
@@ -256,8 +256,8 @@ void Emitter::end() {
 }
 
 void Emitter::close_section() {
-    const double time = planner_.take_done();
-    sections_.push_back({stats_, time, planner_.take_done_stealth()});
+    const double time = carry_.planner.take_done();
+    sections_.push_back({stats_, time, carry_.planner.take_done_stealth()});
     add_stats(run_stats_, stats_);
     time_base_ += sections_.back().time_s;
     stealth_base_ += sections_.back().stealth_time_s;
@@ -283,24 +283,16 @@ void Emitter::add_stats(PrintStats& to, const PrintStats& s) {
 // E values are also what PrusaSlicer's Marlin profiles keep with G92 E0 in their layer G-code
 // (a float's precision in a long print).
 void Emitter::reset_e() {
-    const long long fed = std::llround(e_mm_ * kEScale);
-    if (!st_.relative_e && e_units_ != 0) line("G92 E0");
-    e_mm_ = double(fed - e_units_) / kEScale;
-    e_units_ = 0;
-}
-
-Emitter::Carry Emitter::carry() const {
-    return {pos_,          z_,        layer_z_,     layer_,
-            e_mm_,         e_units_,  feed_,        retracted_,
-            first_travel_, fan_,      type_known_,  type_,
-            width_,        accel_,    wipe_length_, objects_labelled_,
-            planner_,      wipe_path_};
+    const long long fed = std::llround(carry_.e_mm * kEScale);
+    if (!st_.relative_e && carry_.e_units != 0) line("G92 E0");
+    carry_.e_mm = double(fed - carry_.e_units) / kEScale;
+    carry_.e_units = 0;
 }
 
 void Emitter::warm_up() {
     out_ = nullptr;
-    first_travel_ = false;
-    objects_labelled_.assign(objects_.size(), 1);
+    carry_.first_travel = false;
+    carry_.objects_labelled.assign(objects_.size(), 1);
 }
 
 void Emitter::begin_chunk(std::FILE* out) {
@@ -334,7 +326,7 @@ void Emitter::check_custom_bytes(size_t bytes) {
 
 void Emitter::scan_custom_z(const std::string& text, const char* what) {
     // From where carve's own moves left the nozzle (the bed before the first one).
-    double z = z_ < 0 ? 0.0 : to_mm(z_ + z_offset_);
+    double z = carry_.z < 0 ? 0.0 : to_mm(carry_.z + z_offset_);
     bool relative = false;
     std::istringstream lines(text);
     for (std::string l; std::getline(lines, l);) {
@@ -405,8 +397,8 @@ void Emitter::custom(const std::string& text) {
     try {
         g = expand_custom_gcode(text, st_,
                                 {{"layer_num", std::max(0, print_layer())},
-                                 {"layer_z", to_mm(layer_z_)},
-                                 {"max_layer_z", to_mm(layer_z_)}})
+                                 {"layer_z", to_mm(carry_.layer_z)},
+                                 {"max_layer_z", to_mm(carry_.layer_z)}})
                 .text;
     } catch (const InputError& e) {
         // Named by its key: a figure beyond range is found only on the layer that computes it.
@@ -424,8 +416,8 @@ void Emitter::custom(const std::string& text) {
         if (&(st_.*(c.text)) == &text) key = c.ini_key;
     scan_custom_z(g, key);
     if (resets_e(g)) {
-        e_mm_ -= double(e_units_) / kEScale;
-        e_units_ = 0;
+        carry_.e_mm -= double(carry_.e_units) / kEScale;
+        carry_.e_units = 0;
     }
 }
 
@@ -439,8 +431,8 @@ void Emitter::flush(bool force) {
 
 void Emitter::set_fan(int speed) {
     speed = std::clamp(speed, 0, 255);
-    if (speed == fan_) return;
-    fan_ = speed;
+    if (speed == carry_.fan) return;
+    carry_.fan = speed;
     if (st_.flavor == GcodeFlavor::RepRap)
         line(fmt::format("M106 S{:.2f}", speed / 255.0));
     else if (speed == 0)
@@ -459,33 +451,24 @@ void Emitter::mark_progress(double local_s, double stealth_local_s) {
 }
 
 Emitter::Snapshot Emitter::save() const {
-    return {buf_.size(), carry(), object_bounds_, stats_, bounds_};
+    return {buf_.size(), carry_, object_bounds_, stats_, bounds_};
 }
 
 void Emitter::restore(const Snapshot& k) {
     buf_.resize(k.text);
-    restore_carry(k.carry);
+    carry_ = k.carry;
     object_bounds_ = k.object_bounds, stats_ = k.stats, bounds_ = k.bounds;
-}
-
-void Emitter::restore_carry(const Carry& c) {
-    pos_ = c.pos, z_ = c.z, layer_z_ = c.layer_z, layer_ = c.layer;
-    e_mm_ = c.e_mm, e_units_ = c.e_units, feed_ = c.feed;
-    retracted_ = c.retracted, first_travel_ = c.first_travel, fan_ = c.fan;
-    type_known_ = c.type_known, type_ = c.type, width_ = c.width, accel_ = c.accel;
-    wipe_length_ = c.wipe_length, objects_labelled_ = c.objects_labelled;
-    planner_ = c.planner, wipe_path_ = c.wipe_path;
 }
 
 // The layer's paths as the cooling wants them: written at full speed and timed; written
 // again slower while it is shorter than the minimum layer time, or with another fan.
 void Emitter::print_layer_cooled(const LayerToolpaths& layer) {
     const Snapshot before = save();
-    const double t0 = planner_.time_cooling();
+    const double t0 = carry_.planner.time_cooling();
     speed_factor_ = 1;
     layer_fan_ = layer_fan_percent(st_, layer.index, std::numeric_limits<double>::infinity());
     print_paths(layer);
-    const double full = planner_.time_cooling() - t0;
+    const double full = carry_.planner.time_cooling() - t0;
     const int fan = layer_fan_percent(st_, layer.index, full);
     const bool slow = needs_slowdown(st_, full);
     if (!slow && fan == layer_fan_) return;
@@ -498,7 +481,7 @@ void Emitter::print_layer_cooled(const LayerToolpaths& layer) {
         speed_factor_ = factor;
         layer_fan_ = fan;
         print_paths(layer);
-        const double tried = planner_.time_cooling() - t0;
+        const double tried = carry_.planner.time_cooling() - t0;
         // Done when long enough, or when every extrusion is down to the minimum speed.
         if (!slow || tried >= target * 0.999 ||
             slowed_speed(fastest, factor, st_.min_print_speed) <= st_.min_print_speed)
@@ -510,7 +493,7 @@ void Emitter::print_layer_cooled(const LayerToolpaths& layer) {
 
 void Emitter::set_objects(std::vector<ObjectLabel> objects) {
     objects_ = std::move(objects);
-    objects_labelled_.assign(objects_.size(), 0);
+    carry_.objects_labelled.assign(objects_.size(), 0);
     object_bounds_.assign(objects_.size(), Bounds{});
 }
 
@@ -549,9 +532,9 @@ void Emitter::print_paths(const LayerToolpaths& layer) {
                     for (const std::string& l : object_end(st_, objects_[object_].name)) line(l);
                 if (k >= 0) {
                     for (const std::string& l :
-                         object_start(st_, objects_[k].name, k, !objects_labelled_[k]))
+                         object_start(st_, objects_[k].name, k, !carry_.objects_labelled[k]))
                         line(l);
-                    objects_labelled_[k] = 1;
+                    carry_.objects_labelled[k] = 1;
                 }
                 object_ = k;
             }

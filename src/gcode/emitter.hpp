@@ -90,24 +90,37 @@ class Emitter {
         PrintStats stats;
         double time_s = 0, stealth_time_s = 0;
     };
-    // What a layer's text depends on from the layers before it.
+    // What a layer's text depends on from the layers before it: all the emitter carries from
+    // one layer to the next, and nothing else does (the rest is the open layer's scratch, the
+    // settings' constants, or the figures a chunk adds up). Held as one member, carry_, so that
+    // a chunk's check of its warm-up and cooling's second pass compare and restore all of it.
+    // The defaults are the print's start.
     struct Carry {
-        Point pos;
-        Coord z = 0, layer_z = 0;
+        Point pos{0, 0};  // output coordinates, um; the start G-code is assumed to home
+        Coord z = -1;     // unknown until the first Z move
+        Coord layer_z = 0;
+        // The layer being written, numbered as Settings numbers them (a raft's < 0).
         int layer = 0;
-        double e_mm = 0;
-        long long e_units = 0, feed = 0;
-        bool retracted = false, first_travel = false;
-        int fan = 0;
-        bool type_known = false;
+        double e_mm = 0;        // filament fed for extrusion so far (retractions excluded)
+        long long e_units = 0;  // the firmware's E position, in 10^-5 mm
+        long long feed = -1;    // the F in force
+        bool retracted = false;
+        bool first_travel = true;  // nothing printed yet
+        int fan = -1;
+        bool type_known = false;  // the ;TYPE: in force is type
         Feature type = Feature::OuterWall;
-        double width = 0, accel = 0, wipe_length = 0;
-        std::vector<char> objects_labelled;
+        double width = -1;                   // the ;WIDTH: in force
+        double accel = -1;                   // the M204 S in force (switches_acceleration)
+        double wipe_length = 0;              // mm, of wipe_path
+        std::vector<char> objects_labelled;  // M486 A named it
         MotionPlanner planner;
-        Path wipe_path;
+        Path wipe_path;  // output coordinates, from the nozzle backwards
         bool operator==(const Carry&) const = default;
     };
-    Carry carry() const;
+    const Carry& carry() const { return carry_; }
+    // Starts the next layer from `c`, as though this emitter had written the layers that left
+    // it: gcode_test's check that Carry holds every state a layer's text depends on.
+    void resume(const Carry& c) { carry_ = c; }
     // A chunk's emitter before its warm-up layers: it writes nowhere, its first travel is not
     // the print's first, and the objects are already named (on the print's first layer).
     void warm_up();
@@ -214,7 +227,7 @@ class Emitter {
     bool enter_reversed(const LayerToolpaths& layer);
     double speed_of(Feature f) const;
     // The layer being written's thickness, mm (the first layer's may differ).
-    double thickness() const { return st_.layer_thickness_mm(layer_); }
+    double thickness() const { return st_.layer_thickness_mm(carry_.layer); }
     void extrude(const Extrusion& ex, const Travel& travel);
     void printed(const Point& q, double len, double e_per_mm, Feature feature);
     void arc_to(const std::vector<Point>& pts, size_t first, const Arc& arc, double speed,
@@ -233,7 +246,6 @@ class Emitter {
         PrintStats stats;
         Bounds bounds;
     };
-    void restore_carry(const Carry& c);
     Snapshot save() const;
     void restore(const Snapshot& k);
     void print_layer_cooled(const LayerToolpaths& layer);
@@ -248,39 +260,24 @@ class Emitter {
     long long written_ = 0;            // bytes of text flushed to out_
     double speed_factor_ = 1;          // cooling's slowdown of the layer being written
     int layer_fan_ = 0;                // percent, for the layer's ordinary extrusions
-    double accel_ = -1;                // the M204 S in force (switches_acceleration)
     // The print's and the travel's accelerations as written and planned (limits.hpp).
     double print_accel_ = 0, travel_accel_ = 0;
     // The objects on the bed: one (the model, named at construction) or what set_objects gave.
     std::vector<ObjectLabel> objects_;
-    std::vector<char> objects_labelled_;  // M486 A named it
     std::vector<Bounds> object_bounds_;
     int object_ = -1;  // index in objects_ of what is being printed
     fmt::memory_buffer buf_;
     double filament_area_ = 1;
     long long retract_units_ = 0;
     Coord z_offset_ = 0;  // --z-offset, added to every Z written
+    Carry carry_;         // what the next layer starts from (see Carry)
 
-    Point pos_{0, 0};  // output coordinates, um; the start G-code is assumed to home
-    Coord z_ = -1;     // unknown until the first Z move
-    Coord layer_z_ = 0;
-    int layer_ = 0;  // the layer being written, numbered as Settings numbers them (a raft's < 0)
     // Its number in the print, from 0: what ;LAYER:, [layer_num] and the first-layer rules count.
-    int print_layer() const { return layer_ - st_.first_print_layer(); }
+    int print_layer() const { return carry_.layer - st_.first_print_layer(); }
     // The expanded custom G-code written so far: 64 MB is some 60x what a 4 MB layer_gcode
     // could sensibly add, far beyond any real profile's few kB per layer.
     static constexpr size_t kMaxCustomBytes = size_t(64) << 20;
     size_t custom_bytes_ = 0;
-    double e_mm_ = 0;        // filament fed for extrusion so far (retractions excluded)
-    long long e_units_ = 0;  // the firmware's E position, in 10^-5 mm
-    bool retracted_ = false;
-    bool first_travel_ = true;
-    long long feed_ = -1;
-    int fan_ = -1;
-    bool type_known_ = false;
-    Feature type_ = Feature::OuterWall;
-    double width_ = -1;
-    MotionPlanner planner_;
     std::vector<Point> path_points_;  // the path being printed, shifted, reused
     PrintStats stats_;                // of the open section
     PrintStats run_stats_;            // of the closed sections, summed in order
@@ -300,8 +297,6 @@ class Emitter {
         TravelPlan plan;
     };
     std::vector<LayerEntry> last_entries_;
-    Path wipe_path_;          // output coordinates, from the nozzle backwards
-    double wipe_length_ = 0;  // mm
 };
 
 }  // namespace carve

@@ -14,15 +14,15 @@ namespace carve {
 void Emitter::feed(double mm_per_s) {
     guard(mm_per_s > 0 && mm_per_s <= 10000, "F");
     const long long f = std::llround(mm_per_s * 60.0);
-    if (f == feed_) return;
-    feed_ = f;
+    if (f == carry_.feed) return;
+    carry_.feed = f;
     fmt::format_to(std::back_inserter(buf_), " F{}", f);
 }
 
 void Emitter::e_word(long long target) {
-    guard(std::isfinite(e_mm_) && std::abs(e_mm_) < 1e9, "E");
+    guard(std::isfinite(carry_.e_mm) && std::abs(carry_.e_mm) < 1e9, "E");
     put(" E");
-    fixed(st_.relative_e ? target - e_units_ : target, 5);
+    fixed(st_.relative_e ? target - carry_.e_units : target, 5);
 }
 
 // Retraction and its recovery are the same pure-filament move at the retraction speed.
@@ -31,27 +31,27 @@ void Emitter::move_filament(long long target) {
     e_word(target);
     feed(st_.retract_speed);
     buf_.push_back('\n');
-    e_units_ = target;
+    carry_.e_units = target;
     retract_dwell();
 }
 
 // A filament-only move: the estimate times it as the firmware runs it (retract_time), the cooling
 // as it did before, at the retraction speed, so that no layer's feed rate changes.
 void Emitter::retract_dwell() {
-    planner_.dwell(retract_time(st_), st_.retract_length / retract_speed_limit(st_));
+    carry_.planner.dwell(retract_time(st_), st_.retract_length / retract_speed_limit(st_));
 }
 
 void Emitter::retract() {
-    if (!can_retract() || retracted_) return;
-    if (st_.wipe && wipe_length_ > 0) {
+    if (!can_retract() || carry_.retracted) return;
+    if (st_.wipe && carry_.wipe_length > 0) {
         wipe();
     } else if (st_.firmware_retraction) {
         line("G10 ; retract");
         retract_dwell();
     } else {
-        move_filament(e_units_ - retract_units_);
+        move_filament(carry_.e_units - retract_units_);
     }
-    retracted_ = true;
+    carry_.retracted = true;
     ++stats_.retractions;
 }
 
@@ -63,12 +63,12 @@ void Emitter::wipe() {
     const bool firmware = st_.firmware_retraction;
     double v = st_.travel_speed;
     if (!firmware && st_.retract_length > 0)
-        v = std::min(v, wipe_length_ * st_.retract_speed / st_.retract_length);
+        v = std::min(v, carry_.wipe_length * st_.retract_speed / st_.retract_length);
     line(";WIPE_START");
-    const long long e0 = e_units_;
+    const long long e0 = carry_.e_units;
     double done = 0;
-    for (const Point& q : wipe_path_) {
-        const double dx = to_mm(q.X - pos_.X), dy = to_mm(q.Y - pos_.Y);
+    for (const Point& q : carry_.wipe_path) {
+        const double dx = to_mm(q.X - carry_.pos.X), dy = to_mm(q.Y - carry_.pos.Y);
         const double len = std::hypot(dx, dy);
         if (len <= 0) continue;
         done += len;
@@ -77,81 +77,81 @@ void Emitter::wipe() {
         put(" Y");
         fixed(q.Y, 3);
         if (!firmware) {
-            const long long target =
-                e0 - std::llround(double(retract_units_) * std::min(1.0, done / wipe_length_));
+            const long long target = e0 - std::llround(double(retract_units_) *
+                                                       std::min(1.0, done / carry_.wipe_length));
             e_word(target);
-            e_units_ = target;
+            carry_.e_units = target;
         }
         feed(v);
         buf_.push_back('\n');
         // The wipe extrudes (backwards) after the line: every firmware moves it at the print
         // acceleration (Marlin's P applies to any move with E, and S was the print's).
-        planner_.move(dx, dy, v, print_accel_);
+        carry_.planner.move(dx, dy, v, print_accel_);
         stats_.travel_length_mm += len;
-        pos_ = q;
+        carry_.pos = q;
     }
-    if (!firmware && e_units_ != e0 - retract_units_) {
+    if (!firmware && carry_.e_units != e0 - retract_units_) {
         put("G1");
         e_word(e0 - retract_units_);
         feed(st_.retract_speed);
         buf_.push_back('\n');
-        e_units_ = e0 - retract_units_;
+        carry_.e_units = e0 - retract_units_;
     }
     line(";WIPE_END");
     if (firmware) {
         line("G10 ; retract");
         retract_dwell();
     } else {
-        planner_.stop();
+        carry_.planner.stop();
     }
-    wipe_path_.clear();
-    wipe_length_ = 0;
+    carry_.wipe_path.clear();
+    carry_.wipe_length = 0;
 }
 
 void Emitter::unretract() {
-    if (!retracted_) return;
+    if (!carry_.retracted) return;
     if (st_.firmware_retraction) {
         line("G11 ; unretract");
         retract_dwell();
     } else {
-        move_filament(std::llround(e_mm_ * kEScale));
+        move_filament(std::llround(carry_.e_mm * kEScale));
     }
-    retracted_ = false;
+    carry_.retracted = false;
 }
 
 void Emitter::move_z(Coord z, const char* what) {
-    if (z == z_) return;
+    if (z == carry_.z) return;
     put("G1 Z");
     fixed(z + z_offset_, 3);  // --z-offset: the printer's Z, not the layer's
     if (!what)
-        what =
-            z > layer_z_ ? "a travel's lift (--z-hop, a profile's retract_lift)" : "a layer change";
+        what = z > carry_.layer_z ? "a travel's lift (--z-hop, a profile's retract_lift)"
+                                  : "a layer change";
     bounds_.moved_to(to_mm(z + z_offset_), what);
     // A move to the layer's own height always states its feed, modal or not: Moonraker takes
     // the object's height from the highest "G1 Z.. F.." when a file has no
     // ;BEFORE_LAYER_CHANGE comments (it said 67.4 mm of the 120 mm cat).
-    if (z == layer_z_) feed_ = -1;
+    if (z == carry_.layer_z) carry_.feed = -1;
     feed(kZSpeed);
     buf_.push_back('\n');
-    const double dz = z_ < 0 ? to_mm(z) : std::abs(to_mm(z - z_));
+    const double dz = carry_.z < 0 ? to_mm(z) : std::abs(to_mm(z - carry_.z));
     // The cooling times it as before Klipper's Z limits were planned (no feed rate changes).
     const double cooling = st_.flavor == GcodeFlavor::Klipper
                                ? trapezoid_time(dz, 0, kZSpeed, 0, travel_accel_)
                                : trapezoid_time(dz, 0, std::min(kZSpeed, st_.max_feedrate_z), 0,
                                                 std::min(travel_accel_, st_.max_acceleration_z));
-    planner_.dwell(z_move_time(st_, dz, kZSpeed, travel_accel_), cooling);
-    z_ = z;
+    carry_.planner.dwell(z_move_time(st_, dz, kZSpeed, travel_accel_), cooling);
+    carry_.z = z;
 }
 
 // The travel to `p` through `via` (output coordinates). A travel planned inside the part
 // never retracts; any other retracts when longer than retract_before_travel.
 void Emitter::travel_to(const Point& p, const Path& via, TravelKind kind) {
-    if (p == pos_ && via.empty()) {
-        if (layer_z_ > z_) move_z(layer_z_);
+    if (p == carry_.pos && via.empty()) {
+        if (carry_.layer_z > carry_.z) move_z(carry_.layer_z);
         return;
     }
     double d = 0;
-    Point at = pos_;
+    Point at = carry_.pos;
     for (const Point& q : via) d += std::hypot(to_mm(q.X - at.X), to_mm(q.Y - at.Y)), at = q;
     d += std::hypot(to_mm(p.X - at.X), to_mm(p.Y - at.Y));
     const bool retract_now =
@@ -162,19 +162,19 @@ void Emitter::travel_to(const Point& p, const Path& via, TravelKind kind) {
     // of a purge line, at the first layer's height): retracted and lifted by a layer at least,
     // as PrusaSlicer's MK3S profile does (0.8 mm, to Z 0.4), not dragged through the first
     // layer's height.
-    if (first_travel_) hop = std::max(hop, to_units(st_.first_layer_mm()));
+    if (carry_.first_travel) hop = std::max(hop, to_units(st_.first_layer_mm()));
     if (hop > 0)
-        move_z(std::max(z_, layer_z_) + hop);
-    else if (layer_z_ > z_)
-        move_z(layer_z_);
+        move_z(std::max(carry_.z, carry_.layer_z) + hop);
+    else if (carry_.layer_z > carry_.z)
+        move_z(carry_.layer_z);
     for (const Point& q : via) travel_move(q);
     travel_move(p);
-    if (z_ != layer_z_) move_z(layer_z_);
-    first_travel_ = false;
+    if (carry_.z != carry_.layer_z) move_z(carry_.layer_z);
+    carry_.first_travel = false;
 }
 
 void Emitter::travel_move(const Point& p) {
-    if (p == pos_) return;
+    if (p == carry_.pos) return;
     use_acceleration(travel_accel_);
     put("G0 X");
     fixed(p.X, 3);
@@ -182,9 +182,10 @@ void Emitter::travel_move(const Point& p) {
     fixed(p.Y, 3);
     feed(st_.travel_speed);
     buf_.push_back('\n');
-    planner_.move(to_mm(p.X - pos_.X), to_mm(p.Y - pos_.Y), st_.travel_speed, travel_accel_);
-    stats_.travel_length_mm += std::hypot(to_mm(p.X - pos_.X), to_mm(p.Y - pos_.Y));
-    pos_ = p;
+    carry_.planner.move(to_mm(p.X - carry_.pos.X), to_mm(p.Y - carry_.pos.Y), st_.travel_speed,
+                        travel_accel_);
+    stats_.travel_length_mm += std::hypot(to_mm(p.X - carry_.pos.X), to_mm(p.Y - carry_.pos.Y));
+    carry_.pos = p;
 }
 
 // The travel into a layer, from where the layer below ended: planned here, the only stage
@@ -194,8 +195,8 @@ void Emitter::travel_move(const Point& p) {
 // 2.5 mm, which holds every such entry on the shared models (the widest, 2.45 mm, on skull's
 // top); before, each of them retracted (fandisk 5 retractions in all, 3 of them these).
 TravelPlan Emitter::plan_layer_entry(const Point& target_model) {
-    if (first_travel_ || !layer_comb_ || layer_comb_->empty()) return {};
-    const Point from(pos_.X - off_x_, pos_.Y - off_y_);
+    if (carry_.first_travel || !layer_comb_ || layer_comb_->empty()) return {};
+    const Point from(carry_.pos.X - off_x_, carry_.pos.Y - off_y_);
     for (const LayerEntry& e : last_entries_)
         if (e.from == from && e.to == target_model) return e.plan;
     if (last_entries_.size() == 2) last_entries_.erase(last_entries_.begin());
@@ -230,8 +231,9 @@ TravelPlan Emitter::find_layer_entry(const Point& from, const Point& target_mode
 
 bool Emitter::enter_reversed(const LayerToolpaths& layer) {
     const std::vector<size_t>& starts = layer.island_starts;
-    if (first_travel_ || starts.size() < 3 || starts.back() > layer.extrusions.size()) return false;
-    const Point from(pos_.X - off_x_, pos_.Y - off_y_);
+    if (carry_.first_travel || starts.size() < 3 || starts.back() > layer.extrusions.size())
+        return false;
+    const Point from(carry_.pos.X - off_x_, carry_.pos.Y - off_y_);
     // Staying inside first (no string, no retraction), then the shorter way.
     auto cost = [&](size_t first) {
         const Point& to = layer.extrusions[first].points.front();
@@ -290,19 +292,20 @@ void Emitter::extrude(const Extrusion& ex, const Travel& travel) {
     }
     for (Point& q : via) q = shifted(q);
     travel_to(shifted(ex.points.front()), via, kind);
-    if (!type_known_ || ex.feature != type_) {
-        type_known_ = true;
-        type_ = ex.feature;
+    if (!carry_.type_known || ex.feature != carry_.type) {
+        carry_.type_known = true;
+        carry_.type = ex.feature;
         fmt::format_to(std::back_inserter(buf_), ";TYPE:{}\n", feature_name(ex.feature));
     }
     // The layer's own line width and thickness: the first layer's may differ.
-    const double layer_width = st_.layer_width_mm(layer_), layer_height = thickness();
+    const double layer_width = st_.layer_width_mm(carry_.layer), layer_height = thickness();
     const double width = layer_width * ex.flow;
-    if (width != width_) {
-        width_ = width;
+    if (width != carry_.width) {
+        carry_.width = width;
         fmt::format_to(std::back_inserter(buf_), ";WIDTH:{:.3f}\n", width);
     }
-    set_fan(fan_byte(ex.feature == Feature::Bridge ? bridge_fan_percent(st_, layer_) : layer_fan_));
+    set_fan(fan_byte(ex.feature == Feature::Bridge ? bridge_fan_percent(st_, carry_.layer)
+                                                   : layer_fan_));
     unretract();
     use_acceleration(print_accel_);
     // --max-volumetric-speed: no faster than the cap over the line's cross-section, rounded
@@ -326,7 +329,7 @@ void Emitter::extrude(const Extrusion& ex, const Travel& travel) {
     for (size_t i = 0; i < n; ++i) pts.push_back(shifted(ex.points[i % ex.points.size()]));
     const double tolerance = st_.arc_tolerance * kUnitsPerMm;
     for (size_t i = 0; i + 1 < pts.size();) {
-        if (st_.arc_fitting && pts[i] == pos_) {
+        if (st_.arc_fitting && pts[i] == carry_.pos) {
             if (const auto arc = fit_arc(pts, i, tolerance)) {
                 arc_to(pts, i, *arc, speed, e_per_mm, ex.feature);
                 i = arc->last;
@@ -334,11 +337,11 @@ void Emitter::extrude(const Extrusion& ex, const Travel& travel) {
             }
         }
         const Point q = pts[++i];
-        if (q == pos_) continue;
-        const double dx = to_mm(q.X - pos_.X), dy = to_mm(q.Y - pos_.Y);
+        if (q == carry_.pos) continue;
+        const double dx = to_mm(q.X - carry_.pos.X), dy = to_mm(q.Y - carry_.pos.Y);
         const double len = std::hypot(dx, dy);
-        e_mm_ += len * e_per_mm;
-        const long long target = std::llround(e_mm_ * kEScale);
+        carry_.e_mm += len * e_per_mm;
+        const long long target = std::llround(carry_.e_mm * kEScale);
         guard(std::abs(q.X) < kMaxCoord && std::abs(q.Y) < kMaxCoord, "X/Y");
         put("G1 X");
         fixed(q.X, 3);
@@ -347,8 +350,8 @@ void Emitter::extrude(const Extrusion& ex, const Travel& travel) {
         e_word(target);
         feed(speed);
         buf_.push_back('\n');
-        e_units_ = target;
-        planner_.move(dx, dy, speed, print_accel_, e_per_mm);
+        carry_.e_units = target;
+        carry_.planner.move(dx, dy, speed, print_accel_, e_per_mm);
         printed(q, len, e_per_mm, ex.feature);
     }
     if (st_.wipe) remember_for_wipe(ex, shifted);
@@ -362,15 +365,15 @@ void Emitter::printed(const Point& q, double len, double e_per_mm, Feature featu
     bounds_.max_x = std::max(bounds_.max_x, to_mm(q.X));
     bounds_.min_y = std::min(bounds_.min_y, to_mm(q.Y));
     bounds_.max_y = std::max(bounds_.max_y, to_mm(q.Y));
-    bounds_.min_z = std::min(bounds_.min_z, to_mm(z_));
-    bounds_.max_z = std::max(bounds_.max_z, to_mm(z_));
+    bounds_.min_z = std::min(bounds_.min_z, to_mm(carry_.z));
+    bounds_.max_z = std::max(bounds_.max_z, to_mm(carry_.z));
     if (object_ >= 0) {
         Bounds& o = object_bounds_[static_cast<size_t>(object_)];
         o.min_x = std::min(o.min_x, to_mm(q.X)), o.max_x = std::max(o.max_x, to_mm(q.X));
         o.min_y = std::min(o.min_y, to_mm(q.Y)), o.max_y = std::max(o.max_y, to_mm(q.Y));
-        o.min_z = std::min(o.min_z, to_mm(z_)), o.max_z = std::max(o.max_z, to_mm(z_));
+        o.min_z = std::min(o.min_z, to_mm(carry_.z)), o.max_z = std::max(o.max_z, to_mm(carry_.z));
     }
-    pos_ = q;
+    carry_.pos = q;
 }
 
 // One G2/G3 for points first+1..arc.last. The planner times the chords it replaces (the
@@ -379,24 +382,24 @@ void Emitter::arc_to(const std::vector<Point>& pts, size_t first, const Arc& arc
                      double e_per_mm, Feature feature) {
     const Point q = pts[arc.last];
     const double len = arc.length / kUnitsPerMm;
-    e_mm_ += len * e_per_mm;
-    const long long target = std::llround(e_mm_ * kEScale);
+    carry_.e_mm += len * e_per_mm;
+    const long long target = std::llround(carry_.e_mm * kEScale);
     guard(std::abs(q.X) < kMaxCoord && std::abs(q.Y) < kMaxCoord, "X/Y");
     put(arc.counter_clockwise ? "G3 X" : "G2 X");
     fixed(q.X, 3);
     put(" Y");
     fixed(q.Y, 3);
     put(" I");
-    fixed(std::llround(arc.cx - double(pos_.X)), 3);
+    fixed(std::llround(arc.cx - double(carry_.pos.X)), 3);
     put(" J");
-    fixed(std::llround(arc.cy - double(pos_.Y)), 3);
+    fixed(std::llround(arc.cy - double(carry_.pos.Y)), 3);
     e_word(target);
     feed(speed);
     buf_.push_back('\n');
-    e_units_ = target;
+    carry_.e_units = target;
     for (size_t k = first; k < arc.last; ++k)
-        planner_.move(to_mm(pts[k + 1].X - pts[k].X), to_mm(pts[k + 1].Y - pts[k].Y), speed,
-                      print_accel_, e_per_mm);
+        carry_.planner.move(to_mm(pts[k + 1].X - pts[k].X), to_mm(pts[k + 1].Y - pts[k].Y), speed,
+                            print_accel_, e_per_mm);
     for (size_t k = first + 1; k < arc.last; ++k) printed(pts[k], 0, e_per_mm, feature);
     printed(q, len, e_per_mm, feature);
     ++stats_.arcs;
@@ -406,24 +409,24 @@ void Emitter::arc_to(const std::vector<Point>& pts, size_t first, const Arc& arc
 // The last wipe_distance of the path just printed, walking back from its end.
 template <class Shift>
 void Emitter::remember_for_wipe(const Extrusion& ex, Shift shifted) {
-    wipe_path_.clear();
-    wipe_length_ = 0;
+    carry_.wipe_path.clear();
+    carry_.wipe_length = 0;
     const size_t m = ex.points.size();
     const size_t n = m + (ex.closed ? 1 : 0);
-    Point at = pos_;
-    for (size_t k = n - 1; k-- > 0 && wipe_length_ < st_.wipe_distance;) {
+    Point at = carry_.pos;
+    for (size_t k = n - 1; k-- > 0 && carry_.wipe_length < st_.wipe_distance;) {
         Point q = shifted(ex.points[k % m]);
         const double len = std::hypot(to_mm(q.X - at.X), to_mm(q.Y - at.Y));
         if (len <= 0) continue;
-        if (wipe_length_ + len > st_.wipe_distance) {
-            const double f = (st_.wipe_distance - wipe_length_) / len;
+        if (carry_.wipe_length + len > st_.wipe_distance) {
+            const double f = (st_.wipe_distance - carry_.wipe_length) / len;
             q = Point(at.X + std::llround(f * double(q.X - at.X)),
                       at.Y + std::llround(f * double(q.Y - at.Y)));
-            wipe_length_ = st_.wipe_distance;
+            carry_.wipe_length = st_.wipe_distance;
         } else {
-            wipe_length_ += len;
+            carry_.wipe_length += len;
         }
-        wipe_path_.push_back(q);
+        carry_.wipe_path.push_back(q);
         at = q;
     }
 }
@@ -431,8 +434,8 @@ void Emitter::remember_for_wipe(const Extrusion& ex, Shift shifted) {
 // M204 S as the moves change where the firmware may read nothing else (switches_acceleration);
 // the others were told M204 P and T once.
 void Emitter::use_acceleration(double a) {
-    if (!switches_acceleration(st_) || a == accel_) return;
-    accel_ = a;
+    if (!switches_acceleration(st_) || a == carry_.accel) return;
+    carry_.accel = a;
     line(fmt::format("M204 S{}", std::llround(a)));
 }
 

@@ -1,5 +1,5 @@
-// The filters the layers flow through, one member function each in pipeline order, and run(),
-// which chains them (see layer_pipeline.hpp).
+// The filter table, the filters the layers flow through (one member function each, in pipeline
+// order), and run(), which chains them as the table lists them (see layer_pipeline.hpp).
 #include "run/layer_pipeline.hpp"
 
 #include <fmt/format.h>
@@ -112,65 +112,116 @@ LayerPipeline::LayerPipeline(const Settings& settings, const RunOptions& options
     result_.layers = layer_count_;
     result_.cavity_volume_mm3.assign(sweep_iterations(settings), 0.0);
     result_.layer_material_mm3.assign(layer_count_, 0.0);
-    span_.serial.assign(filter_count(), true);
-    span_.serial[kErode] = span_.serial[kCovers] = span_.serial[k_work()] =
-        span_.serial[k_paths()] = false;
-    span_.serial[k_rib_overlap()] = span_.serial[kChain] = false;
-    for (int j = 0; j < k_; ++j) span_.serial[k_seed(j)] = false;
+    for (const Step& s : steps(k_)) span_.serial.push_back(s.filter->serial);
 }
 
-std::vector<std::string> LayerPipeline::filter_names() const {
-    std::vector<std::string> names{"slice", "chain", "check", "erode", "window", "covers", "link"};
-    for (int j = 1; j <= k_; ++j) {
-        names.push_back(fmt::format("seed C{}", j));
-        names.push_back(fmt::format("sweep C{}", j));
+// The filters, in pipeline order, and what each does with the token's fields.
+std::span<const LayerPipeline::Filter> LayerPipeline::filters() {
+    using F = TokenField;
+    using P = LayerPipeline;
+    constexpr bool serial = true, parallel = false;
+    static constexpr Filter kTable[] = {
+        {"slice", &P::cut_slice, serial, Filter::Once, F::cut, 0, 0},
+        {"chain", &P::chain_cut, parallel, Filter::Once, F::slice, F::cut, F::cut},
+        {"check", &P::check_limits, serial, Filter::Once, 0, F::slice, 0},
+        {"erode", &P::erode_slice, parallel, Filter::Once, F::cover, F::slice, F::slice},
+        // Moves the slice into the window the pipeline keeps, and starts a layer, whose index
+        // it sets, on a token of its own.
+        {"window", &P::gather_window, serial, Filter::Once, F::window | F::layer, F::cover,
+         F::cover},
+        {"covers", &P::find_covers, parallel, Filter::Once, F::carvable, F::window | F::layer,
+         F::window},
+        {"link", &P::link_carvable, serial, Filter::Once, F::carvable_above, F::carvable,
+         F::carvable},
+        {"seed C", &P::seed_iteration, parallel, Filter::EachIteration, F::prep,
+         F::layer | F::carvable_above, 0},
+        // The last iteration's frees carvable_above.
+        {"sweep C", &P::sweep_iteration, serial, Filter::EachIteration, 0,
+         F::layer | F::prep | F::carvable_above, F::prep | F::carvable_above},
+        // The carved layer into the record; hands it to the slice above, held back, as `below`.
+        {"hold back", &P::hold_back, serial, Filter::Once, F::record | F::below, F::layer,
+         F::layer},
+        {"supports", &P::plan_supports, serial, Filter::IfSupporting, F::support_new_mm2, F::record,
+         0},
+        {"bridges", &P::bridge_layer_below, parallel, Filter::Once, F::overhang | F::rib_slice,
+         F::record | F::below, F::below},
+        {"rib link", &P::link_ribs, serial, Filter::Once, F::rib_above, F::record | F::rib_slice,
+         0},
+        {"rib overlap", &P::overlap_ribs, parallel, Filter::Once, 0, F::rib_slice | F::rib_above,
+         F::rib_above},
+        {"ribs", &P::grow_ribs, serial, Filter::Once, 0, F::record | F::rib_slice, 0},
+        {"paths", &P::plan_paths, parallel, Filter::Once, F::paths | F::volumes | F::material,
+         F::record | F::rib_slice, F::rib_slice},
+        {"writers", &P::write_layer, serial, Filter::Once, 0,
+         F::record | F::overhang | F::support_new_mm2 | F::paths | F::volumes | F::material, 0},
+    };
+    static_assert(!lifetime_error(kTable).rule, "the filter table misstates a field's lifetime");
+    return kTable;
+}
+
+std::vector<LayerPipeline::Step> LayerPipeline::steps(int iterations) {
+    const std::span<const Filter> rows = filters();
+    std::vector<Step> steps;
+    for (size_t i = 0; i < rows.size();) {
+        // A run of an iteration's rows, the run once for each iteration.
+        size_t end = i + 1;
+        const bool each = rows[i].repeat == Filter::EachIteration;
+        while (each && end < rows.size() && rows[end].repeat == Filter::EachIteration) ++end;
+        for (int j = 0; j < (each ? iterations : 1); ++j)
+            for (size_t r = i; r < end; ++r) steps.push_back({&rows[r], {int(steps.size()), j}});
+        i = end;
     }
-    names.insert(names.end(), {"hold back", "supports", "bridges", "rib link", "rib overlap",
-                               "ribs", "paths", "writers"});
+    return steps;
+}
+
+std::vector<std::string> LayerPipeline::filter_names(int iterations) {
+    std::vector<std::string> names;
+    for (const Step& s : steps(iterations))
+        names.push_back(s.filter->repeat == Filter::EachIteration
+                            ? fmt::format("{}{}", s.filter->name, s.at.j + 1)
+                            : std::string(s.filter->name));
     return names;
 }
 
-TokenPtr LayerPipeline::cut_slice(tbb::flow_control& fc) {
+TokenPtr LayerPipeline::cut_slice(At at, TokenPtr) {
     TokenPtr t = pool_.make();
     t->seq = next_seq_++;
-    SpanTimer timer(span_, t->seq, kSlice);
-    if (auto cut = slicer_.next_cut()) {
+    SpanTimer timer(span_, t->seq, at.index);
+    if (auto cut = slicer_.next_cut())
         t->cut = std::move(*cut);
-    } else if (ends_left_-- > 0) {
+    else if (ends_left_-- > 0)
         t->end = true;
-    } else {
-        fc.stop();
-        return pool_.drop(t);
-    }
+    else
+        return pool_.drop(t);  // the stream is done
     return t;
 }
 
 // The plane's segments into contours: the slicer's work but for the active set.
-TokenPtr LayerPipeline::chain_cut(TokenPtr t) {
+TokenPtr LayerPipeline::chain_cut(At at, TokenPtr t) {
     if (!t->cut) return t;
-    SpanTimer timer(span_, t->seq, kChain);
+    SpanTimer timer(span_, t->seq, at.index);
     t->slice = std::move(*t->cut).chain();
     t->cut.reset();
     return t;
 }
 
-TokenPtr LayerPipeline::check_limits(TokenPtr t) {
+TokenPtr LayerPipeline::check_limits(At at, TokenPtr t) {
     if (!t->slice || !check_slice_) return t;
-    SpanTimer timer(span_, t->seq, kCheck);
+    SpanTimer timer(span_, t->seq, at.index);
     check_slice_(*t->slice);
     return t;
 }
 
-TokenPtr LayerPipeline::erode_slice(TokenPtr t) {
+TokenPtr LayerPipeline::erode_slice(At at, TokenPtr t) {
     if (!t->slice) return t;
-    SpanTimer timer(span_, t->seq, kErode);
+    SpanTimer timer(span_, t->seq, at.index);
     t->cover = std::make_shared<const CoverSlice>(cover_slice(std::move(*t->slice), settings_));
     t->slice.reset();
     return t;
 }
 
-TokenPtr LayerPipeline::gather_window(TokenPtr t) {
-    SpanTimer timer(span_, t->seq, kWindow);
+TokenPtr LayerPipeline::gather_window(At at, TokenPtr t) {
+    SpanTimer timer(span_, t->seq, at.index);
     if (t->cover) window_.push_back(std::move(t->cover));
     const bool ready =
         next_layer_ >= 0 && (t->end || window_.back()->slice.index <= next_layer_ - c_);
@@ -183,9 +234,9 @@ TokenPtr LayerPipeline::gather_window(TokenPtr t) {
     return t;
 }
 
-TokenPtr LayerPipeline::find_covers(TokenPtr t) {
+TokenPtr LayerPipeline::find_covers(At at, TokenPtr t) {
     if (!t || t->end) return t;
-    SpanTimer timer(span_, t->seq, kCovers);
+    SpanTimer timer(span_, t->seq, at.index);
     std::vector<const CoverSlice*> slices;
     for (const auto& e : t->window) slices.push_back(e.get());
     t->layer = carvable_layer(t->layer.index, slices, settings_);
@@ -194,35 +245,35 @@ TokenPtr LayerPipeline::find_covers(TokenPtr t) {
     return t;
 }
 
-TokenPtr LayerPipeline::link_carvable(TokenPtr t) {
+TokenPtr LayerPipeline::link_carvable(At at, TokenPtr t) {
     if (!t || t->end) return t;
-    SpanTimer timer(span_, t->seq, kLink);
+    SpanTimer timer(span_, t->seq, at.index);
     t->carvable_above = std::exchange(carvable_above_, std::move(t->carvable));
     return t;
 }
 
 // Each iteration in two filters: the half that reads only V^{j-1}_i, on any thread, then
 // the half that needs C^j_{i+1}, in order.
-TokenPtr LayerPipeline::seed_iteration(int j, TokenPtr t) {
+TokenPtr LayerPipeline::seed_iteration(At at, TokenPtr t) {
     if (!t || t->end) return t;
-    SpanTimer timer(span_, t->seq, k_seed(j));
-    t->prep = sweeps_[j]->prepare(t->layer, t->carvable_above.get());
+    SpanTimer timer(span_, t->seq, at.index);
+    t->prep = sweeps_[at.j]->prepare(t->layer, t->carvable_above.get());
     return t;
 }
 
-TokenPtr LayerPipeline::sweep_iteration(int j, TokenPtr t) {
+TokenPtr LayerPipeline::sweep_iteration(At at, TokenPtr t) {
     if (!t || t->end) return t;
-    SpanTimer timer(span_, t->seq, k_sweep(j));
-    sweeps_[j]->carve(t->layer, std::move(*t->prep));
+    SpanTimer timer(span_, t->seq, at.index);
+    sweeps_[at.j]->carve(t->layer, std::move(*t->prep));
     t->prep.reset();
-    if (j == k_ - 1) t->carvable_above.reset();
+    if (at.j == k_ - 1) t->carvable_above.reset();
     return t;
 }
 
-TokenPtr LayerPipeline::hold_back(TokenPtr t) {
+TokenPtr LayerPipeline::hold_back(At at, TokenPtr t) {
     if (!t) return t;
     TokenPtr out = std::exchange(held_, nullptr);
-    SpanTimer timer(span_, out ? out->seq : t->seq, k_hold());
+    SpanTimer timer(span_, out ? out->seq : t->seq, at.index);
     // Slice i is carved: from here on its partition is only read, by its own later
     // stages and, at once, by the bridges of slice i + 1.
     if (!t->end) t->record.carved = std::make_shared<const LayerPartition>(std::move(t->layer));
@@ -234,9 +285,9 @@ TokenPtr LayerPipeline::hold_back(TokenPtr t) {
     return out;  // null for the top slice's token: nothing to release yet
 }
 
-TokenPtr LayerPipeline::plan_supports(TokenPtr t) {
+TokenPtr LayerPipeline::plan_supports(At at, TokenPtr t) {
     if (!t) return t;
-    SpanTimer timer(span_, t->seq, k_support());
+    SpanTimer timer(span_, t->seq, at.index);
     const bool finished = t->end;
     if (finished) {
         pool_.drop(t);
@@ -255,9 +306,9 @@ TokenPtr LayerPipeline::plan_supports(TokenPtr t) {
     return out;
 }
 
-TokenPtr LayerPipeline::bridge_layer_below(TokenPtr t) {
+TokenPtr LayerPipeline::bridge_layer_below(At at, TokenPtr t) {
     if (!t) return t;
-    SpanTimer timer(span_, t->seq, k_work());
+    SpanTimer timer(span_, t->seq, at.index);
     // The bottom slice has no slice below: it stands on the bed.
     t->overhang =
         measure_overhang(t->record.partition().outline, t->below ? &t->below->outline : nullptr,
@@ -273,9 +324,9 @@ TokenPtr LayerPipeline::bridge_layer_below(TokenPtr t) {
     return t;
 }
 
-TokenPtr LayerPipeline::link_ribs(TokenPtr t) {
+TokenPtr LayerPipeline::link_ribs(At at, TokenPtr t) {
     if (!t) return t;
-    SpanTimer timer(span_, t->seq, k_rib_link());
+    SpanTimer timer(span_, t->seq, at.index);
     RibAbove next{t->record.partition().index > 0,
                   std::make_shared<const Paths>(std::move(t->rib_slice.printed)),
                   t->record.bridged.unheld, bridges_above(t->record.bridged)};
@@ -283,24 +334,24 @@ TokenPtr LayerPipeline::link_ribs(TokenPtr t) {
     return t;
 }
 
-TokenPtr LayerPipeline::overlap_ribs(TokenPtr t) {
+TokenPtr LayerPipeline::overlap_ribs(At at, TokenPtr t) {
     if (!t) return t;
-    SpanTimer timer(span_, t->seq, k_rib_overlap());
+    SpanTimer timer(span_, t->seq, at.index);
     if (ribbing_.enabled) rib_overlap(t->rib_slice, t->rib_above);
     t->rib_above = {};
     return t;
 }
 
-TokenPtr LayerPipeline::grow_ribs(TokenPtr t) {
+TokenPtr LayerPipeline::grow_ribs(At at, TokenPtr t) {
     if (!t) return t;
-    SpanTimer timer(span_, t->seq, k_ribs());
+    SpanTimer timer(span_, t->seq, at.index);
     t->record.ribs = ribs_.add(t->record, t->rib_slice);
     return t;
 }
 
-TokenPtr LayerPipeline::plan_paths(TokenPtr t) {
+TokenPtr LayerPipeline::plan_paths(At at, TokenPtr t) {
     if (!t) return t;
-    SpanTimer timer(span_, t->seq, k_paths());
+    SpanTimer timer(span_, t->seq, at.index);
     t->record.ribs = clip_ribs(std::move(t->record.ribs), t->rib_slice, ribbing_);
     t->rib_slice = {};
     t->paths = plan_layer(t->record, settings_);
@@ -317,14 +368,14 @@ TokenPtr LayerPipeline::plan_paths(TokenPtr t) {
     return t;
 }
 
-void LayerPipeline::write_layer(TokenPtr t) {
-    if (!t) return;
+TokenPtr LayerPipeline::write_layer(At at, TokenPtr t) {
+    if (!t) return t;
     struct DropAtEnd {
         TokenPool& pool;
         Token* t;
         ~DropAtEnd() { pool.drop(t); }
     } drop_at_end{pool_, t};
-    SpanTimer timer(span_, t->seq, k_sink());
+    SpanTimer timer(span_, t->seq, at.index);
     const LayerPartition& layer = t->record.partition();
     for (const std::string& w : layer.warnings)
         if (note_) note_(w);
@@ -343,41 +394,32 @@ void LayerPipeline::write_layer(TokenPtr t) {
     unprinted_.add(layer.index, settings_.layer_top_mm(layer.index), t->paths.unprinted_mm2);
     ++done_;
     report_progress(options_, done_, layer_count_, start_, last_progress_);
+    return nullptr;
 }
 
 void LayerPipeline::run(int threads) {
     using tbb::filter_mode;
-    auto filter = [this](filter_mode mode, TokenPtr (LayerPipeline::*f)(TokenPtr)) {
-        return tbb::make_filter<TokenPtr, TokenPtr>(
-            mode, [this, f](TokenPtr t) { return (this->*f)(t); });
+    const std::vector<Step> all_steps = steps(k_);
+    auto mode = [](const Step& s) {
+        return s.filter->serial ? filter_mode::serial_in_order : filter_mode::parallel;
     };
+    const Step source = all_steps.front(), sink = all_steps.back();
     tbb::filter<void, TokenPtr> chain =
-        tbb::make_filter<void, TokenPtr>(filter_mode::serial_in_order,
-                                         [this](tbb::flow_control& fc) { return cut_slice(fc); }) &
-        filter(filter_mode::parallel, &LayerPipeline::chain_cut) &
-        filter(filter_mode::serial_in_order, &LayerPipeline::check_limits) &
-        filter(filter_mode::parallel, &LayerPipeline::erode_slice) &
-        filter(filter_mode::serial_in_order, &LayerPipeline::gather_window) &
-        filter(filter_mode::parallel, &LayerPipeline::find_covers) &
-        filter(filter_mode::serial_in_order, &LayerPipeline::link_carvable);
-    for (int j = 0; j < k_; ++j)
-        chain = chain &
-                tbb::make_filter<TokenPtr, TokenPtr>(
-                    filter_mode::parallel, [this, j](TokenPtr t) { return seed_iteration(j, t); }) &
-                tbb::make_filter<TokenPtr, TokenPtr>(
-                    filter_mode::serial_in_order,
-                    [this, j](TokenPtr t) { return sweep_iteration(j, t); });
-    chain = chain & filter(filter_mode::serial_in_order, &LayerPipeline::hold_back);
-    if (supporting_)
-        chain = chain & filter(filter_mode::serial_in_order, &LayerPipeline::plan_supports);
+        tbb::make_filter<void, TokenPtr>(mode(source), [this, source](tbb::flow_control& fc) {
+            TokenPtr t = (this->*source.filter->fn)(source.at, nullptr);
+            if (!t) fc.stop();
+            return t;
+        });
+    for (size_t i = 1; i + 1 < all_steps.size(); ++i) {
+        const Step s = all_steps[i];
+        if (s.filter->repeat == Filter::IfSupporting && !supporting_) continue;
+        chain = chain & tbb::make_filter<TokenPtr, TokenPtr>(mode(s), [this, s](TokenPtr t) {
+                    return (this->*s.filter->fn)(s.at, t);
+                });
+    }
     const tbb::filter<void, void> all =
-        chain & filter(filter_mode::parallel, &LayerPipeline::bridge_layer_below) &
-        filter(filter_mode::serial_in_order, &LayerPipeline::link_ribs) &
-        filter(filter_mode::parallel, &LayerPipeline::overlap_ribs) &
-        filter(filter_mode::serial_in_order, &LayerPipeline::grow_ribs) &
-        filter(filter_mode::parallel, &LayerPipeline::plan_paths) &
-        tbb::make_filter<TokenPtr, void>(filter_mode::serial_in_order,
-                                         [this](TokenPtr t) { write_layer(t); });
+        chain & tbb::make_filter<TokenPtr, void>(
+                    mode(sink), [this, sink](TokenPtr t) { (this->*sink.filter->fn)(sink.at, t); });
 
     // Tokens bound the layers in flight, so memory stays flat in the model's height whatever
     // the thread count: room for one layer in each serial filter plus two per thread for the

@@ -1,16 +1,18 @@
 // The layers' oneTBB pipeline (private to src/run): the filters every layer flows through top
-// down, one member function each, in the order run() chains them, and the state the serial
-// filters carry from one layer to the next. run_slice (pipeline.cpp) builds it, runs it, and
-// reads the figures it summed.
+// down, one member function each, chained by run() as the filter table lists them, and the state
+// the serial filters carry from one layer to the next. run_slice (pipeline.cpp) builds it, runs it,
+// and reads the figures it summed.
 #pragma once
 
 #include <tbb/parallel_pipeline.h>
 
 #include <chrono>
 #include <cstddef>
+#include <cstdint>
 #include <deque>
 #include <functional>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -67,42 +69,59 @@ class LayerPipeline {
     const OverhangTally& overhangs() const { return overhangs_; }
     const UnprintedTally& unprinted() const { return unprinted_; }
     const SpanLog& span() const { return span_; }
-    // The filters' names, in the order of their indices below (for the profile's table).
-    std::vector<std::string> filter_names() const;
+    // The filters' names, in chain order (for the profile's table), with `iterations` carving
+    // iterations.
+    std::vector<std::string> filter_names() const { return filter_names(k_); }
+    static std::vector<std::string> filter_names(int iterations);
+
+    // Where a filter stands in the chain: its index (its column in the span log) and, for a
+    // carving iteration's filter, which iteration.
+    struct At {
+        int index = 0, j = 0;
+    };
+    using FilterFn = TokenPtr (LayerPipeline::*)(At at, TokenPtr t);
+    // One row of the filter table (layer_pipeline.cpp), from which run() chains the filters and
+    // the span log takes its columns; it states what each filter does with the token's fields
+    // (TokenField bits), and lifetime_error below checks that against the token. The first row
+    // is the source (given no token, it returns none once the stream is done), the last the
+    // sink (it frees the token and all it holds).
+    struct Filter {
+        const char* name;  // an iteration's filter has the iteration's number after it
+        FilterFn fn;
+        bool serial;  // serial in order, else parallel
+        enum Repeat { Once, EachIteration, IfSupporting } repeat;
+        uint32_t makes, uses, frees;  // the fields it sets first, reads or changes, releases
+    };
+    static std::span<const Filter> filters();
 
   private:
-    // The filters, in pipeline order (each one's index into the span log below).
-    TokenPtr cut_slice(tbb::flow_control& fc);    // serial: the slicer's next plane
-    TokenPtr chain_cut(TokenPtr t);               // parallel: the plane's segments into contours
-    TokenPtr check_limits(TokenPtr t);            // serial: the vertex limits
-    TokenPtr erode_slice(TokenPtr t);             // parallel: the cover erosions of a slice
-    TokenPtr gather_window(TokenPtr t);           // serial: the covers' window of 2c+1 slices
-    TokenPtr find_covers(TokenPtr t);             // parallel: the layer's covers, carvable part
-    TokenPtr link_carvable(TokenPtr t);           // serial: O'_{i+1} handed down
-    TokenPtr seed_iteration(int j, TokenPtr t);   // parallel: iteration j's half from V^{j-1}
-    TokenPtr sweep_iteration(int j, TokenPtr t);  // serial: iteration j's half from C^j_{i+1}
-    TokenPtr hold_back(TokenPtr t);               // serial: slice i + 1 waits for slice i
-    TokenPtr plan_supports(TokenPtr t);           // serial: supports, the gap's layers held
-    TokenPtr bridge_layer_below(TokenPtr t);      // parallel: overhang, bridges, rib regions
-    TokenPtr link_ribs(TokenPtr t);               // serial: what the slice above prints
-    TokenPtr overlap_ribs(TokenPtr t);            // parallel: ribs' booleans with the above
-    TokenPtr grow_ribs(TokenPtr t);               // serial: the ribs carried down
-    TokenPtr plan_paths(TokenPtr t);              // parallel: toolpaths, spill, pictures
-    void write_layer(TokenPtr t);                 // serial: the writers and sums, in order
+    // The filters, in pipeline order (their modes and fields are their rows in filters()).
+    TokenPtr cut_slice(At at, TokenPtr none);        // the slicer's next plane
+    TokenPtr chain_cut(At at, TokenPtr t);           // the plane's segments into contours
+    TokenPtr check_limits(At at, TokenPtr t);        // the vertex limits
+    TokenPtr erode_slice(At at, TokenPtr t);         // the cover erosions of a slice
+    TokenPtr gather_window(At at, TokenPtr t);       // the covers' window of 2c+1 slices
+    TokenPtr find_covers(At at, TokenPtr t);         // the layer's covers, carvable part
+    TokenPtr link_carvable(At at, TokenPtr t);       // O'_{i+1} handed down
+    TokenPtr seed_iteration(At at, TokenPtr t);      // iteration j's half from V^{j-1}
+    TokenPtr sweep_iteration(At at, TokenPtr t);     // iteration j's half from C^j_{i+1}
+    TokenPtr hold_back(At at, TokenPtr t);           // slice i + 1 waits for slice i
+    TokenPtr plan_supports(At at, TokenPtr t);       // supports, the gap's layers held
+    TokenPtr bridge_layer_below(At at, TokenPtr t);  // overhang, bridges, rib regions
+    TokenPtr link_ribs(At at, TokenPtr t);           // what the slice above prints
+    TokenPtr overlap_ribs(At at, TokenPtr t);        // ribs' booleans with the above
+    TokenPtr grow_ribs(At at, TokenPtr t);           // the ribs carried down
+    TokenPtr plan_paths(At at, TokenPtr t);          // toolpaths, spill, pictures
+    TokenPtr write_layer(At at, TokenPtr t);         // the writers and sums, in order
 
-    static constexpr int kSlice = 0, kChain = 1, kCheck = 2, kErode = 3, kWindow = 4, kCovers = 5,
-                         kLink = 6;
-    int k_seed(int j) const { return kLink + 1 + 2 * j; }  // iteration j + 1, parallel half
-    int k_sweep(int j) const { return kLink + 2 + 2 * j; }
-    int k_hold() const { return kLink + 1 + 2 * k_; }
-    int k_support() const { return k_hold() + 1; }
-    int k_work() const { return k_support() + 1; }
-    int k_rib_link() const { return k_work() + 1; }
-    int k_rib_overlap() const { return k_rib_link() + 1; }
-    int k_ribs() const { return k_rib_overlap() + 1; }
-    int k_paths() const { return k_ribs() + 1; }
-    int k_sink() const { return k_paths() + 1; }
-    int filter_count() const { return k_sink() + 1; }
+    // The table's rows in chain order, an iteration's rows together once for each iteration
+    // (the supports' whether or not they are planned: the span log keeps its column).
+    struct Step {
+        const Filter* filter;
+        At at;
+    };
+    static std::vector<Step> steps(int iterations);
+    int filter_count() const { return int(steps(k_).size()); }
 
     const Settings& settings_;
     const RunOptions& options_;
@@ -152,5 +171,40 @@ class LayerPipeline {
     double sliced_volume_ = 0;
     double material_out_ = 0;  // of the layers through the sink (RunOptions::give_up_above_mm3)
 };
+
+// What the filter table gets wrong about a token field's lifetime: `rule` broken by `filter`
+// for the field numbered `field` (TokenField's bit), or no rule. Each field is made by one
+// filter, used and freed only after that, and freed at its last use, or else used by the sink
+// (which frees it with the token). An iteration's rows count once (each iteration's prep is
+// made and freed within it; the last sweep frees carvable_above); the supports' row makes
+// support_new_mm2, left 0 where it is not chained.
+struct LifetimeError {
+    const char* rule = nullptr;
+    int field = -1;
+    const char* filter = "";
+};
+constexpr LifetimeError lifetime_error(std::span<const LayerPipeline::Filter> table) {
+    const int n = int(table.size());
+    for (int f = 0; f < TokenField::count; ++f) {
+        const uint32_t bit = 1u << f;
+        int made = -1, last_use = -1, freed = -1;
+        for (int i = 0; i < n; ++i) {
+            const LayerPipeline::Filter& row = table[size_t(i)];
+            const bool makes = row.makes & bit, uses = row.uses & bit, frees = row.frees & bit;
+            if (!makes && !uses && !frees) continue;
+            if (freed >= 0) return {"used after it is freed", f, row.name};
+            if (makes && made >= 0) return {"made by a second filter", f, row.name};
+            if (makes) made = i;
+            if (made < 0) return {"used before it is made", f, row.name};
+            if (makes || uses) last_use = i;
+            if (frees && last_use != i) return {"freed after its last use", f, row.name};
+            if (frees) freed = i;
+        }
+        if (made < 0) return {"made by no filter", f, ""};
+        if (freed < 0 && last_use != n - 1)
+            return {"kept after its last use", f, table[size_t(last_use)].name};
+    }
+    return {};
+}
 
 }  // namespace carve
