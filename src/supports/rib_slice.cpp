@@ -112,7 +112,12 @@ LayerRibs clip_ribs(LayerRibs ribs, const RibSlice& slice, const RibOptions& opt
     const Coord w = options.line_width;
     Paths ties;
     for (const Path& t : ribs.ties) {
-        const Point from = t.front();
+        // A fading tie's free end (its front) may lie on what this slice prints (a cover's
+        // top under it): the tie is then the part from its rib, at the back, to that. Dropped
+        // whole, it left the slice above's tie over nothing.
+        const bool from_back = !point_in_region(t.front(), slice.tie_region()) &&
+                               point_in_region(t.back(), slice.tie_region());
+        const Point from = from_back ? t.back() : t.front();
         const Paths parts = clip_lines(Paths{t}, slice.tie_region());
         const Path* best = nullptr;
         double best_d = double(w);

@@ -271,9 +271,11 @@ void RibPlanner::tie(std::vector<Node>& nodes, const WallBoundary& boundary,
                 start_fade(n.anchor, n.at, n.id, fading);
             }
         }
-        // Tied to the wall still, but to another part of it (the wall it was tied to fell
-        // away, or a bridge line ended): the old tie fades.
-        if (n.target == kWall && target == kWall && !follows(n.anchor, at))
+        // Tied to the same thing still, but to another part of it (the wall it was tied to
+        // fell away, a bridge line ended, the rib it is tied to was tied elsewhere and its
+        // nearest point jumped along the new tie): the old tie fades. Pivoted round the rib,
+        // the tie's far end hung over nothing.
+        if (n.target != kUntied && target == n.target && !follows(n.anchor, at))
             start_fade(n.anchor, n.at, n.id, fading);
         n.target = target;
         n.anchor = at;
@@ -548,10 +550,17 @@ void RibPlanner::Descent::carry_fades() {
                     if (d < best || (d == best && (o == moved.size() || k > o))) best = d, o = k;
                 });
                 if (o == moved.size()) {
-                    const Point at = walls.nearest(f.anchor).at;
-                    if (!p.follows(f.anchor, at)) continue;
+                    const WallBoundary::Hit at = walls.nearest(f.anchor);
+                    // A rib that stood deep inside what this slice prints (a wall's tip
+                    // pointing down met it): where it stood is printed, so the fade closes on
+                    // that. Dropped, every fade closing on it left its tie above in the air (a
+                    // 17 mm line on the repro of the rib-fade bug).
+                    if (p.follows(f.anchor, at.at)) {
+                        f.anchor = at.at;
+                    } else if (at.inside) {
+                        continue;
+                    }
                     f.target = kWall;
-                    f.anchor = at;
                 }
             }
             if (o < moved.size()) f.target = moved[o].id, f.anchor = moved[o].at;
