@@ -396,6 +396,13 @@ void Analyser::take_pending() {
 
 void Analyser::extrude(double nx, double ny, double nz, double de, double length) {
     ++result_.extruding_moves;
+    // Custom G-code that extrudes before the print's first layer (the MK3S start G-code's intro
+    // line at Z0.2, also under a first layer at 0.3) is no layer of the print: measured as one,
+    // it made the object's first layer 0.1 mm thick and its bottom skin open. Its material counts.
+    if (other_type_ && !have_layer_) {
+        result_.volume_by_type_mm3[type_] += de * filament_area_;
+        return;
+    }
     if (!have_layer_ || std::fabs(nz - layer_z_) > kZTolerance) {
         start_layer(nz);
         drawing_ = false;

@@ -379,6 +379,8 @@ TEST(Toolpath, PrintOrderFollowsTheReport) {
                 return 2;
             case Feature::CavityWall:
                 return 10 + e.cavity;
+            case Feature::Tie:
+                return 400;  // after the cavities' walls they tie (none on this layer)
             case Feature::Rib:
                 return 500;
             case Feature::Bridge:
