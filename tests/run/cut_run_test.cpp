@@ -6,9 +6,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <cstdint>
 #include <filesystem>
-#include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <numbers>
@@ -19,45 +17,19 @@
 #include "base/error.hpp"
 #include "config/profiles.hpp"
 #include "run/pipeline.hpp"
+#include "support/cut_runs.hpp"
 #include "support/models.hpp"
 #include "support/sanitizers.hpp"
-#include "support/scratch.hpp"
 
 namespace fs = std::filesystem;
 
 namespace carve {
 namespace {
 
-fs::path scratch() {
-    static const test::ScratchDir dir("carve_cut_run_test_");
-    return dir.path();
-}
-
-std::string box_stl(const std::string& name, float x, float y, float z) {
-    const fs::path path = scratch() / name;
-    const float v[8][3] = {{0, 0, 0}, {x, 0, 0}, {x, y, 0}, {0, y, 0},
-                           {0, 0, z}, {x, 0, z}, {x, y, z}, {0, y, z}};
-    const int t[12][3] = {{0, 2, 1}, {0, 3, 2}, {4, 5, 6}, {4, 6, 7}, {0, 1, 5}, {0, 5, 4},
-                          {1, 2, 6}, {1, 6, 5}, {2, 3, 7}, {2, 7, 6}, {3, 0, 4}, {3, 4, 7}};
-    std::ofstream f(path, std::ios::binary);
-    const std::string header(80, '\0');
-    f.write(header.data(), 80);
-    const uint32_t n = 12;
-    f.write(reinterpret_cast<const char*>(&n), 4);
-    for (const auto& tri : t) {
-        const float normal[3] = {0, 0, 0};
-        f.write(reinterpret_cast<const char*>(normal), 12);
-        for (int k : tri) f.write(reinterpret_cast<const char*>(v[k]), 12);
-        const uint16_t attr = 0;
-        f.write(reinterpret_cast<const char*>(&attr), 2);
-    }
-    return path.string();
-}
-
-std::string read(const fs::path& p) {
-    std::ifstream f(p);
-    return {std::istreambuf_iterator<char>(f), {}};
-}
+using test::box_model;
+using test::cut_options;
+using test::read;
+using test::scratch;
 
 // The text of one layer of the G-code (";LAYER:n" up to the next).
 std::string layer_text(const std::string& gcode, int n) {
@@ -67,18 +39,10 @@ std::string layer_text(const std::string& gcode, int n) {
     return gcode.substr(from, to == std::string::npos ? std::string::npos : to - from);
 }
 
-RunOptions options(const std::string& model, const std::string& out) {
-    RunOptions o;
-    o.model_path = model;
-    o.gcode_path = (scratch() / (out + ".gcode")).string();
-    o.stats_path = (scratch() / (out + ".json")).string();
-    return o;
-}
-
 TEST(CutRun, TallBoxInTwoPiecesThatAddUp) {
     Settings s;
     s.cut_at = {40};
-    const RunOptions o = options(box_stl("tall.stl", 30, 20, 100), "tall");
+    const RunOptions o = cut_options(box_model("tall.stl", 30, 20, 100), "tall");
     const CutRunResult r = run_cut(s, o);
     ASSERT_EQ(r.plates.size(), 1u);
     EXPECT_EQ(r.pieces, 2u);
@@ -121,7 +85,8 @@ TEST(CutRun, AutoCutsAModelTwiceThePrintersHeight) {
     Settings s;
     s.cut_auto = true;
     s.cut_connectors = CutConnectors::Pin;
-    const RunOptions o = options(box_stl("tower.stl", 40, 30, 2 * s.max_print_height), "tower");
+    const RunOptions o =
+        cut_options(box_model("tower.stl", 40, 30, 2 * s.max_print_height), "tower");
     const CutRunResult r = run_cut(s, o);
     const nlohmann::json j = nlohmann::json::parse(read(o.stats_path));
     ASSERT_EQ(j["pieces"].size(), 3u);  // 420 mm in pieces no taller than 210 minus a pin
@@ -136,7 +101,7 @@ TEST(CutRun, PiecesThatFillABedGoOnPlatesOfTheirOwn) {
     Settings s;
     s.cut_auto = true;
     s.cut_connectors = CutConnectors::None;
-    const RunOptions o = options(box_stl("big.stl", 200, 150, 300), "big");
+    const RunOptions o = cut_options(box_model("big.stl", 200, 150, 300), "big");
     const CutRunResult r = run_cut(s, o);
     ASSERT_EQ(r.plates.size(), 2u);
     EXPECT_TRUE(fs::exists(scratch() / "big-plate1.gcode"));
@@ -151,23 +116,16 @@ TEST(CutRun, AModelNoCutFitsIsRefusedWithNothingWritten) {
     Settings s;
     s.cut_auto = true;
     // Four planes across each of x, y and z at most leave pieces of 250 mm in all three.
-    const RunOptions wide = options(box_stl("wide.stl", 1000, 1000, 1000), "wide");
-    EXPECT_THROW(run_cut(s, wide), InputError);
+    const RunOptions wide = cut_options(box_model("wide.stl", 1000, 1000, 1000), "wide_out");
+    test::refusal<InputError>(s, wide);
     // A given cut that leaves a piece too tall names the piece.
     Settings given;
     given.cut_at = {100};
-    const RunOptions tall = options(box_stl("high.stl", 30, 20, 400), "high");
-    try {
-        run_cut(given, tall);
-        ADD_FAILURE() << "no error";
-    } catch (const InputError& e) {
-        EXPECT_NE(std::string(e.what()).find("piece 2 of 2"), std::string::npos) << e.what();
-    }
-    for (const auto& entry : fs::directory_iterator(scratch())) {
-        const std::string name = entry.path().filename().string();
-        EXPECT_TRUE(name.rfind("wide", 0) != 0 || name == "wide.stl") << name;
-        EXPECT_TRUE(name.rfind("high", 0) != 0 || name == "high.stl") << name;
-    }
+    const RunOptions tall = cut_options(box_model("high.stl", 30, 20, 400), "high_out");
+    const std::string message = test::refusal<InputError>(given, tall);
+    EXPECT_NE(message.find("piece 2 of 2"), std::string::npos) << message;
+    EXPECT_EQ(test::left_behind("wide_out"), std::vector<std::string>{});
+    EXPECT_EQ(test::left_behind("high_out"), std::vector<std::string>{});
 }
 
 // The extent in x and y of what layer n extrudes for each object, by its label.
@@ -203,7 +161,7 @@ std::map<std::string, std::array<double, 4>> first_layer_boxes(const std::string
 TEST(CutRun, ALongBoxIsCutAcrossXIntoTwoPiecesEachOnItsCutFace) {
     Settings s;  // a 250 x 210 x 210 mm printer
     s.cut_auto = true;
-    const RunOptions o = options(box_stl("long.stl", 300, 60, 40), "long");
+    const RunOptions o = cut_options(box_model("long.stl", 300, 60, 40), "long");
     const CutRunResult r = run_cut(s, o);
     const nlohmann::json j = nlohmann::json::parse(read(o.stats_path));
     ASSERT_EQ(j["pieces"].size(), 2u);
@@ -229,12 +187,12 @@ TEST(CutRun, ALongBoxIsCutAcrossXIntoTwoPiecesEachOnItsCutFace) {
 }
 
 TEST(CutRun, ACutPlaneAcrossZGivesThePiecesOfCut) {
-    const std::string model = box_stl("plane.stl", 30, 20, 100);
+    const std::string model = box_model("plane.stl", 30, 20, 100);
     Settings by_height;
     by_height.cut_at = {40};
     Settings by_plane;
     by_plane.cut_planes = {0, 0, 40, 0, 0, 1};
-    const RunOptions a = options(model, "by_height"), b = options(model, "by_plane");
+    const RunOptions a = cut_options(model, "by_height"), b = cut_options(model, "by_plane");
     run_cut(by_height, a);
     run_cut(by_plane, b);
     const nlohmann::json ja = nlohmann::json::parse(read(a.stats_path));
@@ -246,7 +204,7 @@ TEST(CutRun, ACutPlaneAcrossZGivesThePiecesOfCut) {
     // The same plane tilted: still two pieces of the box's volume.
     Settings tilted;
     tilted.cut_planes = {15, 10, 50, 0.3, 0, 1};
-    const RunOptions t = options(model, "tilted");
+    const RunOptions t = cut_options(model, "tilted");
     run_cut(tilted, t);
     const nlohmann::json jt = nlohmann::json::parse(read(t.stats_path));
     ASSERT_EQ(jt["pieces"].size(), 2u);
@@ -265,7 +223,7 @@ TEST(CutRun, TheScaledSkullIsCutToFitAnMk3s) {
     s.scale = 3;
     s.cut_auto = true;
     s.layer_height = 0.3;
-    RunOptions o = options(skull, "skull");
+    RunOptions o = cut_options(skull, "skull");
     o.model_path = skull;
     // Every plate passes carve check --strict (issue #48 item 3). Before the fades of ties were
     // kept on their ribs and the start G-code's intro line was no layer of the check, plate 1
