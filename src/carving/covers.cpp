@@ -1,6 +1,8 @@
 // Covers and shells from a sliding window of 2 * covers + 1 slices.
 #include "carving/covers.hpp"
 
+#include <iterator>
+
 #include "base/stage_timer.hpp"
 #include "geometry/morphology.hpp"
 #include "geometry/polygon.hpp"
@@ -33,6 +35,23 @@ CoverSlice cover_slice(Slice slice, const Settings& settings) {
     // --solid-below: what an opening of that width removes stays solid (covers fill it).
     const Coord solid = to_units(settings.solid_below);
     e.carvable_region = solid > 0 ? open(e.shell_paths_region, solid / 2) : e.shell_paths_region;
+    // --solid-below-area: an island smaller than that is left to the covers whole.
+    if (const double limit = settings.solid_below_area * kUnitsPerMm * kUnitsPerMm;
+        limit > 0 && !e.carvable_region.empty()) {
+        Paths small;
+        for (Paths& island : components(e.slice.region))
+            if (area(island) < limit)
+                std::move(island.begin(), island.end(), std::back_inserter(small));
+        if (!small.empty()) e.carvable_region = subtract(e.carvable_region, small);
+    }
+    // A hole narrower than a line (a sliver void, a slit between two shells) still gets its
+    // wall, s out from its edge, but its cover (the hole grown by s) holds no line: where the hole
+    // starts over a cavity, the covers below it would print nothing and the wall would start on
+    // nothing. Keeping a line's width beyond the wall uncarved gives the covers under it, and the
+    // wall beside it, room for a line.
+    if (e.carvable_region.empty()) return e;
+    if (const Paths narrow = narrow_holes(e.slice.region, s); !narrow.empty())
+        e.carvable_region = subtract(e.carvable_region, dilate(narrow, s + w));
     return e;
 }
 

@@ -55,6 +55,9 @@ std::vector<SettingSpec> print_rows() {
         {"solid-below", "", "mm", 0.0, 100.0, &S::solid_below,
          "Interior narrower than this (inside the shells) printed solid instead of carved, "
          "mm [0 = none]"},
+        {"solid-below-area", "", "mm2", 0.0, 1e6, &S::solid_below_area,
+         "A part of a slice (an island) smaller in area than this printed solid instead of "
+         "carved, as PrusaSlicer's solid_infill_below_area, mm2 [0 = none]"},
         {"extrusion-width", "", "mm", 0.0, 3.0, &S::extrusion_width,
          "Line width w of every wall and cover, mm; a profile's perimeter_extrusion_width or "
          "extrusion_width sets it [0 = the nozzle diameter]"},

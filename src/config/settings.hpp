@@ -75,6 +75,10 @@ struct Settings {
     // carved (issue 49): a thin section in series with the rest decides the part's stiffness
     // and hollowing it saves little. 0 = every part carved.
     double solid_below = 0;
+    // An island of a slice (a connected part, holes and all) smaller in area than this (mm2)
+    // is printed solid (issue 49), as PrusaSlicer's solid_infill_below_area (70 in its
+    // profiles) does: the thin top of a statue is where it bends and gives first. 0 = none.
+    double solid_below_area = 0;
     WallMode walls = WallMode::Single;
     double restriction_factor = 1.4;  // t = 1.4 s
     double opening_factor = 0.9;      // s' = 0.9 s

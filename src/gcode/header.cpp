@@ -132,9 +132,10 @@ std::vector<std::string> config_block(const Settings& s) {
             std::string_view(spec.option) != "support-angle")
             continue;
         // The first layer and the flow (issue #36), the stealth limits (issue #51), the ties and
-        // --solid-below (issue #49) are written when they change the print, so that a print without
-        // them keeps the block it had before they existed; the first layer's height always is, in
-        // its place among the words (it was a fixed word before, the layer height), as printed.
+        // --solid-below(-area) (issue #49) are written when they change the print, so that a print
+        // without them keeps the block it had before they existed; the first layer's height always
+        // is, in its place among the words (it was a fixed word before, the layer height), as
+        // printed.
         const std::string_view option = spec.option;
         if (option == "first-layer-height") continue;
         // The cut's connectors (issue #48) are written in the plates of a cut only, so that a
@@ -145,7 +146,7 @@ std::vector<std::string> config_block(const Settings& s) {
              option == "max-volumetric-speed" || option == "elephant-foot-compensation" ||
              option == "xy-size-compensation" || option == "z-offset" ||
              option == "stealth-max-acceleration" || option == "stealth-max-feedrate" ||
-             option == "ties" || option == "solid-below") &&
+             option == "ties" || option == "solid-below" || option == "solid-below-area") &&
             spec.get(s) == spec.get(defaults))
             continue;
         kv.emplace_back(spec.config_key(), spec.prusa_text(s));

@@ -232,6 +232,38 @@ Paths erode(const Paths& region, Coord radius) {
     return resolve(erosion_contours(region, radius));
 }
 
+Paths narrow_holes(const Paths& region, Coord radius) {
+    Paths out;
+    if (radius <= 0) return out;
+    std::vector<BBox2> boxes;
+    boxes.reserve(region.size());
+    for (const Path& p : region) boxes.push_back(bounds(p));
+    auto within = [&](size_t inner, size_t hole) {
+        const BBox2& a = boxes[inner];
+        const BBox2& b = boxes[hole];
+        if (inner == hole || a.min_x < b.min_x || a.min_y < b.min_y || a.max_x > b.max_x ||
+            a.max_y > b.max_y)
+            return false;
+        for (const Point& v : region[inner])  // a vertex off the hole's contour decides
+            if (const int in = ClipperLib::PointInPolygon(v, region[hole]); in >= 0) return in == 1;
+        return false;
+    };
+    for (size_t h = 0; h < region.size(); ++h) {
+        if (region[h].size() < 3 || area(region[h]) >= 0) continue;
+        // The hole less what of the region lies inside it (a moat round an island is narrow).
+        Paths hole{Path(region[h].rbegin(), region[h].rend())};
+        Paths inside;
+        for (size_t k = 0; k < region.size(); ++k)
+            if (within(k, h)) inside.push_back(region[k]);
+        if (!inside.empty()) hole = subtract(hole, inside);
+        // A region's area is at most its boundary's length times its inradius: a wider hole
+        // skips the erosion.
+        if (hole.empty() || area(hole) >= length(hole, true) * double(radius)) continue;
+        if (erode(hole, radius).empty()) out.insert(out.end(), hole.begin(), hole.end());
+    }
+    return out;
+}
+
 Paths dilate_lines(const Paths& polylines, Coord radius) {
     GeometryTimer timer(GeometryOp::kMorphology);
     Paths closed;

@@ -41,6 +41,11 @@ inline Paths close(const Paths& region, Coord radius) {
     return erode(dilate(region, radius), radius);
 }
 
+// The holes of `region` that hold no disk of radius `radius`, each less the islands inside it
+// (a moat round an island is a narrow hole), as one region (outer contours counter-clockwise).
+// Too narrow for a line, and the cover under one, where it starts over a cavity, too.
+Paths narrow_holes(const Paths& region, Coord radius);
+
 // Thickens open polylines (e.g. a pruned medial axis) into a region of half-width `radius`.
 Paths dilate_lines(const Paths& polylines, Coord radius);
 

@@ -235,6 +235,73 @@ TEST(Carving, InteriorNarrowerThanSolidBelowIsNotCarvable) {
     EXPECT_TRUE(point_in_region(mid_square, solid.carvable));
 }
 
+// --solid-below-area (issue 49), PrusaSlicer's solid_infill_below_area: an island of the slice
+// smaller than it goes to the covers whole, a larger one is carved as before, and a hole in an
+// island counts against its area.
+TEST(Carving, IslandSmallerThanSolidBelowAreaIsNotCarvable) {
+    Settings s;
+    s.covers = 0;
+    const Coord mm = to_units(1.0);
+    const Path big{{0, 0}, {20 * mm, 0}, {20 * mm, 20 * mm}, {0, 20 * mm}};  // 400 mm2
+    const Path small{{30 * mm, 0}, {40 * mm, 0}, {40 * mm, 10 * mm}, {30 * mm, 10 * mm}};  // 100
+    const Path hole{{32 * mm, 2 * mm}, {32 * mm, 8 * mm}, {38 * mm, 8 * mm}, {38 * mm, 2 * mm}};
+    auto carvable = [&](double limit, const Paths& region) {
+        s.solid_below_area = limit;
+        const CoverSlice e = cover_slice(Slice{0, 0.1, region}, s);
+        return carvable_layer(0, {&e}, s);
+    };
+    const Paths two{big, small};
+    const Point in_big(10 * mm, 10 * mm), in_small(35 * mm, 1 * mm);
+    const LayerPartition plain = carvable(0, two);
+    EXPECT_TRUE(point_in_region(in_big, plain.carvable));
+    EXPECT_TRUE(point_in_region(in_small, plain.carvable));
+    const LayerPartition solid = carvable(101, two);
+    EXPECT_TRUE(point_in_region(in_big, solid.carvable));
+    EXPECT_FALSE(point_in_region(in_small, solid.carvable));
+    EXPECT_TRUE(point_in_region(in_small, solid.covers));
+    EXPECT_NEAR(area_mm2(solid.carvable), (20 - 0.4) * (20 - 0.4), 0.05);
+    EXPECT_NEAR(area_mm2(carvable(99, two).carvable), area_mm2(plain.carvable), 0.05);
+    // With a 36 mm2 hole the small island is 64 mm2: under 70, over 60.
+    const Paths holed{big, small, hole};
+    EXPECT_FALSE(point_in_region(in_small, carvable(70, holed).carvable));
+    EXPECT_TRUE(point_in_region(in_small, carvable(60, holed).carvable));
+}
+
+// Issue 48: a hole narrower than a line (a sliver void of the man mesh, 0.2 x 0.1 mm where it
+// starts) gets its wall, but the cover under it, the hole grown by s, held no line: the wall
+// was printed over the cavity. The interior within s + w of such a hole is not carvable, so the
+// covers under it and the solid beside its wall hold a line; a hole a line fits in is as before.
+TEST(Carving, InteriorBesideAHoleNarrowerThanALineIsNotCarvable) {
+    Settings s;
+    s.covers = 0;
+    const Coord mm = to_units(1.0);
+    const Coord sr = s.nozzle_radius(), w = s.line_width();
+    auto rect_mm = [&](double x0, double y0, double x1, double y1) {
+        return Paths{Path{{to_units(x0), to_units(y0)},
+                          {to_units(x1), to_units(y0)},
+                          {to_units(x1), to_units(y1)},
+                          {to_units(x0), to_units(y1)}}};
+    };
+    const Path square = rect_mm(0, 0, 20, 20).front();
+    auto carvable_with_hole = [&](Coord side) {
+        const Coord c = 10 * mm;
+        Path hole{{c, c}, {c, c + side}, {c + side, c + side}, {c + side, c}};  // clockwise
+        const CoverSlice e = cover_slice(Slice{0, 0.1, Paths{square, hole}}, s);
+        return carvable_layer(0, {&e}, s);
+    };
+    const LayerPartition pin = carvable_with_hole(mm / 5);  // 0.2 mm
+    const LayerPartition wide = carvable_with_hole(2 * mm);
+    const double inner = (20 - 0.4) * (20 - 0.4);
+    // Wide: carvable round the hole's own wall (the hole grown by s).
+    EXPECT_NEAR(area_mm2(wide.carvable), inner - area_mm2(dilate(rect_mm(10, 10, 12, 12), sr)),
+                0.05);
+    // Narrow: a disk of s + w more round it is left to the covers, and a line fits in them.
+    const Paths kept = dilate(rect_mm(10, 10, 10.2, 10.2), sr + w);
+    EXPECT_NEAR(area_mm2(pin.carvable), inner - area_mm2(kept), 0.05);
+    EXPECT_FALSE(erode(pin.covers, w / 2).empty());
+    EXPECT_TRUE(intersect(pin.carvable, kept).empty());
+}
+
 // The report's conclusion: a tear front limited to r/2 per slice. On the indented cube the
 // unlimited seed opens the whole pruned axis (an X across the square) in one slice, and the
 // cavity front runs far ahead of the dilation; limited to r/2, every new wall stays within

@@ -30,6 +30,7 @@
 #include "support/test_rng.hpp"
 
 using namespace carve;
+using carve::test::rect;
 using carve::test::rect_region;
 
 namespace {
@@ -633,6 +634,30 @@ TEST(Morphology, HolesGrowUnderErosionAndCloseUnderDilation) {
     const Paths closed = dilate(s, h / 2 + 1);
     EXPECT_EQ(closed.size(), 1u);
     EXPECT_TRUE(empty_holes(closed).empty());
+}
+
+TEST(Morphology, NarrowHolesAreTheHolesThatHoldNoDisk) {
+    const Coord r = 200;
+    Paths s = rect_region(0, 0, 10000, 10000);
+    const Path pinhole = rect(1000, 1000, 1300, 1300);     // 0.3 mm: narrow
+    const Path slit = rect(3000, 1000, 3390, 6000);        // 0.39 x 5 mm: narrow
+    const Path wide = rect(6000, 1000, 6410, 1410);        // holds a disk of 0.2 mm: stays
+    const Path ring_outer = rect(1000, 7000, 3300, 9300);  // a 0.3 mm moat round an island
+    const Path island = rect(1300, 7300, 3000, 9000);
+    for (const Path& h : {pinhole, slit, wide, ring_outer}) s.push_back(reversed(h));
+    s.push_back(island);
+    const Paths narrow = narrow_holes(s, r);
+    // The pinhole, the slit and the moat (less its island), as positive regions; the wide
+    // square is not narrow.
+    EXPECT_NEAR(area(narrow), 300.0 * 300 + 390.0 * 5000 + 2300.0 * 2300 - 1700.0 * 1700, 1.0);
+    EXPECT_EQ(components(narrow).size(), 3u);
+    EXPECT_TRUE(erode(narrow, r).empty());
+    EXPECT_TRUE(intersect(narrow, s).empty());  // holes of s, not parts of it
+    EXPECT_NEAR(area(unite(s, narrow)), area(without_holes(s)) - 410.0 * 410, 1.0);
+    // The wide one is narrow for a larger disk; nothing is narrow for no disk or without holes.
+    EXPECT_EQ(components(narrow_holes(s, 210)).size(), 4u);
+    EXPECT_TRUE(narrow_holes(s, 0).empty());
+    EXPECT_TRUE(narrow_holes(rect_region(0, 0, 1000, 1000), r).empty());
 }
 
 TEST(Morphology, TouchingComponentsMergeUnderDilation) {

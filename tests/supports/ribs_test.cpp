@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -210,6 +211,30 @@ TEST(Ribs, FlatBoxCeilingHeldEndToEnd) {
     EXPECT_GT(without["check"]["hanging_inside_mm2"].get<double>(), 10.0);
     EXPECT_GT(without["minima_unsupported"].get<int>(), 0);
     EXPECT_EQ(without["material_by_feature"]["ribs_mm3"].get<double>(), 0);
+}
+
+// Issue 48: a void that starts as a pinhole inside the hollow (an inverted pyramid, apex at
+// z 15, in a 40 mm box) prints its first wall loops on the covers under it, not over the
+// cavity: 0.69 mm2 hung inside before the interior beside a hole narrower than a line was
+// left to the covers.
+TEST(Ribs, AVoidStartingAsAPinholeStandsOnItsCovers) {
+    std::vector<test::StlTriangle> t;
+    test::add_box(t, 0, 0, 0, 40, 40, 30);
+    const std::array<float, 3> apex{20, 20, 15};
+    const std::array<std::array<float, 3>, 4> top{
+        {{16, 16, 25}, {24, 16, 25}, {24, 24, 25}, {16, 24, 25}}};
+    // Facing into the void (away from the material round it).
+    for (size_t i = 0; i < 4; ++i) t.push_back({apex, top[i], top[(i + 1) % 4]});
+    t.push_back({top[0], top[2], top[1]});
+    t.push_back({top[0], top[3], top[2]});
+    const auto stl = test::write_stl("pinhole_void.stl", t);
+    const auto gcode = test::scratch() / "pinhole_void.gcode";
+    const auto stats = test::scratch() / "pinhole_void.json";
+    const test::CarveRun r = test::run_carve("slice " + stl.string() + " -o " + gcode.string() +
+                                             " --stats " + stats.string() + " --stats-check");
+    ASSERT_EQ(r.status, 0) << r.err;
+    const nlohmann::json j = nlohmann::json::parse(test::read(stats));
+    EXPECT_LT(j["check"]["hanging_inside_mm2"].get<double>(), 0.05);
 }
 
 // End to end on the report's figure-3 cube (its indented top makes the report's tear run fast):
