@@ -140,7 +140,7 @@ std::vector<std::string> man_blocks() {
 
 TEST(Help, EveryOptionStatesItsDefaultAndItsUnit) {
     static const carve::test::Regex unit(
-        R"((^|[ ,(])(mm|mm/s|mm\^3/s|mm/s\^2|C|degrees|ratio|g/cm\^3|layers|lines|threads|vertices|voxels|copies|seconds|%|0/1)([ ;,)\[]|$))");
+        R"((^|[ ,(])(mm|mm2|mm/s|mm\^3/s|mm/s\^2|C|degrees|ratio|g/cm\^3|layers|lines|threads|vertices|voxels|copies|seconds|%|0/1)([ ;,)\[]|$))");
     int checked = 0;
     for (const std::string& sub : kSubcommands) {
         const std::vector<HelpEntry> entries = help_of(sub);

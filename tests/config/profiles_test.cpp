@@ -423,7 +423,8 @@ TEST(ConfigBlock, WritesTheTablesSpellingsAndReadsBack) {
     s.xy_size_compensation = -0.05, s.z_offset = 0.05;
     // ... as the pause's command and the stealth limits (issue #51).
     s.pause_command = "M601", s.stealth_max_acceleration = 960, s.stealth_max_feedrate = 100;
-    s.tie_spacing = 6, s.solid_below = 3;  // ... and the ties and --solid-below (issue #49).
+    // ... and the ties and --solid-below(-area) (issue #49).
+    s.tie_spacing = 6, s.solid_below = 3, s.solid_below_area = 70;
     s.start_gcode = "G28 ; home\nG1 Z5 \\ done\n";
     s.start_filament_gcode = "M900 K0\n";
     s.layer_gcode = "";

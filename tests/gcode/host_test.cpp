@@ -433,8 +433,8 @@ TEST(Hosts, MoonrakerIdentifiesCarveAndReadsItsFigures) {
             "elefant_foot_compensation", "xy_size_compensation", "z_offset",
             // ... and the stealth limits at theirs (issue #51).
             "stealth_max_acceleration", "stealth_max_feedrate",
-            // ... and the walls tied across cavities and --solid-below at none (issue #49).
-            "ties", "solid_below"};
+            // ... and the walls tied across cavities and --solid-below(-area) at none (#49).
+            "ties", "solid_below", "solid_below_area"};
         // And the connectors of a cut, in the plates of a cut only (issue #48).
         const bool cut = key.starts_with("dowel_") || key == "connector_clearance";
         EXPECT_EQ(block.find("\n; " + key + " = ") != std::string::npos,
