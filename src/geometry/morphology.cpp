@@ -239,11 +239,7 @@ Paths narrow_holes(const Paths& region, Coord radius) {
     boxes.reserve(region.size());
     for (const Path& p : region) boxes.push_back(bounds(p));
     auto within = [&](size_t inner, size_t hole) {
-        const BBox2& a = boxes[inner];
-        const BBox2& b = boxes[hole];
-        if (inner == hole || a.min_x < b.min_x || a.min_y < b.min_y || a.max_x > b.max_x ||
-            a.max_y > b.max_y)
-            return false;
+        if (inner == hole || !contains(boxes[hole], boxes[inner])) return false;
         for (const Point& v : region[inner])  // a vertex off the hole's contour decides
             if (const int in = ClipperLib::PointInPolygon(v, region[hole]); in >= 0) return in == 1;
         return false;
@@ -251,14 +247,18 @@ Paths narrow_holes(const Paths& region, Coord radius) {
     for (size_t h = 0; h < region.size(); ++h) {
         if (region[h].size() < 3 || area(region[h]) >= 0) continue;
         // The hole less what of the region lies inside it (a moat round an island is narrow).
-        Paths hole{Path(region[h].rbegin(), region[h].rend())};
+        // What lies inside is nested and normalised, so the signed areas and the lengths add up
+        // to the difference's before it is made. A region's area is at most its boundary's length
+        // times its inradius: a wider hole is not subtracted or eroded at all.
         Paths inside;
         for (size_t k = 0; k < region.size(); ++k)
             if (within(k, h)) inside.push_back(region[k]);
+        const double net = -area(region[h]) - area(inside);
+        if (net <= 0 ||
+            net >= (length(Paths{region[h]}, true) + length(inside, true)) * double(radius))
+            continue;
+        Paths hole{Path(region[h].rbegin(), region[h].rend())};
         if (!inside.empty()) hole = subtract(hole, inside);
-        // A region's area is at most its boundary's length times its inradius: a wider hole
-        // skips the erosion.
-        if (hole.empty() || area(hole) >= length(hole, true) * double(radius)) continue;
         if (erode(hole, radius).empty()) out.insert(out.end(), hole.begin(), hole.end());
     }
     return out;

@@ -73,12 +73,6 @@ Paths run_clipper(ClipType op, const Paths& subject, const Paths* clip, Fills fi
     return out;
 }
 
-// Whether `inner` lies in `outer` (closed boxes).
-bool contains(const BBox2& outer, const BBox2& inner) {
-    return inner.min_x >= outer.min_x && inner.max_x <= outer.max_x && inner.min_y >= outer.min_y &&
-           inner.max_y <= outer.max_y;
-}
-
 // `p` with every run of consecutive vertices beyond one side of `box` (strictly) replaced by
 // the run's first and last vertex. The new edge lies beyond that side with the run, so the
 // winding number of every point inside the box is unchanged; and every edge that reaches the
@@ -358,6 +352,11 @@ BBox2 bounds(const Paths& region) {
     BBox2 b;
     for (const Path& p : region) expand(b, bounds(p));
     return b;
+}
+
+bool contains(const BBox2& outer, const BBox2& inner) {
+    return inner.min_x >= outer.min_x && inner.max_x <= outer.max_x && inner.min_y >= outer.min_y &&
+           inner.max_y <= outer.max_y;
 }
 
 bool overlap(const BBox2& a, const BBox2& b) {

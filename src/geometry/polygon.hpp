@@ -67,6 +67,8 @@ BBox2 bounds(const Paths& region);
 void expand(BBox2& box, const BBox2& other);
 // Whether two boxes share at least a point (closed boxes; an empty box overlaps nothing).
 bool overlap(const BBox2& a, const BBox2& b);
+// Whether `inner` lies in `outer` (closed boxes).
+bool contains(const BBox2& outer, const BBox2& inner);
 
 // Total length of polylines in units; closed = count the closing edge.
 double length(const Paths& paths, bool closed);
